@@ -1,0 +1,48 @@
+// info_command.cpp — `pmc info`: OpenCL devices, scene summaries.
+#include <cstdio>
+
+#include "app/cli_args.h"
+#include "app/commands.h"
+#include "core/error.h"
+#include "core/obj_loader.h"
+#include "gpu/cl_context.h"
+
+namespace pmc {
+
+int run_info(const std::vector<std::string>& args) {
+  ArgParser p("pmc info [--devices] [--scene SCENE.obj]",
+              "Prints what pmc sees: OpenCL devices, scene contents.");
+  p.flag("--devices", "list OpenCL platforms and devices");
+  p.option("--scene", "SCENE.obj", "summarise a scene: triangles, materials, textures, bounds");
+  if (!p.parse(args)) return 0;
+  if (!p.positional().empty()) fail("info: unexpected argument '", p.positional()[0], "'");
+  if (!p.has("--devices") && !p.has("--scene")) {
+    p.print_help();
+    return 2;
+  }
+  if (p.has("--devices")) {
+    std::vector<ClDeviceInfo> devices = list_cl_devices();
+    ClContext chosen;
+    for (const ClDeviceInfo& d : devices)
+      std::printf("%s %s | %s | %s | %u compute units | %.1f GiB%s\n",
+                  d.device_id == chosen.device() ? "*" : " ", d.platform.c_str(), d.name.c_str(),
+                  d.version.c_str(), d.compute_units, double(d.global_memory) / double(1ull << 30),
+                  d.is_gpu ? " | GPU" : " | CPU");
+    std::printf("(* = default device; pick another with --device NAME)\n");
+  }
+  if (p.has("--scene")) {
+    Scene scene = load_obj(p.get("--scene"));
+    std::printf("scene %s\n  triangles %zu, positions %zu, normals %zu, uvs %zu\n", scene.obj_path.c_str(),
+                scene.triangles.size(), scene.positions.size() / 3, scene.normals.size() / 3,
+                scene.uvs.size() / 2);
+    std::printf("  bounds (%g, %g, %g) .. (%g, %g, %g)\n", scene.bounds.lo[0], scene.bounds.lo[1],
+                scene.bounds.lo[2], scene.bounds.hi[0], scene.bounds.hi[1], scene.bounds.hi[2]);
+    std::printf("  materials %zu, textures loaded %zu\n", scene.materials.size(), scene.textures.size());
+    for (const MtlMaterial& m : scene.materials)
+      std::printf("    %-24s Kd %.3g %.3g %.3g  Ks %.3g  Ke %.3g%s%s\n", m.name.c_str(), m.kd[0], m.kd[1],
+                  m.kd[2], m.ks[0], m.ke[0], m.map_kd.empty() ? "" : "  map_Kd ", m.map_kd.c_str());
+  }
+  return 0;
+}
+
+}  // namespace pmc

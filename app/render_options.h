@@ -1,0 +1,19 @@
+// render_options.h — the render options shared by every subcommand that renders.
+//
+// declare_render_options() adds --width ... --env to a parser and
+// render_settings_from() validates them (positive sizes, sane depths) into
+// RenderSettings, resolving the camera: flags, else SCENE.camera, else
+// framing the scene's bounds.
+#pragma once
+
+#include "app/cli_args.h"
+#include "gpu/wavefront_renderer.h"
+
+namespace pmc {
+
+void declare_render_options(ArgParser& p);
+RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, const std::string& obj_path);
+// Applies --threads (TBB and PoCL thread counts); call before any OpenCL use.
+void apply_thread_option(const ArgParser& p);
+
+}  // namespace pmc

@@ -1,0 +1,118 @@
+/* pmc_types.h — every struct that crosses the host/OpenCL boundary.
+ *
+ * Compiled by both C++ (host) and OpenCL C (kernels). Layouts use only 4-byte
+ * scalars and arrays of them, so both compilers agree on sizes and offsets
+ * without packing pragmas; tests/gpu/abi_layout_test.cpp checks every struct
+ * here on both sides. Data flows:
+ *   camera kernel   -> PmcRay queue + PmcPathState
+ *   host (Embree)   -> PmcHit per ray (and occlusion bytes for shadow rays)
+ *   shade kernel    -> next PmcRay queue, shadow PmcRay queue + PmcShadowLoad
+ *   resolve kernel  -> PmcPathState.radiance; film kernel -> PmcFilmPixel
+ */
+#ifndef PMC_TYPES_H
+#define PMC_TYPES_H
+
+#include "pmc_vec.h"
+
+/* A ray in exactly the layout of Embree 3's RTCRay (48 bytes), so the host
+ * can hand a queue to rtcIntersect/rtcOccluded without reshuffling fields.
+ * `id` is the path index the ray belongs to. */
+typedef struct PmcRay {
+  float org_x, org_y, org_z, tnear;
+  float dir_x, dir_y, dir_z, time;
+  float tfar;
+  pmc_u32 mask, id, flags;
+} PmcRay;
+
+/* What Embree found for one ray: distance, barycentrics, triangle (-1: miss). */
+typedef struct PmcHit {
+  float t, u, v;
+  pmc_i32 prim;
+} PmcHit;
+
+/* Path flags. */
+#define PMC_PATH_SPECULAR 1u /* last bounce was near-specular: no MIS on emitters */
+
+/* The state a path carries between bounces (one per path slot). */
+typedef struct PmcPathState {
+  float throughput[3];
+  float radiance[3];
+  float cone_width;  /* ray-cone width at the ray origin (world units) */
+  float cone_spread; /* ray-cone spread angle (radians) */
+  float bsdf_pdf;    /* solid-angle pdf of the direction that produced the ray */
+  pmc_u32 pixel;     /* linear pixel index y*width+x */
+  pmc_u32 depth;     /* number of surface hits so far */
+  pmc_u32 flags;
+} PmcPathState;
+
+/* Unoccluded contribution of a shadow ray, added to its path if the host
+ * finds the segment free. */
+typedef struct PmcShadowLoad {
+  float rgb[3];
+  pmc_u32 path;
+} PmcShadowLoad;
+
+/* One triangle: indices into the position, normal and uv arrays (-1: absent),
+ * and its material. */
+typedef struct PmcTriangle {
+  pmc_i32 v[3];
+  pmc_i32 n[3];
+  pmc_i32 t[3];
+  pmc_i32 material;
+} PmcTriangle;
+
+/* Accumulated film pixel: rgb sum and the number of samples dropped as NaN/Inf. */
+typedef struct PmcFilmPixel {
+  float rgb[3];
+  pmc_u32 bad_samples;
+} PmcFilmPixel;
+
+/* A texture in the shared texel pool: mip level l has size
+ * max(1, width >> l) x max(1, height >> l) and starts at
+ * offset + sum of the sizes of the levels before it. */
+#define PMC_TEX_SRGB 1u
+typedef struct PmcTexture {
+  pmc_u32 offset; /* first texel (RGBA8) of level 0 in the pool */
+  pmc_i32 width, height, levels;
+  pmc_u32 flags;
+  pmc_u32 pad[3];
+} PmcTexture;
+
+/* The MTL material model of the first renderer: Lambert + GGX + emission. */
+typedef struct PmcMtlMaterial {
+  float kd[3];
+  pmc_i32 kd_tex; /* texture index or -1 */
+  float ks[3];
+  float roughness; /* GGX alpha from Ns */
+  float ke[3];
+  pmc_u32 flags;
+} PmcMtlMaterial;
+
+/* Everything a wave's kernels need to know about the frame. */
+typedef struct PmcFrame {
+  float cam_eye[3];
+  float cam_spread; /* spread angle of one pixel (radians) */
+  float cam_forward[3];
+  float pad0;
+  float cam_right[3]; /* scaled by tan(fov/2) * aspect */
+  float pad1;
+  float cam_up[3]; /* scaled by tan(fov/2) */
+  float pad2;
+  float env[3];
+  float scene_radius;
+  pmc_i32 width, height;
+  pmc_u32 seed, sample;
+  pmc_u32 pixel_offset, path_count;
+  pmc_i32 max_depth, light_count;
+  float light_total_power;
+  pmc_u32 pad3[3];
+} PmcFrame;
+
+/* Queue counters written by the shade kernel with atomics. */
+typedef struct PmcCounters {
+  pmc_u32 next_rays;
+  pmc_u32 shadow_rays;
+  pmc_u32 pad[2];
+} PmcCounters;
+
+#endif /* PMC_TYPES_H */

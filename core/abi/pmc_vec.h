@@ -1,0 +1,118 @@
+/* pmc_vec.h — the small vector vocabulary shared by host C++ and OpenCL C.
+ *
+ * Shading math (BSDFs, sampling, random numbers, ray cones) is written once in
+ * the headers of core/abi and compiled twice: by the C++ compiler for tests and
+ * the CPU reference paths, and by the OpenCL compiler for the kernels. OpenCL C
+ * has float2/float3 with arithmetic operators built in; on the host this file
+ * provides look-alike types with the same operators and the handful of
+ * built-in functions the shared code uses (dot, cross, normalize, length ...).
+ *
+ * Rule for shared structs: never put float3 in a struct that crosses the
+ * host/device boundary (it is 16 bytes in OpenCL C). Use float[3] or scalars.
+ */
+#ifndef PMC_VEC_H
+#define PMC_VEC_H
+
+#ifdef __OPENCL_VERSION__
+#define PMC_FN static inline
+#define PMC_GLOBAL __global
+#define PMC_CONSTANT __constant
+#define make_float2(x, y) ((float2)((x), (y)))
+#define make_float3(x, y, z) ((float3)((x), (y), (z)))
+typedef uint pmc_u32;
+typedef int pmc_i32;
+typedef ulong pmc_u64;
+#else
+#include <cmath>
+#include <cstdint>
+#define PMC_FN static inline
+#define PMC_GLOBAL
+#define PMC_CONSTANT
+typedef uint32_t pmc_u32;
+typedef int32_t pmc_i32;
+typedef uint64_t pmc_u64;
+typedef uint32_t uint;
+
+struct float2 {
+  float x, y;
+};
+struct float3 {
+  float x, y, z;
+};
+PMC_FN float2 make_float2(float x, float y) { return float2{x, y}; }
+PMC_FN float3 make_float3(float x, float y, float z) { return float3{x, y, z}; }
+PMC_FN float3 operator+(float3 a, float3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+PMC_FN float3 operator-(float3 a, float3 b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+PMC_FN float3 operator-(float3 a) { return {-a.x, -a.y, -a.z}; }
+PMC_FN float3 operator*(float3 a, float3 b) { return {a.x * b.x, a.y * b.y, a.z * b.z}; }
+PMC_FN float3 operator*(float3 a, float s) { return {a.x * s, a.y * s, a.z * s}; }
+PMC_FN float3 operator*(float s, float3 a) { return {a.x * s, a.y * s, a.z * s}; }
+PMC_FN float3 operator/(float3 a, float s) { return {a.x / s, a.y / s, a.z / s}; }
+PMC_FN float3 operator/(float3 a, float3 b) { return {a.x / b.x, a.y / b.y, a.z / b.z}; }
+PMC_FN float3& operator+=(float3& a, float3 b) { return a = a + b; }
+PMC_FN float3& operator*=(float3& a, float3 b) { return a = a * b; }
+PMC_FN float3& operator*=(float3& a, float s) { return a = a * s; }
+PMC_FN float2 operator+(float2 a, float2 b) { return {a.x + b.x, a.y + b.y}; }
+PMC_FN float2 operator-(float2 a, float2 b) { return {a.x - b.x, a.y - b.y}; }
+PMC_FN float2 operator*(float2 a, float s) { return {a.x * s, a.y * s}; }
+PMC_FN float2 operator*(float s, float2 a) { return {a.x * s, a.y * s}; }
+PMC_FN float dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+PMC_FN float dot(float2 a, float2 b) { return a.x * b.x + a.y * b.y; }
+PMC_FN float3 cross(float3 a, float3 b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+PMC_FN float length(float3 a) { return std::sqrt(dot(a, a)); }
+PMC_FN float length(float2 a) { return std::sqrt(dot(a, a)); }
+PMC_FN float3 normalize(float3 a) { return a * (1.0f / length(a)); }
+PMC_FN float3 fabs(float3 a) { return {std::fabs(a.x), std::fabs(a.y), std::fabs(a.z)}; }
+PMC_FN float3 fmin(float3 a, float3 b) {
+  return {std::fmin(a.x, b.x), std::fmin(a.y, b.y), std::fmin(a.z, b.z)};
+}
+PMC_FN float3 fmax(float3 a, float3 b) {
+  return {std::fmax(a.x, b.x), std::fmax(a.y, b.y), std::fmax(a.z, b.z)};
+}
+PMC_FN float clamp(float x, float lo, float hi) { return std::fmin(std::fmax(x, lo), hi); }
+PMC_FN float mix(float a, float b, float t) { return a + (b - a) * t; }
+PMC_FN float3 mix(float3 a, float3 b, float t) { return a + (b - a) * t; }
+using std::acos;
+using std::atan2;
+using std::ceil;
+using std::cos;
+using std::exp;
+using std::fabs;
+using std::floor;
+using std::fmax;
+using std::fmin;
+using std::isfinite;
+using std::isnan;
+using std::log2;
+using std::pow;
+using std::sin;
+using std::sqrt;
+#endif
+
+#define PMC_PI 3.14159265358979323846f
+#define PMC_INV_PI 0.31830988618379067154f
+
+/* Three floats from any address space (a macro, since OpenCL pointers carry one). */
+#define pmc_load3(p) make_float3((p)[0], (p)[1], (p)[2])
+PMC_FN float pmc_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }
+PMC_FN float pmc_luminance(float3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+PMC_FN float pmc_sqr(float x) { return x * x; }
+
+/* An orthonormal basis around n (Duff et al. 2017, "Building an orthonormal
+ * basis, revisited"): branch-free apart from the sign, no singularity. */
+PMC_FN void pmc_basis(float3 n, float3* t, float3* b) {
+  float sign = n.z >= 0.0f ? 1.0f : -1.0f;
+  float a = -1.0f / (sign + n.z);
+  float bb = n.x * n.y * a;
+  *t = make_float3(1.0f + sign * n.x * n.x * a, sign * bb, -sign * n.x);
+  *b = make_float3(bb, sign + n.y * n.y * a, -n.y);
+}
+
+PMC_FN float3 pmc_to_local(float3 v, float3 t, float3 b, float3 n) {
+  return make_float3(dot(v, t), dot(v, b), dot(v, n));
+}
+PMC_FN float3 pmc_to_world(float3 v, float3 t, float3 b, float3 n) { return t * v.x + b * v.y + n * v.z; }
+
+#endif /* PMC_VEC_H */

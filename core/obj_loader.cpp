@@ -1,0 +1,160 @@
+// obj_loader.cpp — tinyobjloader's output flattened into pmc::Scene.
+#include "core/obj_loader.h"
+
+#include <tiny_obj_loader.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+
+#include "core/error.h"
+
+namespace pmc {
+namespace {
+
+std::string dirname_of(const std::string& path) {
+  size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
+}
+
+// First line of tinyobj's warnings that mentions `needle`, or "".
+std::string warning_line(const std::string& warnings, const std::string& needle) {
+  size_t at = warnings.find(needle);
+  if (at == std::string::npos) return {};
+  size_t begin = warnings.rfind('\n', at);
+  begin = begin == std::string::npos ? 0 : begin + 1;
+  size_t end = warnings.find('\n', at);
+  return warnings.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
+}  // namespace
+
+std::string normalize_texture_path(const std::string& raw) {
+  std::string p = raw;
+  for (char& c : p)
+    if (c == '\\') c = '/';
+  while (p.rfind("./", 0) == 0) p = p.substr(2);
+  return p;
+}
+
+Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
+  {
+    std::ifstream probe(path);
+    if (!probe) fail(path, ": cannot open OBJ file");
+  }
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  config.vertex_color = false;
+  config.mtl_search_path = dirname_of(path);
+  tinyobj::ObjReader reader;
+  if (!reader.ParseFromFile(path, config)) {
+    std::string why = reader.Error();
+    while (!why.empty() && why.back() == '\n') why.pop_back();
+    fail(path, ": cannot parse OBJ: ", why.empty() ? "unknown error" : why);
+  }
+  const std::string& warnings = reader.Warning();
+  for (const char* needle : {"Material file [", "Failed to load material file"}) {
+    std::string line = warning_line(warnings, needle);
+    if (!line.empty()) fail(path, ": MTL library missing or unreadable (", line, ")");
+  }
+  std::string unknown = warning_line(warnings, "not found in .mtl");
+  if (!unknown.empty()) warn(path + ": " + unknown + "; those faces use the default material");
+
+  const tinyobj::attrib_t& attrib = reader.GetAttrib();
+  Scene scene;
+  scene.obj_path = path;
+  scene.positions.assign(attrib.vertices.begin(), attrib.vertices.end());
+  scene.normals.assign(attrib.normals.begin(), attrib.normals.end());
+  scene.uvs.assign(attrib.texcoords.begin(), attrib.texcoords.end());
+  const long nv = long(attrib.vertices.size() / 3);
+  const long nn = long(attrib.normals.size() / 3);
+  const long nt = long(attrib.texcoords.size() / 2);
+
+  // Materials: the MTL's, then a default one for faces without a material.
+  for (const tinyobj::material_t& m : reader.GetMaterials()) {
+    MtlMaterial mm;
+    mm.name = m.name;
+    for (int i = 0; i < 3; ++i) {
+      mm.kd[i] = float(m.diffuse[i]);
+      mm.ks[i] = float(m.specular[i]);
+      mm.ke[i] = float(m.emission[i]);
+    }
+    mm.ns = float(m.shininess);
+    if (!m.diffuse_texname.empty()) mm.map_kd = dirname_of(path) + normalize_texture_path(m.diffuse_texname);
+    scene.materials.push_back(mm);
+  }
+  const int default_material = int(scene.materials.size());
+  {
+    MtlMaterial def;
+    def.name = "(default)";
+    scene.materials.push_back(def);
+  }
+
+  std::vector<bool> material_used(scene.materials.size(), false);
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    const tinyobj::mesh_t& mesh = shape.mesh;
+    size_t index_at = 0;
+    for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
+      const size_t fv = mesh.num_face_vertices[f];
+      if (fv != 3) {  // tinyobj leaves degenerate polygons (< 3 corners) as they are
+        index_at += fv;
+        ++scene.skipped_triangles;
+        continue;
+      }
+      PmcTriangle tri{};
+      bool finite = true;
+      for (int k = 0; k < 3; ++k) {
+        const tinyobj::index_t& ix = mesh.indices[index_at + k];
+        if (ix.vertex_index < 0 || ix.vertex_index >= nv)
+          fail(path, ": shape '", shape.name, "' face ", f + 1, " uses vertex index ", ix.vertex_index + 1,
+               " but the file has ", nv, " vertices");
+        if (ix.normal_index >= nn || ix.texcoord_index >= nt)
+          fail(path, ": shape '", shape.name, "' face ", f + 1,
+               " uses a normal or texture-coordinate index out of range");
+        tri.v[k] = ix.vertex_index;
+        tri.n[k] = ix.normal_index;
+        tri.t[k] = ix.texcoord_index;
+        for (int c = 0; c < 3; ++c)
+          finite = finite && std::isfinite(scene.positions[3 * size_t(ix.vertex_index) + c]);
+      }
+      index_at += 3;
+      // Normals and uvs are all-or-nothing per triangle.
+      if (tri.n[0] < 0 || tri.n[1] < 0 || tri.n[2] < 0) tri.n[0] = tri.n[1] = tri.n[2] = -1;
+      if (tri.t[0] < 0 || tri.t[1] < 0 || tri.t[2] < 0) tri.t[0] = tri.t[1] = tri.t[2] = -1;
+      if (!finite) {
+        ++scene.skipped_triangles;
+        continue;
+      }
+      int mat = f < mesh.material_ids.size() ? mesh.material_ids[f] : -1;
+      tri.material = (mat >= 0 && mat < default_material) ? mat : default_material;
+      material_used[size_t(tri.material)] = true;
+      scene.triangles.push_back(tri);
+      for (int k = 0; k < 3; ++k) scene.bounds.extend(&scene.positions[3 * size_t(tri.v[k])]);
+    }
+  }
+  if (scene.skipped_triangles > 0)
+    warn(path + ": skipped " + std::to_string(scene.skipped_triangles) +
+         " faces with non-finite vertex positions or fewer than 3 corners");
+  if (scene.triangles.empty()) fail(path, ": no faces (nothing to render)");
+
+  // Non-finite normals and uvs are repaired in the kernel (geometric normal, uv 0);
+  // make them finite here so nothing downstream sees NaN.
+  size_t repaired = 0;
+  for (float& x : scene.normals)
+    if (!std::isfinite(x)) x = 0.0f, ++repaired;
+  for (float& x : scene.uvs)
+    if (!std::isfinite(x)) x = 0.0f, ++repaired;
+  if (repaired > 0)
+    warn(path + ": replaced " + std::to_string(repaired) + " non-finite normal/uv components by 0");
+
+  if (options.load_textures) {
+    for (size_t m = 0; m < scene.materials.size(); ++m) {
+      MtlMaterial& mm = scene.materials[m];
+      if (!material_used[m] || mm.map_kd.empty()) continue;
+      mm.kd_texture = scene.textures.load(mm.map_kd, true, path + ": material '" + mm.name + "'");
+    }
+  }
+  return scene;
+}
+
+}  // namespace pmc

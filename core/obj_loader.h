@@ -1,0 +1,26 @@
+// obj_loader.h — Wavefront OBJ + MTL into a pmc::Scene (via tinyobjloader).
+//
+// Polygons are triangulated, `usemtl` switches materials within a mesh,
+// missing normals fall back to geometric normals in the kernel (index -1),
+// texture paths are resolved relative to the OBJ's folder with backslashes
+// mapped to slashes, and only textures of materials that faces use are loaded.
+// Errors (unreadable OBJ, missing MTL, missing texture, no faces, indices out
+// of range) throw pmc::Error naming the file.
+#pragma once
+
+#include <string>
+
+#include "core/scene.h"
+
+namespace pmc {
+
+struct ObjLoadOptions {
+  bool load_textures = true;
+};
+
+Scene load_obj(const std::string& path, const ObjLoadOptions& options = {});
+
+// "a\\b.png" -> "a/b.png", ".\\x.jpg" -> "x.jpg".
+std::string normalize_texture_path(const std::string& raw);
+
+}  // namespace pmc

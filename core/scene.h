@@ -1,0 +1,53 @@
+// scene.h — the host's in-memory scene: geometry, MTL materials, textures.
+//
+// Geometry is kept the way the kernels read it: flat float arrays of
+// positions (xyz), normals (xyz) and uvs (uv), and one PmcTriangle per
+// triangle holding per-corner indices into each array (-1 when absent) and a
+// material index. Embree uses the positions array and the `v` indices; the
+// shade kernel uses all of it. Materials stay in their MTL form here; the
+// material compiler turns them into what the kernels evaluate.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/abi/pmc_types.h"
+#include "core/texture.h"
+
+namespace pmc {
+
+struct Bounds {
+  float lo[3] = {1e30f, 1e30f, 1e30f};
+  float hi[3] = {-1e30f, -1e30f, -1e30f};
+  bool empty() const { return lo[0] > hi[0]; }
+  void extend(const float* p) {
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = p[i] < lo[i] ? p[i] : lo[i];
+      hi[i] = p[i] > hi[i] ? p[i] : hi[i];
+    }
+  }
+};
+
+struct MtlMaterial {
+  std::string name;
+  float kd[3] = {0.5f, 0.5f, 0.5f};
+  float ks[3] = {0.0f, 0.0f, 0.0f};
+  float ke[3] = {0.0f, 0.0f, 0.0f};
+  float ns = 0.0f;
+  std::string map_kd;   // resolved path, empty when none
+  int kd_texture = -1;  // index into Scene::textures once loaded
+};
+
+struct Scene {
+  std::string obj_path;
+  std::vector<float> positions;
+  std::vector<float> normals;
+  std::vector<float> uvs;
+  std::vector<PmcTriangle> triangles;
+  std::vector<MtlMaterial> materials;
+  TexturePool textures;
+  Bounds bounds;                 // of the positions the triangles use
+  size_t skipped_triangles = 0;  // non-finite positions, dropped at load
+};
+
+}  // namespace pmc

@@ -1,0 +1,84 @@
+// cl_context.h — the only place that talks to the OpenCL runtime directly.
+//
+// Picks a platform/device (a name substring from --device, else the first GPU,
+// else the first CPU device such as PoCL), and wraps the handful of objects the
+// renderer needs (context, in-order queue with profiling, buffers, programs,
+// kernels) in small RAII types. Every call is checked; failures become
+// pmc::Error with the call's name and the OpenCL error code.
+#pragma once
+
+#define CL_TARGET_OPENCL_VERSION 120
+#include <CL/cl.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pmc {
+
+struct ClDeviceInfo {
+  std::string platform;
+  std::string name;
+  bool is_gpu = false;
+  std::string version;
+  size_t global_memory = 0;
+  unsigned compute_units = 0;
+  cl_platform_id platform_id = nullptr;
+  cl_device_id device_id = nullptr;
+};
+
+// All devices of all platforms. Throws pmc::Error (with install advice) when
+// there is no OpenCL platform at all.
+std::vector<ClDeviceInfo> list_cl_devices();
+
+void cl_check(cl_int status, const char* what);
+
+class ClBuffer {
+ public:
+  ClBuffer() = default;
+  ClBuffer(cl_context ctx, size_t bytes, cl_mem_flags flags = CL_MEM_READ_WRITE);
+  ~ClBuffer();
+  ClBuffer(ClBuffer&& o) noexcept : mem_(std::exchange(o.mem_, nullptr)), bytes_(o.bytes_) {}
+  ClBuffer& operator=(ClBuffer&& o) noexcept;
+  ClBuffer(const ClBuffer&) = delete;
+  ClBuffer& operator=(const ClBuffer&) = delete;
+  cl_mem get() const { return mem_; }
+  size_t bytes() const { return bytes_; }
+
+ private:
+  cl_mem mem_ = nullptr;
+  size_t bytes_ = 0;
+};
+
+class ClContext {
+ public:
+  // `device_filter`: case-insensitive substring of the device or platform name; "" = default choice.
+  explicit ClContext(const std::string& device_filter = "");
+  ~ClContext();
+  ClContext(const ClContext&) = delete;
+  ClContext& operator=(const ClContext&) = delete;
+
+  cl_context context() const { return context_; }
+  cl_command_queue queue() const { return queue_; }
+  cl_device_id device() const { return info_.device_id; }
+  const ClDeviceInfo& info() const { return info_; }
+  std::string description() const { return info_.name + " (" + info_.platform + ")"; }
+
+  // Buffer with `bytes` (at least 1) and optional initial contents (blocking copy).
+  ClBuffer buffer(size_t bytes, const void* data = nullptr, cl_mem_flags flags = CL_MEM_READ_WRITE) const;
+  template <typename T>
+  ClBuffer buffer_of(const std::vector<T>& v, cl_mem_flags flags = CL_MEM_READ_ONLY) const {
+    return buffer(v.size() * sizeof(T), v.empty() ? nullptr : v.data(), flags);
+  }
+  void write(const ClBuffer& b, size_t offset, size_t bytes, const void* src, bool blocking) const;
+  void read(const ClBuffer& b, size_t offset, size_t bytes, void* dst) const;  // blocking
+  void finish() const;
+
+ private:
+  ClDeviceInfo info_;
+  cl_context context_ = nullptr;
+  cl_command_queue queue_ = nullptr;
+};
+
+}  // namespace pmc

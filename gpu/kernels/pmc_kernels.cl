@@ -1,0 +1,298 @@
+/* pmc_kernels.cl — the wavefront path tracer's device stages.
+ *
+ * One program holds every kernel; the host (gpu/wavefront_renderer.cpp) runs
+ * them in this order for each wave of paths:
+ *   pmc_camera_rays   : pixel -> camera ray + fresh path state
+ *   (host: Embree intersects the ray queue and uploads PmcHit records)
+ *   pmc_shade         : hit -> emission, light sample (shadow ray), BSDF
+ *                       sample (next ray), Russian roulette
+ *   (host: Embree tests shadow rays and uploads one occlusion byte each)
+ *   pmc_resolve_shadows: add unoccluded light samples to their paths
+ *   pmc_film_accumulate: when the wave is done, add path radiance to the film
+ * Kernels take a global offset so the host can stream a queue in chunks.
+ */
+#include "pmc_types.h"
+#include "pmc_rng.h"
+#include "pmc_bsdf.h"
+#include "pmc_geometry.h"
+#include "texture.cl"
+#include "material_mtl.cl"
+
+__kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
+                              __global PmcPathState* paths) {
+  uint i = get_global_id(0);
+  if (i >= frame->path_count) return;
+  uint pixel = frame->pixel_offset + i;
+  uint x = pixel % (uint)frame->width;
+  uint y = pixel / (uint)frame->width;
+  uint key = pmc_path_key(frame->seed, pixel, frame->sample);
+  float jx = pmc_rand(key, 0u, PMC_DIM_PIXEL_X);
+  float jy = pmc_rand(key, 0u, PMC_DIM_PIXEL_Y);
+  float sx = ((float)x + jx) / (float)frame->width * 2.0f - 1.0f;
+  float sy = 1.0f - ((float)y + jy) / (float)frame->height * 2.0f;
+  float3 dir = normalize(pmc_load3(frame->cam_forward) + pmc_load3(frame->cam_right) * sx +
+                         pmc_load3(frame->cam_up) * sy);
+  __global PmcRay* r = &rays[i];
+  r->org_x = frame->cam_eye[0];
+  r->org_y = frame->cam_eye[1];
+  r->org_z = frame->cam_eye[2];
+  r->tnear = 0.0f;
+  r->dir_x = dir.x;
+  r->dir_y = dir.y;
+  r->dir_z = dir.z;
+  r->time = 0.0f;
+  r->tfar = INFINITY;
+  r->mask = 0xffffffffu;
+  r->id = i;
+  r->flags = 0u;
+  __global PmcPathState* p = &paths[i];
+  for (int c = 0; c < 3; ++c) {
+    p->throughput[c] = 1.0f;
+    p->radiance[c] = 0.0f;
+  }
+  p->cone_width = 0.0f;
+  p->cone_spread = frame->cam_spread;
+  p->bsdf_pdf = 0.0f;
+  p->pixel = pixel;
+  p->depth = 0u;
+  p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
+}
+
+typedef struct PmcSceneData {
+  __global const float* positions;
+  __global const float* normals;
+  __global const float* uvs;
+  __global const PmcTriangle* triangles;
+  __global const int* light_tris;
+  __global const float* light_cdf;
+  __global const float* tri_light_pmf;
+} PmcSceneData;
+
+static inline float3 pmc_vertex(__global const float* a, int i) {
+  return make_float3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+}
+
+/* Pick an emissive triangle proportionally to power (binary search on CDF). */
+static inline int pmc_pick_light(__global const float* cdf, int count, float u) {
+  int lo = 0, hi = count - 1;
+  while (lo < hi) {
+    int mid = (lo + hi) >> 1;
+    if (cdf[mid] > u)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return lo;
+}
+
+static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float3 d, float tfar, uint id) {
+  __global PmcRay* r = &q[slot];
+  r->org_x = o.x;
+  r->org_y = o.y;
+  r->org_z = o.z;
+  r->tnear = 0.0f;
+  r->dir_x = d.x;
+  r->dir_y = d.y;
+  r->dir_z = d.z;
+  r->time = 0.0f;
+  r->tfar = tfar;
+  r->mask = 0xffffffffu;
+  r->id = id;
+  r->flags = 0u;
+}
+
+__kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
+                        __global const PmcHit* hits, __global PmcPathState* paths,
+                        __global const float* positions, __global const float* normals,
+                        __global const float* uvs, __global const PmcTriangle* triangles,
+                        __global const PmcMtlMaterial* materials,
+                        __global const PmcTexture* textures, __global const uchar4* texels,
+                        __constant float* srgb_lut, __global const int* light_tris,
+                        __global const float* light_cdf, __global const float* tri_light_pmf,
+                        __global PmcRay* next_rays, __global PmcRay* shadow_rays,
+                        __global PmcShadowLoad* shadow_loads, __global PmcCounters* counters,
+                        uint ray_count) {
+  uint i = get_global_id(0);
+  if (i >= ray_count) return;
+  PmcRay ray = rays[i];
+  PmcHit hit = hits[i];
+  uint pid = ray.id;
+  __global PmcPathState* path = &paths[pid];
+  float3 throughput = pmc_load3(path->throughput);
+  float3 radiance = pmc_load3(path->radiance);
+  float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
+  uint depth = path->depth;
+
+  if (hit.prim < 0) {
+    /* Escaped: the constant environment (sampled only by the BSDF). */
+    radiance += throughput * pmc_load3(frame->env);
+    path->radiance[0] = radiance.x;
+    path->radiance[1] = radiance.y;
+    path->radiance[2] = radiance.z;
+    return;
+  }
+
+  PmcTriangle tri = triangles[hit.prim];
+  float3 p0 = pmc_vertex(positions, tri.v[0]);
+  float3 p1 = pmc_vertex(positions, tri.v[1]);
+  float3 p2 = pmc_vertex(positions, tri.v[2]);
+  float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
+  float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
+  float3 ng = cross(p1 - p0, p2 - p0);
+  float area2 = length(ng);
+  ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
+  if (dot(ng, dir) > 0.0f) ng = -ng; /* every surface is two-sided */
+  float3 ns = ng;
+  if (tri.n[0] >= 0) {
+    float3 n = pmc_vertex(normals, tri.n[0]) * b0 + pmc_vertex(normals, tri.n[1]) * b1 +
+               pmc_vertex(normals, tri.n[2]) * b2;
+    float nl = length(n);
+    if (nl > 0.0f && isfinite(nl)) {
+      n = n * (1.0f / nl);
+      ns = dot(n, ng) < 0.0f ? -n : n;
+    }
+  }
+  float2 uv = make_float2(b1, b2);
+  if (tri.t[0] >= 0) {
+    uv = make_float2(uvs[2 * tri.t[0]], uvs[2 * tri.t[0] + 1]) * b0 +
+         make_float2(uvs[2 * tri.t[1]], uvs[2 * tri.t[1] + 1]) * b1 +
+         make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]) * b2;
+  }
+  float3 wo_world = -dir;
+  if (dot(ns, wo_world) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
+
+  PmcMaterialData md = {materials, textures, texels, srgb_lut};
+  PmcShadingPoint sp;
+  sp.position = pos;
+  sp.normal = ns;
+  sp.uv = uv;
+  sp.material = tri.material;
+  PmcBsdf bsdf = pmc_eval_material(&md, &sp);
+
+  /* Emission reached by the path: MIS against light sampling. */
+  if (pmc_max3(bsdf.emission) > 0.0f) {
+    float w = 1.0f;
+    if (!(path->flags & PMC_PATH_SPECULAR) && frame->light_count > 0) {
+      float pmf = tri_light_pmf[hit.prim];
+      float cosl = fabs(dot(ng, dir));
+      float light_pdf = cosl > 0.0f && area2 > 0.0f
+                            ? pmf * hit.t * hit.t / (0.5f * area2 * cosl)
+                            : 0.0f;
+      w = pmc_mis_power(path->bsdf_pdf, light_pdf);
+    }
+    radiance += throughput * bsdf.emission * w;
+  }
+
+  depth += 1u;
+  float3 t, b;
+  pmc_basis(ns, &t, &b);
+  float3 wo = pmc_to_local(wo_world, t, b, ns);
+  uint key = pmc_path_key(frame->seed, path->pixel, frame->sample);
+  uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
+  int has_lobes = pmc_max3(bsdf.diffuse) > 0.0f || pmc_max3(bsdf.specular) > 0.0f;
+
+  /* Next-event estimation toward one emissive triangle. */
+  if (frame->light_count > 0 && has_lobes) {
+    int li = pmc_pick_light(light_cdf, frame->light_count,
+                            pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
+    int ltri_index = light_tris[li];
+    PmcTriangle lt = triangles[ltri_index];
+    float3 q0 = pmc_vertex(positions, lt.v[0]);
+    float3 q1 = pmc_vertex(positions, lt.v[1]);
+    float3 q2 = pmc_vertex(positions, lt.v[2]);
+    float2 bc = pmc_sample_triangle(pmc_rand(key, bounce, PMC_DIM_LIGHT_U),
+                                    pmc_rand(key, bounce, PMC_DIM_LIGHT_V));
+    float3 q = q0 * bc.x + q1 * bc.y + q2 * (1.0f - bc.x - bc.y);
+    float3 lng = cross(q1 - q0, q2 - q0);
+    float larea = 0.5f * length(lng);
+    float3 origin = pmc_offset_ray(pos, ng);
+    float3 d = q - origin;
+    float dist2 = dot(d, d);
+    float dist = sqrt(dist2);
+    if (dist > 0.0f && larea > 0.0f) {
+      float3 wi_world = d * (1.0f / dist);
+      float cosl = fabs(dot(lng, wi_world)) / (2.0f * larea);
+      float3 wi = pmc_to_local(wi_world, t, b, ns);
+      if (cosl > 0.0f && wi.z > 0.0f && dot(wi_world, ng) > 0.0f) {
+        float light_pdf = tri_light_pmf[ltri_index] * dist2 / (larea * cosl);
+        float3 f = pmc_bsdf_eval(&bsdf, wo, wi);
+        float bpdf = pmc_bsdf_pdf(&bsdf, wo, wi);
+        float w = pmc_mis_power(light_pdf, bpdf);
+        float3 le = pmc_material_emission(&md, lt.material);
+        float3 c = throughput * f * le * (wi.z * w / light_pdf);
+        if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
+          uint slot = atomic_inc(&counters->shadow_rays);
+          pmc_append_ray(shadow_rays, slot, origin, wi_world, dist * (1.0f - 1e-4f), pid);
+          __global PmcShadowLoad* sl = &shadow_loads[slot];
+          sl->rgb[0] = c.x;
+          sl->rgb[1] = c.y;
+          sl->rgb[2] = c.z;
+          sl->path = pid;
+        }
+      }
+    }
+  }
+
+  int alive = has_lobes && (int)depth < frame->max_depth;
+  if (alive) {
+    float3 wi, weight;
+    float pdf;
+    alive = pmc_bsdf_sample(&bsdf, wo, pmc_rand(key, bounce, PMC_DIM_LOBE),
+                            pmc_rand(key, bounce, PMC_DIM_BSDF_U),
+                            pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi, &pdf, &weight);
+    if (alive) {
+      throughput *= weight;
+      if (depth >= 3u) {
+        float q = fmin(0.95f, pmc_max3(throughput));
+        if (pmc_rand(key, bounce, PMC_DIM_RR) >= q)
+          alive = 0;
+        else
+          throughput *= 1.0f / q;
+      }
+    }
+    if (alive && isfinite(pmc_max3(throughput))) {
+      float3 wi_world = pmc_to_world(wi, t, b, ns);
+      float side = dot(wi_world, ng) >= 0.0f ? 1.0f : -1.0f;
+      float3 origin = pmc_offset_ray(pos, ng * side);
+      uint slot = atomic_inc(&counters->next_rays);
+      pmc_append_ray(next_rays, slot, origin, wi_world, INFINITY, pid);
+      path->bsdf_pdf = pdf;
+      path->flags = 0u;
+      path->cone_width = path->cone_width + hit.t * path->cone_spread;
+    }
+  }
+  path->depth = depth;
+  path->throughput[0] = throughput.x;
+  path->throughput[1] = throughput.y;
+  path->throughput[2] = throughput.z;
+  path->radiance[0] = radiance.x;
+  path->radiance[1] = radiance.y;
+  path->radiance[2] = radiance.z;
+}
+
+__kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads,
+                                  __global const uchar* occluded, __global PmcPathState* paths,
+                                  uint count) {
+  uint i = get_global_id(0);
+  if (i >= count || occluded[i]) return;
+  __global PmcPathState* p = &paths[loads[i].path];
+  p->radiance[0] += loads[i].rgb[0];
+  p->radiance[1] += loads[i].rgb[1];
+  p->radiance[2] += loads[i].rgb[2];
+}
+
+__kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
+                                  __global PmcFilmPixel* film) {
+  uint i = get_global_id(0);
+  if (i >= frame->path_count) return;
+  __global const PmcPathState* p = &paths[i];
+  __global PmcFilmPixel* px = &film[p->pixel];
+  float r = p->radiance[0], g = p->radiance[1], bl = p->radiance[2];
+  if (isfinite(r) && isfinite(g) && isfinite(bl)) {
+    px->rgb[0] += r;
+    px->rgb[1] += g;
+    px->rgb[2] += bl;
+  } else {
+    px->bad_samples += 1u;
+  }
+}

@@ -1,0 +1,112 @@
+// program.cpp — include expansion, program build with logs, 1-D launches.
+#include "gpu/program.h"
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "core/error.h"
+#include "gpu/embedded_sources.h"
+
+namespace pmc {
+namespace {
+
+std::string read_disk_source(const std::string& root, const std::string& name) {
+  for (const char* dir : {"/core/abi/", "/gpu/kernels/", "/materials/abi/"}) {
+    std::ifstream in(root + dir + name);
+    if (in) {
+      std::ostringstream os;
+      os << in.rdbuf();
+      return os.str();
+    }
+  }
+  fail("PMC_KERNEL_DIR=", root, ": kernel source '", name, "' not found under core/abi or gpu/kernels");
+}
+
+void expand(const std::string& name, std::set<std::string>& seen, std::ostringstream& out) {
+  if (!seen.insert(name).second) return;  // every file is included once
+  std::istringstream in(kernel_source_file(name));
+  std::string line;
+  int line_no = 0;
+  out << "#line 1 \"" << name << "\"\n";
+  while (std::getline(in, line)) {
+    ++line_no;
+    size_t first = line.find_first_not_of(" \t");
+    if (first != std::string::npos && line.compare(first, 8, "#include") == 0) {
+      size_t q0 = line.find('"');
+      size_t q1 = q0 == std::string::npos ? q0 : line.find('"', q0 + 1);
+      if (q1 != std::string::npos) {
+        expand(line.substr(q0 + 1, q1 - q0 - 1), seen, out);
+        out << "#line " << line_no + 1 << " \"" << name << "\"\n";
+        continue;
+      }
+    }
+    out << line << '\n';
+  }
+}
+
+}  // namespace
+
+std::string kernel_source_file(const std::string& name) {
+  if (const char* root = std::getenv("PMC_KERNEL_DIR"); root && *root) return read_disk_source(root, name);
+  for (const EmbeddedSource* s = embedded_sources(); s->name; ++s)
+    if (name == s->name) return s->text;
+  fail("kernel source '", name, "' is not embedded in this binary");
+}
+
+std::string expand_kernel_source(const std::string& name) {
+  std::set<std::string> seen;
+  std::ostringstream out;
+  expand(name, seen, out);
+  return out.str();
+}
+
+ClProgram::ClProgram(const ClContext& ctx, const std::string& main_file, const std::string& options) {
+  auto t0 = std::chrono::steady_clock::now();
+  std::string src = expand_kernel_source(main_file);
+  const char* text = src.c_str();
+  size_t len = src.size();
+  cl_int st = CL_SUCCESS;
+  program_ = clCreateProgramWithSource(ctx.context(), 1, &text, &len, &st);
+  cl_check(st, "clCreateProgramWithSource");
+  std::string opts = "-cl-std=CL1.2 " + options;
+  cl_device_id dev = ctx.device();
+  st = clBuildProgram(program_, 1, &dev, opts.c_str(), nullptr, nullptr);
+  if (st != CL_SUCCESS) {
+    size_t n = 0;
+    clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+    std::string log(n, '\0');
+    clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+    clReleaseProgram(program_);
+    program_ = nullptr;
+    fail("OpenCL: building ", main_file, " for ", ctx.description(), " failed (error ", st, "):\n", log);
+  }
+  build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ClProgram::~ClProgram() {
+  for (auto& kv : kernels_) clReleaseKernel(kv.second);
+  if (program_) clReleaseProgram(program_);
+}
+
+cl_kernel ClProgram::kernel(const std::string& name) {
+  auto it = kernels_.find(name);
+  if (it != kernels_.end()) return it->second;
+  cl_int st = CL_SUCCESS;
+  cl_kernel k = clCreateKernel(program_, name.c_str(), &st);
+  if (st != CL_SUCCESS) fail("OpenCL: kernel '", name, "' not found in program (error ", st, ")");
+  kernels_[name] = k;
+  return k;
+}
+
+void enqueue_1d(cl_command_queue q, cl_kernel k, size_t offset, size_t count, cl_event* event) {
+  if (count == 0) return;
+  const size_t local = 64;
+  size_t global = (count + local - 1) / local * local;
+  cl_check(clEnqueueNDRangeKernel(q, k, 1, &offset, &global, &local, 0, nullptr, event),
+           "clEnqueueNDRangeKernel");
+}
+
+}  // namespace pmc

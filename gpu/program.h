@@ -1,0 +1,58 @@
+// program.h — OpenCL programs from sources embedded in the binary.
+//
+// At build time CMake embeds every core/abi/*.h and gpu/kernels/*.cl file
+// (gpu/embed_sources.cmake). At run time the quoted #includes are expanded
+// here, with #line directives so compiler messages name the right file and
+// line; set PMC_KERNEL_DIR=<repository root> to read the files from disk
+// instead while developing. A failed build throws pmc::Error carrying the
+// compiler's log.
+#pragma once
+
+#include <map>
+#include <string>
+
+#include "gpu/cl_context.h"
+
+namespace pmc {
+
+// Source text of an embedded (or, with PMC_KERNEL_DIR, on-disk) file by base name.
+std::string kernel_source_file(const std::string& name);
+// `name` with all quoted includes expanded, #line-annotated.
+std::string expand_kernel_source(const std::string& name);
+
+class ClProgram {
+ public:
+  ClProgram(const ClContext& ctx, const std::string& main_file, const std::string& options = "");
+  ~ClProgram();
+  ClProgram(const ClProgram&) = delete;
+  ClProgram& operator=(const ClProgram&) = delete;
+  cl_kernel kernel(const std::string& name);  // created once, owned by the program
+  double build_seconds() const { return build_seconds_; }
+
+ private:
+  cl_program program_ = nullptr;
+  std::map<std::string, cl_kernel> kernels_;
+  double build_seconds_ = 0.0;
+};
+
+// Typed argument setting: set_kernel_args(k, buffer, 3u, frame_buffer ...).
+inline void set_kernel_arg(cl_kernel k, cl_uint index, const ClBuffer& b) {
+  cl_mem m = b.get();
+  cl_check(clSetKernelArg(k, index, sizeof(cl_mem), &m), "clSetKernelArg(buffer)");
+}
+template <typename T>
+void set_kernel_arg(cl_kernel k, cl_uint index, const T& value) {
+  static_assert(std::is_trivially_copyable<T>::value, "kernel arguments are plain values");
+  cl_check(clSetKernelArg(k, index, sizeof(T), &value), "clSetKernelArg(value)");
+}
+template <typename... Args>
+void set_kernel_args(cl_kernel k, const Args&... args) {
+  cl_uint i = 0;
+  (set_kernel_arg(k, i++, args), ...);
+}
+
+// Enqueue a 1-D range [offset, offset + count) rounded up to the local size;
+// kernels bound-check their index. Returns the event (caller releases) if asked.
+void enqueue_1d(cl_command_queue q, cl_kernel k, size_t offset, size_t count, cl_event* event = nullptr);
+
+}  // namespace pmc

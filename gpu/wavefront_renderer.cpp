@@ -1,0 +1,236 @@
+// wavefront_renderer.cpp — buffers, the wave loop and its stage timers.
+#include "gpu/wavefront_renderer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <vector>
+
+#include "core/error.h"
+#include "core/lights.h"
+#include "gpu/program.h"
+
+namespace pmc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+PmcMtlMaterial to_kernel_material(const MtlMaterial& m) {
+  PmcMtlMaterial k{};
+  for (int i = 0; i < 3; ++i) {
+    k.kd[i] = std::max(0.0f, m.kd[i]);
+    k.ks[i] = std::max(0.0f, m.ks[i]);
+    k.ke[i] = std::max(0.0f, m.ke[i]);
+  }
+  k.kd_tex = m.kd_texture;
+  // Phong exponent to GGX alpha (Walter et al. 2007: alpha = sqrt(2 / (Ns + 2))).
+  k.roughness = std::sqrt(2.0f / (std::max(0.0f, m.ns) + 2.0f));
+  return k;
+}
+
+// Device time of finished events, summed per stage.
+struct EventLog {
+  std::vector<std::pair<cl_event, double*>> events;
+  cl_event* add(double* stage) {
+    events.push_back({nullptr, stage});
+    return &events.back().first;
+  }
+  void collect() {
+    for (auto& [ev, stage] : events) {
+      if (!ev) continue;
+      cl_ulong t0 = 0, t1 = 0;
+      if (clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_START, sizeof(t0), &t0, nullptr) == CL_SUCCESS &&
+          clGetEventProfilingInfo(ev, CL_PROFILING_COMMAND_END, sizeof(t1), &t1, nullptr) == CL_SUCCESS &&
+          t1 >= t0)
+        *stage += double(t1 - t0) * 1e-9;
+      clReleaseEvent(ev);
+    }
+    events.clear();
+  }
+};
+
+}  // namespace
+
+struct WavefrontRenderer::Impl {
+  const ClContext& cl;
+  const Scene& scene;
+  const EmbreeTracer& tracer;
+  ClProgram program;
+  LightTable lights;
+  ClBuffer positions, normals, uvs, triangles, materials, textures, texels, srgb_lut;
+  ClBuffer light_tris, light_cdf, tri_light_pmf;
+
+  Impl(const ClContext& c, const Scene& s, const EmbreeTracer& t)
+      : cl(c), scene(s), tracer(t), program(c, "pmc_kernels.cl") {
+    std::vector<PmcMtlMaterial> mats;
+    std::vector<float> emission;
+    for (const MtlMaterial& m : scene.materials) {
+      mats.push_back(to_kernel_material(m));
+      for (int i = 0; i < 3; ++i) emission.push_back(mats.back().ke[i]);
+    }
+    lights = build_light_table(scene, emission);
+    positions = cl.buffer_of(scene.positions);
+    normals = cl.buffer_of(scene.normals);
+    uvs = cl.buffer_of(scene.uvs);
+    triangles = cl.buffer_of(scene.triangles);
+    materials = cl.buffer_of(mats);
+    textures = cl.buffer_of(scene.textures.textures());
+    texels = cl.buffer_of(scene.textures.texels());
+    srgb_lut = cl.buffer_of(srgb_decode_table());
+    light_tris = cl.buffer_of(lights.triangles);
+    light_cdf = cl.buffer_of(lights.cdf);
+    tri_light_pmf = cl.buffer_of(lights.triangle_pmf);
+  }
+};
+
+WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const EmbreeTracer& tracer)
+    : impl_(std::make_unique<Impl>(cl, scene, tracer)) {}
+WavefrontRenderer::~WavefrontRenderer() = default;
+
+RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn& progress) {
+  Impl& m = *impl_;
+  const ClContext& cl = m.cl;
+  cl_command_queue q = cl.queue();
+  if (s.width <= 0 || s.height <= 0 || s.spp <= 0 || s.max_depth <= 0)
+    fail("render settings: width, height, spp and max depth must be positive");
+  const auto t_start = Clock::now();
+
+  const size_t pixels = size_t(s.width) * size_t(s.height);
+  const size_t wave = std::min(pixels, std::max<size_t>(1, s.max_wave_paths));
+  const size_t chunk = s.chunk_rays == 0 ? wave : std::min(wave, s.chunk_rays);
+
+  ClBuffer frame_buf = cl.buffer(sizeof(PmcFrame));
+  ClBuffer rays_a = cl.buffer(wave * sizeof(PmcRay));
+  ClBuffer rays_b = cl.buffer(wave * sizeof(PmcRay));
+  ClBuffer hits = cl.buffer(wave * sizeof(PmcHit));
+  ClBuffer paths = cl.buffer(wave * sizeof(PmcPathState));
+  ClBuffer shadow_rays = cl.buffer(wave * sizeof(PmcRay));
+  ClBuffer shadow_loads = cl.buffer(wave * sizeof(PmcShadowLoad));
+  ClBuffer occluded = cl.buffer(wave);
+  ClBuffer counters = cl.buffer(sizeof(PmcCounters));
+  std::vector<PmcFilmPixel> film_init(pixels, PmcFilmPixel{{0, 0, 0}, 0});
+  ClBuffer film = cl.buffer_of(film_init, CL_MEM_READ_WRITE);
+
+  std::vector<PmcRay> host_rays(wave);
+  std::vector<PmcHit> host_hits(wave);
+  std::vector<uint8_t> host_occluded(wave);
+
+  PmcFrame frame{};
+  frame.width = s.width;
+  frame.height = s.height;
+  frame.seed = s.seed;
+  frame.max_depth = s.max_depth;
+  frame.light_count = int(m.lights.triangles.size());
+  frame.light_total_power = m.lights.total_power;
+  for (int i = 0; i < 3; ++i) frame.env[i] = std::max(0.0f, s.env[i]);
+  fill_frame_camera(s.camera, frame);
+
+  cl_kernel k_camera = m.program.kernel("pmc_camera_rays");
+  cl_kernel k_shade = m.program.kernel("pmc_shade");
+  cl_kernel k_resolve = m.program.kernel("pmc_resolve_shadows");
+  cl_kernel k_film = m.program.kernel("pmc_film_accumulate");
+
+  RenderOutput out;
+  RenderStats& st = out.stats;
+  st.device = cl.description();
+  st.kernel_build_seconds = m.program.build_seconds();
+  EventLog events;
+
+  for (int sample = 0; sample < s.spp; ++sample) {
+    for (size_t block = 0; block < pixels; block += wave) {
+      const size_t n = std::min(wave, pixels - block);
+      frame.sample = uint32_t(sample);
+      frame.pixel_offset = uint32_t(block);
+      frame.path_count = uint32_t(n);
+      cl.write(frame_buf, 0, sizeof(frame), &frame, true);
+      set_kernel_args(k_camera, frame_buf, rays_a, paths);
+      enqueue_1d(q, k_camera, 0, n, events.add(&st.stages.camera));
+      st.paths += n;
+
+      ClBuffer* cur = &rays_a;
+      ClBuffer* next = &rays_b;
+      size_t count = n;
+      bool coherent = true;
+      while (count > 0) {
+        const PmcCounters zero{};
+        cl.write(counters, 0, sizeof(zero), &zero, false);
+        auto t0 = Clock::now();
+        cl.read(*cur, 0, count * sizeof(PmcRay), host_rays.data());
+        st.stages.transfer += since(t0);
+        for (size_t c0 = 0; c0 < count; c0 += chunk) {
+          const size_t cn = std::min(chunk, count - c0);
+          t0 = Clock::now();
+          m.tracer.intersect(host_rays.data() + c0, host_hits.data() + c0, cn, coherent);
+          st.stages.trace += since(t0);
+          cl_check(clEnqueueWriteBuffer(q, hits.get(), CL_FALSE, c0 * sizeof(PmcHit), cn * sizeof(PmcHit),
+                                        host_hits.data() + c0, 0, nullptr, events.add(&st.stages.transfer)),
+                   "clEnqueueWriteBuffer(hits)");
+          set_kernel_args(k_shade, frame_buf, *cur, hits, paths, m.positions, m.normals, m.uvs, m.triangles,
+                          m.materials, m.textures, m.texels, m.srgb_lut, m.light_tris, m.light_cdf,
+                          m.tri_light_pmf, *next, shadow_rays, shadow_loads, counters, cl_uint(c0 + cn));
+          enqueue_1d(q, k_shade, c0, cn, events.add(&st.stages.shade));
+          clFlush(q);
+        }
+        st.rays += count;
+        PmcCounters counts{};
+        t0 = Clock::now();
+        cl.read(counters, 0, sizeof(counts), &counts);  // waits for the shade kernels
+        st.stages.transfer += since(t0);
+        PMC_CHECK(counts.next_rays <= count && counts.shadow_rays <= count, "queue overflow");
+
+        const size_t ns = counts.shadow_rays;
+        if (ns > 0) {
+          t0 = Clock::now();
+          cl.read(shadow_rays, 0, ns * sizeof(PmcRay), host_rays.data());
+          st.stages.transfer += since(t0);
+          for (size_t c0 = 0; c0 < ns; c0 += chunk) {
+            const size_t cn = std::min(chunk, ns - c0);
+            t0 = Clock::now();
+            m.tracer.occluded(host_rays.data() + c0, host_occluded.data() + c0, cn);
+            st.stages.shadow += since(t0);
+            cl_check(clEnqueueWriteBuffer(q, occluded.get(), CL_FALSE, c0, cn, host_occluded.data() + c0, 0,
+                                          nullptr, events.add(&st.stages.transfer)),
+                     "clEnqueueWriteBuffer(occluded)");
+            set_kernel_args(k_resolve, shadow_loads, occluded, paths, cl_uint(c0 + cn));
+            enqueue_1d(q, k_resolve, c0, cn, events.add(&st.stages.film));
+            clFlush(q);
+          }
+          st.rays += ns;
+          st.shadow_rays += ns;
+        }
+        std::swap(cur, next);
+        count = counts.next_rays;
+        coherent = false;
+      }
+      set_kernel_args(k_film, frame_buf, paths, film);
+      enqueue_1d(q, k_film, 0, n, events.add(&st.stages.film));
+      cl.finish();
+      events.collect();
+    }
+    if (progress) progress(sample + 1, s.spp, st.rays);
+  }
+
+  std::vector<PmcFilmPixel> result(pixels);
+  cl.read(film, 0, pixels * sizeof(PmcFilmPixel), result.data());
+  out.image.width = s.width;
+  out.image.height = s.height;
+  out.image.channels = 3;
+  out.image.pixels.resize(pixels * 3);
+  for (size_t i = 0; i < pixels; ++i) {
+    const PmcFilmPixel& p = result[i];
+    st.bad_samples += p.bad_samples;
+    const uint32_t good = uint32_t(s.spp) - std::min<uint32_t>(p.bad_samples, uint32_t(s.spp));
+    bool finite = true;
+    for (int c = 0; c < 3; ++c) {
+      float v = good > 0 ? p.rgb[c] / float(good) : 0.0f;
+      finite = finite && std::isfinite(v);
+      out.image.pixels[3 * i + c] = v;
+    }
+    st.nan_pixels += finite ? 0 : 1;
+  }
+  st.render_seconds = since(t_start);
+  return out;
+}
+
+}  // namespace pmc
