@@ -6,6 +6,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include "core/error.h"
 #include "gpu/embedded_sources.h"
@@ -25,9 +26,17 @@ std::string read_disk_source(const std::string& root, const std::string& name) {
   fail("PMC_KERNEL_DIR=", root, ": kernel source '", name, "' not found under core/abi or gpu/kernels");
 }
 
+void expand_text(const std::string& name, const std::string& text, std::set<std::string>& seen,
+                 std::ostringstream& out);
+
 void expand(const std::string& name, std::set<std::string>& seen, std::ostringstream& out) {
   if (!seen.insert(name).second) return;  // every file is included once
-  std::istringstream in(kernel_source_file(name));
+  expand_text(name, kernel_source_file(name), seen, out);
+}
+
+void expand_text(const std::string& name, const std::string& text, std::set<std::string>& seen,
+                 std::ostringstream& out) {
+  std::istringstream in(text);
   std::string line;
   int line_no = 0;
   out << "#line 1 \"" << name << "\"\n";
@@ -63,9 +72,32 @@ std::string expand_kernel_source(const std::string& name) {
   return out.str();
 }
 
+std::string expand_kernel_text(const std::string& name, const std::string& text) {
+  std::set<std::string> seen{name};
+  std::ostringstream out;
+  expand_text(name, text, seen, out);
+  return out.str();
+}
+
 ClProgram::ClProgram(const ClContext& ctx, const std::string& main_file, const std::string& options) {
+  build(ctx, main_file, expand_kernel_source(main_file), options);
+}
+
+ClProgram ClProgram::from_text(const ClContext& ctx, const std::string& name, const std::string& text,
+                               const std::string& options) {
+  ClProgram p;
+  p.build(ctx, name, expand_kernel_text(name, text), options);
+  return p;
+}
+
+ClProgram::ClProgram(ClProgram&& o) noexcept
+    : program_(std::exchange(o.program_, nullptr)), kernels_(std::move(o.kernels_)), build_seconds_(o.build_seconds_) {
+  o.kernels_.clear();
+}
+
+void ClProgram::build(const ClContext& ctx, const std::string& main_file, const std::string& src,
+                      const std::string& options) {
   auto t0 = std::chrono::steady_clock::now();
-  std::string src = expand_kernel_source(main_file);
   const char* text = src.c_str();
   size_t len = src.size();
   cl_int st = CL_SUCCESS;

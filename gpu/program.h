@@ -19,10 +19,16 @@ namespace pmc {
 std::string kernel_source_file(const std::string& name);
 // `name` with all quoted includes expanded, #line-annotated.
 std::string expand_kernel_source(const std::string& name);
+// In-memory source `text` (reported as `name`) with its quoted includes expanded.
+std::string expand_kernel_text(const std::string& name, const std::string& text);
 
 class ClProgram {
  public:
   ClProgram(const ClContext& ctx, const std::string& main_file, const std::string& options = "");
+  // A program from in-memory source (tests, generated kernels); `name` labels errors.
+  static ClProgram from_text(const ClContext& ctx, const std::string& name, const std::string& text,
+                             const std::string& options = "");
+  ClProgram(ClProgram&& o) noexcept;
   ~ClProgram();
   ClProgram(const ClProgram&) = delete;
   ClProgram& operator=(const ClProgram&) = delete;
@@ -30,6 +36,9 @@ class ClProgram {
   double build_seconds() const { return build_seconds_; }
 
  private:
+  ClProgram() = default;
+  void build(const ClContext& ctx, const std::string& name, const std::string& expanded,
+             const std::string& options);
   cl_program program_ = nullptr;
   std::map<std::string, cl_kernel> kernels_;
   double build_seconds_ = 0.0;

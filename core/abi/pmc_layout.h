@@ -1,0 +1,44 @@
+/* pmc_layout.h — the list of shared struct fields whose layout must agree.
+ *
+ * PMC_LAYOUT_STRUCTS(X) names every struct of pmc_types.h; PMC_LAYOUT_FIELDS(X)
+ * every field. tests/gpu/abi_layout_test.cpp expands both lists on the host
+ * (sizeof/offsetof) and in a kernel, and compares the two tables. Adding a
+ * field to pmc_types.h means adding it here.
+ */
+#ifndef PMC_LAYOUT_H
+#define PMC_LAYOUT_H
+
+#define PMC_LAYOUT_STRUCTS(X) \
+  X(PmcRay)                   \
+  X(PmcHit)                   \
+  X(PmcPathState)             \
+  X(PmcShadowLoad)            \
+  X(PmcTriangle)              \
+  X(PmcFilmPixel)             \
+  X(PmcTexture)               \
+  X(PmcMtlMaterial)           \
+  X(PmcFrame)                 \
+  X(PmcCounters)
+
+#define PMC_LAYOUT_FIELDS(X)                                                                       \
+  X(PmcRay, org_x) X(PmcRay, tnear) X(PmcRay, dir_x) X(PmcRay, time) X(PmcRay, tfar) X(PmcRay, mask) \
+  X(PmcRay, id) X(PmcRay, flags)                                                                   \
+  X(PmcHit, t) X(PmcHit, u) X(PmcHit, v) X(PmcHit, prim)                                           \
+  X(PmcPathState, throughput) X(PmcPathState, radiance) X(PmcPathState, cone_width)                \
+  X(PmcPathState, cone_spread) X(PmcPathState, bsdf_pdf) X(PmcPathState, pixel)                    \
+  X(PmcPathState, depth) X(PmcPathState, flags)                                                    \
+  X(PmcShadowLoad, rgb) X(PmcShadowLoad, path)                                                     \
+  X(PmcTriangle, v) X(PmcTriangle, n) X(PmcTriangle, t) X(PmcTriangle, material)                   \
+  X(PmcFilmPixel, rgb) X(PmcFilmPixel, bad_samples)                                                \
+  X(PmcTexture, offset) X(PmcTexture, width) X(PmcTexture, height) X(PmcTexture, levels)           \
+  X(PmcTexture, flags)                                                                             \
+  X(PmcMtlMaterial, kd) X(PmcMtlMaterial, kd_tex) X(PmcMtlMaterial, ks) X(PmcMtlMaterial, roughness) \
+  X(PmcMtlMaterial, ke) X(PmcMtlMaterial, flags)                                                   \
+  X(PmcFrame, cam_eye) X(PmcFrame, cam_spread) X(PmcFrame, cam_forward) X(PmcFrame, cam_right)     \
+  X(PmcFrame, cam_up) X(PmcFrame, env) X(PmcFrame, scene_radius) X(PmcFrame, width)                \
+  X(PmcFrame, height) X(PmcFrame, seed) X(PmcFrame, sample) X(PmcFrame, pixel_offset)              \
+  X(PmcFrame, path_count) X(PmcFrame, max_depth) X(PmcFrame, light_count)                          \
+  X(PmcFrame, light_total_power)                                                                   \
+  X(PmcCounters, next_rays) X(PmcCounters, shadow_rays)
+
+#endif /* PMC_LAYOUT_H */
