@@ -3,9 +3,15 @@
 
 #include <tiny_obj_loader.h>
 
+#include <cctype>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <utility>
+#include <vector>
 
 #include "core/error.h"
 
@@ -25,6 +31,52 @@ std::string warning_line(const std::string& warnings, const std::string& needle)
   begin = begin == std::string::npos ? 0 : begin + 1;
   size_t end = warnings.find('\n', at);
   return warnings.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+}
+
+// tinyobjloader's number parser reads "nan" and "inf" as 0, which would move
+// such a vertex to the origin without a word. Re-read the `v` lines that hold
+// letters and store NaN/inf where strtod sees one, so those triangles are
+// skipped like any other non-finite position.
+void restore_non_finite_positions(const std::string& path, std::vector<float>& positions) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return;  // tinyobj read no vertices either
+  const uintmax_t size = std::filesystem::file_size(path, ec);
+  std::ifstream in(path, std::ios::binary);
+  if (ec || !in) return;
+  std::string text(size_t(size), '\0');
+  in.read(text.data(), std::streamsize(text.size()));
+  text.resize(size_t(in.gcount()));
+  std::vector<std::pair<size_t, float>> fixes;  // (component, value)
+  size_t vertex = 0;
+  for (size_t begin = 0; begin < text.size();) {
+    // tinyobj splits lines at \r, \n and \r\n.
+    const char* line_start = text.data() + begin;
+    const char* nl = static_cast<const char*>(std::memchr(line_start, '\n', text.size() - begin));
+    size_t end = nl ? size_t(nl - text.data()) : text.size();
+    const char* cr = static_cast<const char*>(std::memchr(line_start, '\r', end - begin));
+    if (cr) end = size_t(cr - text.data());
+    size_t at = begin;
+    while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
+    if (at + 1 < end && text[at] == 'v' && (text[at + 1] == ' ' || text[at + 1] == '\t')) {
+      bool letters = false;
+      for (size_t i = at + 2; i < end && !letters; ++i) letters = std::isalpha(static_cast<unsigned char>(text[i]));
+      if (letters) {
+        std::string line = text.substr(at + 2, end - at - 2);
+        const char* s = line.c_str();
+        for (int c = 0; c < 3; ++c) {
+          char* stop = nullptr;
+          double d = std::strtod(s, &stop);
+          if (stop == s) break;
+          if (!std::isfinite(d)) fixes.emplace_back(3 * vertex + size_t(c), float(d));
+          s = stop;
+        }
+      }
+      ++vertex;
+    }
+    begin = end + 1;
+  }
+  if (3 * vertex != positions.size()) return;  // counted differently from tinyobj: leave as is
+  for (const auto& [component, value] : fixes) positions[component] = value;
 }
 
 }  // namespace
@@ -57,6 +109,9 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
     std::string line = warning_line(warnings, needle);
     if (!line.empty()) fail(path, ": MTL library missing or unreadable (", line, ")");
   }
+  // tinyobj drops a quad with an out-of-range vertex index with only this warning.
+  std::string bad_quad = warning_line(warnings, "Face with invalid vertex index");
+  if (!bad_quad.empty()) fail(path, ": a quad uses a vertex index out of range (", bad_quad, ")");
   std::string unknown = warning_line(warnings, "not found in .mtl");
   if (!unknown.empty()) warn(path + ": " + unknown + "; those faces use the default material");
 
@@ -64,6 +119,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   Scene scene;
   scene.obj_path = path;
   scene.positions.assign(attrib.vertices.begin(), attrib.vertices.end());
+  restore_non_finite_positions(path, scene.positions);
   scene.normals.assign(attrib.normals.begin(), attrib.normals.end());
   scene.uvs.assign(attrib.texcoords.begin(), attrib.texcoords.end());
   const long nv = long(attrib.vertices.size() / 3);
@@ -108,7 +164,9 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
         if (ix.vertex_index < 0 || ix.vertex_index >= nv)
           fail(path, ": shape '", shape.name, "' face ", f + 1, " uses vertex index ", ix.vertex_index + 1,
                " but the file has ", nv, " vertices");
-        if (ix.normal_index >= nn || ix.texcoord_index >= nt)
+        // -1 means "absent"; a relative index before the first entry resolves below -1.
+        if (ix.normal_index >= nn || ix.texcoord_index >= nt || ix.normal_index < -1 ||
+            ix.texcoord_index < -1)
           fail(path, ": shape '", shape.name, "' face ", f + 1,
                " uses a normal or texture-coordinate index out of range");
         tri.v[k] = ix.vertex_index;

@@ -79,7 +79,10 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
   auto found = by_key_.find(key);
   if (found != by_key_.end()) return found->second;
 
-  auto in = OIIO::ImageInput::open(path);
+  // Keep colour and alpha separate: cut-out masks need the unpremultiplied colour.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
   if (!in) {
     std::string why = OIIO::geterror();
     fail(used_by, ": cannot read texture '", path, "': ", why.empty() ? "not an image" : why);
