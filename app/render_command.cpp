@@ -65,11 +65,14 @@ int run_render(const std::vector<std::string>& args) {
   const std::string png = replace_extension(exr, ".png");
   apply_thread_option(p);
 
-  Scene scene = load_obj(obj);
+  ObjLoadOptions load;
+  load.load_textures = false;  // the material compiler loads what live nodes read
+  Scene scene = load_obj(obj, load);
+  MaterialSet materials = build_material_set(scene, material_options_from(p));
   RenderSettings settings = render_settings_from(p, scene, obj);
   ClContext cl(p.get("--device"));
   EmbreeTracer tracer(scene, parse_trace_mode(p.get("--trace-mode", "single")));
-  WavefrontRenderer renderer(cl, scene, tracer);
+  WavefrontRenderer renderer(cl, scene, materials, tracer);
   ProgressBar bar("render", !p.has("--quiet"));
   RenderOutput out =
       renderer.render(settings, [&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });

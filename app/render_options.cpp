@@ -13,6 +13,9 @@
 namespace pmc {
 
 void declare_render_options(ArgParser& p) {
+  p.option("--mtlx", "FILE.mtlx", "MaterialX document; usemtl NAME binds to its material NAME (repeatable)",
+           "", true);
+  p.option("--material", "NAME", "render every triangle with this MaterialX material");
   p.option("--width", "W", "image width in pixels", "640");
   p.option("--height", "H", "image height in pixels", "360");
   p.option("--spp", "N", "samples per pixel", "16");
@@ -41,6 +44,15 @@ void apply_thread_option(const ArgParser& p) {
   std::string t = std::to_string(threads);
   setenv("POCL_MAX_PTHREAD_COUNT", t.c_str(), 1);
   setenv("POCL_CPU_MAX_CU_NUM", t.c_str(), 1);
+}
+
+MaterialOptions material_options_from(const ArgParser& p) {
+  MaterialOptions m;
+  m.mtlx_files = p.all("--mtlx");
+  m.override_material = p.get("--material");
+  if (!m.override_material.empty() && m.mtlx_files.empty())
+    fail("--material needs at least one --mtlx document");
+  return m;
 }
 
 RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, const std::string& obj_path) {

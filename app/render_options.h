@@ -8,10 +8,12 @@
 
 #include "app/cli_args.h"
 #include "gpu/wavefront_renderer.h"
+#include "materials/material_set.h"
 
 namespace pmc {
 
 void declare_render_options(ArgParser& p);
+MaterialOptions material_options_from(const ArgParser& p);
 RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, const std::string& obj_path);
 // Applies --threads (TBB and PoCL thread counts); call before any OpenCL use.
 void apply_thread_option(const ArgParser& p);

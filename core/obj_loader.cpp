@@ -59,7 +59,8 @@ void restore_non_finite_positions(const std::string& path, std::vector<float>& p
     while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
     if (at + 1 < end && text[at] == 'v' && (text[at + 1] == ' ' || text[at + 1] == '\t')) {
       bool letters = false;
-      for (size_t i = at + 2; i < end && !letters; ++i) letters = std::isalpha(static_cast<unsigned char>(text[i]));
+      for (size_t i = at + 2; i < end && !letters; ++i)
+        letters = std::isalpha(static_cast<unsigned char>(text[i]));
       if (letters) {
         std::string line = text.substr(at + 2, end - at - 2);
         const char* s = line.c_str();
@@ -136,7 +137,14 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
       mm.ke[i] = float(m.emission[i]);
     }
     mm.ns = float(m.shininess);
-    if (!m.diffuse_texname.empty()) mm.map_kd = dirname_of(path) + normalize_texture_path(m.diffuse_texname);
+    mm.dissolve = float(m.dissolve);
+    auto resolve = [&](const std::string& t) {
+      return t.empty() ? t : dirname_of(path) + normalize_texture_path(t);
+    };
+    mm.map_kd = resolve(m.diffuse_texname);
+    mm.map_d = resolve(m.alpha_texname);
+    mm.map_bump = resolve(!m.bump_texname.empty() ? m.bump_texname : m.normal_texname);
+    mm.map_ks = resolve(m.specular_texname);
     scene.materials.push_back(mm);
   }
   const int default_material = int(scene.materials.size());

@@ -34,7 +34,11 @@ struct MtlMaterial {
   float ks[3] = {0.0f, 0.0f, 0.0f};
   float ke[3] = {0.0f, 0.0f, 0.0f};
   float ns = 0.0f;
-  std::string map_kd;   // resolved path, empty when none
+  float dissolve = 1.0f;  // d
+  std::string map_kd;     // resolved paths, empty when none
+  std::string map_d;
+  std::string map_bump;
+  std::string map_ks;
   int kd_texture = -1;  // index into Scene::textures once loaded
 };
 

@@ -91,7 +91,9 @@ ClProgram ClProgram::from_text(const ClContext& ctx, const std::string& name, co
 }
 
 ClProgram::ClProgram(ClProgram&& o) noexcept
-    : program_(std::exchange(o.program_, nullptr)), kernels_(std::move(o.kernels_)), build_seconds_(o.build_seconds_) {
+    : program_(std::exchange(o.program_, nullptr)),
+      kernels_(std::move(o.kernels_)),
+      build_seconds_(o.build_seconds_) {
   o.kernels_.clear();
 }
 

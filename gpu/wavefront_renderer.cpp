@@ -16,19 +16,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-PmcMtlMaterial to_kernel_material(const MtlMaterial& m) {
-  PmcMtlMaterial k{};
-  for (int i = 0; i < 3; ++i) {
-    k.kd[i] = std::max(0.0f, m.kd[i]);
-    k.ks[i] = std::max(0.0f, m.ks[i]);
-    k.ke[i] = std::max(0.0f, m.ke[i]);
-  }
-  k.kd_tex = m.kd_texture;
-  // Phong exponent to GGX alpha (Walter et al. 2007: alpha = sqrt(2 / (Ns + 2))).
-  k.roughness = std::sqrt(2.0f / (std::max(0.0f, m.ns) + 2.0f));
-  return k;
-}
-
 // Device time of finished events, summed per stage.
 struct EventLog {
   std::vector<std::pair<cl_event, double*>> events;
@@ -58,34 +45,35 @@ struct WavefrontRenderer::Impl {
   const EmbreeTracer& tracer;
   ClProgram program;
   LightTable lights;
-  ClBuffer positions, normals, uvs, triangles, materials, textures, texels, srgb_lut;
+  uint32_t texture_count = 0;
+  ClBuffer positions, normals, uvs, triangles, code, materials, textures, texels, srgb_lut;
   ClBuffer light_tris, light_cdf, tri_light_pmf;
 
-  Impl(const ClContext& c, const Scene& s, const EmbreeTracer& t)
+  Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t)
       : cl(c), scene(s), tracer(t), program(c, "pmc_kernels.cl") {
-    std::vector<PmcMtlMaterial> mats;
     std::vector<float> emission;
-    for (const MtlMaterial& m : scene.materials) {
-      mats.push_back(to_kernel_material(m));
-      for (int i = 0; i < 3; ++i) emission.push_back(mats.back().ke[i]);
-    }
+    for (const PmcMaterialInfo& m : mats.infos)
+      for (int i = 0; i < 3; ++i) emission.push_back(m.emission[i]);
     lights = build_light_table(scene, emission);
+    texture_count = uint32_t(scene.textures.size());
     positions = cl.buffer_of(scene.positions);
     normals = cl.buffer_of(scene.normals);
     uvs = cl.buffer_of(scene.uvs);
     triangles = cl.buffer_of(scene.triangles);
-    materials = cl.buffer_of(mats);
+    code = cl.buffer_of(mats.program.code);
+    materials = cl.buffer_of(mats.infos);
     textures = cl.buffer_of(scene.textures.textures());
-    texels = cl.buffer_of(scene.textures.texels());
-    srgb_lut = cl.buffer_of(srgb_decode_table());
+    texels = cl.buffer_of(mats.texel_words);
+    srgb_lut = cl.buffer_of(mats.srgb_lut);
     light_tris = cl.buffer_of(lights.triangles);
     light_cdf = cl.buffer_of(lights.cdf);
     tri_light_pmf = cl.buffer_of(lights.triangle_pmf);
   }
 };
 
-WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const EmbreeTracer& tracer)
-    : impl_(std::make_unique<Impl>(cl, scene, tracer)) {}
+WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
+                                     const EmbreeTracer& tracer)
+    : impl_(std::make_unique<Impl>(cl, scene, materials, tracer)) {}
 WavefrontRenderer::~WavefrontRenderer() = default;
 
 RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn& progress) {
@@ -123,6 +111,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   frame.max_depth = s.max_depth;
   frame.light_count = int(m.lights.triangles.size());
   frame.light_total_power = m.lights.total_power;
+  frame.texture_count = m.texture_count;
   for (int i = 0; i < 3; ++i) frame.env[i] = std::max(0.0f, s.env[i]);
   fill_frame_camera(s.camera, frame);
 
@@ -167,7 +156,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
                                         host_hits.data() + c0, 0, nullptr, events.add(&st.stages.transfer)),
                    "clEnqueueWriteBuffer(hits)");
           set_kernel_args(k_shade, frame_buf, *cur, hits, paths, m.positions, m.normals, m.uvs, m.triangles,
-                          m.materials, m.textures, m.texels, m.srgb_lut, m.light_tris, m.light_cdf,
+                          m.code, m.materials, m.textures, m.texels, m.srgb_lut, m.light_tris, m.light_cdf,
                           m.tri_light_pmf, *next, shadow_rays, shadow_loads, counters, cl_uint(c0 + cn));
           enqueue_1d(q, k_shade, c0, cn, events.add(&st.stages.shade));
           clFlush(q);

@@ -19,6 +19,7 @@
 #include "core/image_io.h"
 #include "core/scene.h"
 #include "gpu/cl_context.h"
+#include "materials/material_set.h"
 
 namespace pmc {
 
@@ -60,7 +61,8 @@ using ProgressFn = std::function<void(int samples_done, int samples_total, uint6
 
 class WavefrontRenderer {
  public:
-  WavefrontRenderer(const ClContext& cl, const Scene& scene, const EmbreeTracer& tracer);
+  WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
+                    const EmbreeTracer& tracer);
   ~WavefrontRenderer();
   RenderOutput render(const RenderSettings& settings, const ProgressFn& progress = {});
 

@@ -25,8 +25,8 @@ typedef struct PmcBsdf {
 /* GGX normal distribution D(h) for a local half vector h. */
 PMC_FN float pmc_ggx_d(float3 h, float alpha) {
   float a2 = alpha * alpha;
-  float c2 = h.z * h.z;
-  float d = c2 * (a2 - 1.0f) + 1.0f;
+  /* cos²(a²-1)+1 written as sin² + a² cos²: no cancellation near the peak. */
+  float d = h.x * h.x + h.y * h.y + a2 * h.z * h.z;
   return h.z > 0.0f ? a2 / (PMC_PI * d * d) : 0.0f;
 }
 

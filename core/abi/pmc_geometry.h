@@ -11,19 +11,6 @@
 #define PMC_GEOMETRY_H
 
 #include "pmc_vec.h"
-#ifndef __OPENCL_VERSION__
-#include <cstring>
-PMC_FN float as_float(int i) {
-  float f;
-  std::memcpy(&f, &i, 4);
-  return f;
-}
-PMC_FN int as_int(float f) {
-  int i;
-  std::memcpy(&i, &f, 4);
-  return i;
-}
-#endif
 
 PMC_FN float pmc_offset_1(float p, float n) {
   const float origin = 1.0f / 32.0f;

@@ -16,7 +16,7 @@
   X(PmcTriangle)              \
   X(PmcFilmPixel)             \
   X(PmcTexture)               \
-  X(PmcMtlMaterial)           \
+  X(PmcMaterialInfo)          \
   X(PmcFrame)                 \
   X(PmcCounters)
 
@@ -32,13 +32,12 @@
   X(PmcFilmPixel, rgb) X(PmcFilmPixel, bad_samples)                                                \
   X(PmcTexture, offset) X(PmcTexture, width) X(PmcTexture, height) X(PmcTexture, levels)           \
   X(PmcTexture, flags)                                                                             \
-  X(PmcMtlMaterial, kd) X(PmcMtlMaterial, kd_tex) X(PmcMtlMaterial, ks) X(PmcMtlMaterial, roughness) \
-  X(PmcMtlMaterial, ke) X(PmcMtlMaterial, flags)                                                   \
+  X(PmcMaterialInfo, entry) X(PmcMaterialInfo, flags) X(PmcMaterialInfo, emission)               \
   X(PmcFrame, cam_eye) X(PmcFrame, cam_spread) X(PmcFrame, cam_forward) X(PmcFrame, cam_right)     \
   X(PmcFrame, cam_up) X(PmcFrame, env) X(PmcFrame, scene_radius) X(PmcFrame, width)                \
   X(PmcFrame, height) X(PmcFrame, seed) X(PmcFrame, sample) X(PmcFrame, pixel_offset)              \
   X(PmcFrame, path_count) X(PmcFrame, max_depth) X(PmcFrame, light_count)                          \
-  X(PmcFrame, light_total_power)                                                                   \
+  X(PmcFrame, light_total_power) X(PmcFrame, texture_count)                                       \
   X(PmcCounters, next_rays) X(PmcCounters, shadow_rays)
 
 #endif /* PMC_LAYOUT_H */

@@ -1,55 +1,119 @@
-/* texture.cl — texture fetches from the shared RGBA8 texel pool.
+/* pmc_texture.h — filtered texture lookups, shared by kernels and host.
  *
- * Textures live in one buffer of uchar4 texels (all mip levels of all
- * textures back to back, see PmcTexture). Fetches wrap with the repeat mode
- * (UVs outside [0,1] are common: sponza reaches 18.6) and filter bilinearly;
- * sRGB-encoded textures are decoded through a 256-entry table built on the host.
- * OBJ convention: v = 0 is the bottom row of the image.
+ * Textures live in one pool of RGBA8 texels packed in 32-bit words (all mip
+ * levels of all textures back to back, see PmcTexture). A lookup takes a uv,
+ * MaterialX address modes (constant, clamp, periodic, mirror), a filter, and
+ * a footprint in uv units from the ray cone; the footprint picks the mip
+ * level (trilinear between the two nearest levels). sRGB-encoded texels are
+ * decoded through a 256-entry table. OBJ/MaterialX convention: v = 0 is the
+ * bottom row of the image. The host runs the same code for the CPU reference
+ * interpreter and the cut-out opacity filter.
  */
+#ifndef PMC_TEXTURE_H
+#define PMC_TEXTURE_H
 
-static inline int pmc_wrap(int i, int n) {
+#include "pmc_bytecode.h"
+#include "pmc_types.h"
+
+typedef struct PmcTextureSet {
+  PMC_GLOBAL const PmcTexture* textures;
+  PMC_GLOBAL const pmc_u32* texels; /* RGBA8, r in the low byte */
+  PMC_CONSTANT const float* srgb_lut;
+  pmc_u32 count;
+} PmcTextureSet;
+
+PMC_FN int pmc_wrap_periodic(int i, int n) {
   int m = i % n;
   return m < 0 ? m + n : m;
 }
 
-static inline float4 pmc_texel(__global const uchar4* texels, __constant float* srgb_lut,
-                               uint base, int w, int x, int y, int srgb) {
-  uchar4 t = texels[base + (uint)y * (uint)w + (uint)x];
-  float4 c;
-  if (srgb) {
-    c = (float4)(srgb_lut[t.x], srgb_lut[t.y], srgb_lut[t.z], (float)t.w * (1.0f / 255.0f));
-  } else {
-    c = convert_float4(t) * (1.0f / 255.0f);
+/* Texel index along one axis for an address mode; -1 means "outside" (constant). */
+PMC_FN int pmc_address(int i, int n, pmc_u32 mode) {
+  if (mode == PMC_ADDR_PERIODIC) return pmc_wrap_periodic(i, n);
+  if (mode == PMC_ADDR_MIRROR) {
+    int m = pmc_wrap_periodic(i, 2 * n);
+    return m < n ? m : 2 * n - 1 - m;
   }
-  return c;
+  if (mode == PMC_ADDR_CLAMP) return i < 0 ? 0 : (i >= n ? n - 1 : i);
+  return (i < 0 || i >= n) ? -1 : i;
 }
 
-/* Bilinear, repeat-wrapped lookup of one mip level. */
-static inline float4 pmc_texture_level(__global const PmcTexture* tex, __global const uchar4* texels,
-                                       __constant float* srgb_lut, float2 uv, int level) {
-  uint base = tex->offset;
+PMC_FN float4 pmc_texel_fetch(const PmcTextureSet* ts, pmc_u32 base, int w, int x, int y, int srgb) {
+  pmc_u32 t = ts->texels[base + (pmc_u32)y * (pmc_u32)w + (pmc_u32)x];
+  float r = (float)(t & 255u), g = (float)((t >> 8) & 255u), b = (float)((t >> 16) & 255u);
+  float a = (float)(t >> 24) * (1.0f / 255.0f);
+  if (srgb) return make_float4(ts->srgb_lut[(int)r], ts->srgb_lut[(int)g], ts->srgb_lut[(int)b], a);
+  return make_float4(r * (1.0f / 255.0f), g * (1.0f / 255.0f), b * (1.0f / 255.0f), a);
+}
+
+/* Map a coordinate into a range where float texel math is exact enough for
+ * the address mode: the periodic phase for periodic, phase of u/2 for mirror
+ * (period 2), a clamp to [-1, 2] for clamp/constant. Huge (1e7) or NaN uvs
+ * thus never poison the texel arithmetic. */
+PMC_FN float pmc_reduce_coord(float u, pmc_u32 mode) {
+  if (!isfinite(u)) return 0.0f;
+  if (mode == PMC_ADDR_PERIODIC) {
+    float r = u - floor(u);
+    return r < 1.0f ? r : 0.0f;
+  }
+  if (mode == PMC_ADDR_MIRROR) {
+    float h = 0.5f * u;
+    float r = h - floor(h);
+    return 2.0f * (r < 1.0f ? r : 0.0f);
+  }
+  return u < -1.0f ? -1.0f : (u > 2.0f ? 2.0f : u);
+}
+
+/* One mip level, bilinear or nearest. */
+PMC_FN float4 pmc_texture_level(const PmcTextureSet* ts, PMC_GLOBAL const PmcTexture* tex, float2 uv,
+                                int level, pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
+  pmc_u32 base = tex->offset;
   int w = tex->width, h = tex->height;
   for (int l = 0; l < level; ++l) {
-    base += (uint)w * (uint)h;
-    w = max(1, w >> 1);
-    h = max(1, h >> 1);
+    base += (pmc_u32)w * (pmc_u32)h;
+    w = w > 1 ? w >> 1 : 1;
+    h = h > 1 ? h >> 1 : 1;
   }
-  /* Keep the fractional part in double-free float math: reduce first so huge
-   * UVs (1e7) do not lose all precision before the wrap. */
-  float fu = uv.x - floor(uv.x);
-  float fv = uv.y - floor(uv.y);
-  if (!(fu >= 0.0f && fu < 1.0f)) fu = 0.0f; /* NaN/Inf UVs */
-  if (!(fv >= 0.0f && fv < 1.0f)) fv = 0.0f;
-  float x = fu * (float)w - 0.5f;
-  float y = (1.0f - fv) * (float)h - 0.5f;
+  int srgb = (tex->flags & PMC_TEX_SRGB) != 0u;
+  /* Texel space: x to the right, y down from the top row. */
+  float x = pmc_reduce_coord(uv.x, umode) * (float)w;
+  float y = pmc_reduce_coord(1.0f - uv.y, vmode) * (float)h;
+  if (filter == PMC_FILTER_CLOSEST) {
+    int xi = pmc_address((int)floor(x), w, umode), yi = pmc_address((int)floor(y), h, vmode);
+    if (xi < 0 || yi < 0) return fallback;
+    return pmc_texel_fetch(ts, base, w, xi, yi, srgb);
+  }
+  x -= 0.5f;
+  y -= 0.5f;
   float x0f = floor(x), y0f = floor(y);
   float ax = x - x0f, ay = y - y0f;
-  int x0 = pmc_wrap((int)x0f, w), y0 = pmc_wrap((int)y0f, h);
-  int x1 = pmc_wrap(x0 + 1, w), y1 = pmc_wrap(y0 + 1, h);
-  int srgb = (tex->flags & PMC_TEX_SRGB) != 0u;
-  float4 c00 = pmc_texel(texels, srgb_lut, base, w, x0, y0, srgb);
-  float4 c10 = pmc_texel(texels, srgb_lut, base, w, x1, y0, srgb);
-  float4 c01 = pmc_texel(texels, srgb_lut, base, w, x0, y1, srgb);
-  float4 c11 = pmc_texel(texels, srgb_lut, base, w, x1, y1, srgb);
-  return mix(mix(c00, c10, ax), mix(c01, c11, ax), ay);
+  int x0 = (int)x0f, y0 = (int)y0f;
+  int xa = pmc_address(x0, w, umode), xb = pmc_address(x0 + 1, w, umode);
+  int ya = pmc_address(y0, h, vmode), yb = pmc_address(y0 + 1, h, vmode);
+  float4 c00 = (xa >= 0 && ya >= 0) ? pmc_texel_fetch(ts, base, w, xa, ya, srgb) : fallback;
+  float4 c10 = (xb >= 0 && ya >= 0) ? pmc_texel_fetch(ts, base, w, xb, ya, srgb) : fallback;
+  float4 c01 = (xa >= 0 && yb >= 0) ? pmc_texel_fetch(ts, base, w, xa, yb, srgb) : fallback;
+  float4 c11 = (xb >= 0 && yb >= 0) ? pmc_texel_fetch(ts, base, w, xb, yb, srgb) : fallback;
+  float4 top = c00 + (c10 - c00) * ax;
+  float4 bottom = c01 + (c11 - c01) * ax;
+  return top + (bottom - top) * ay;
 }
+
+/* Trilinear lookup: `footprint` is the uv-space width the lookup covers. */
+PMC_FN float4 pmc_texture_sample(const PmcTextureSet* ts, pmc_u32 index, float2 uv, float footprint,
+                                 pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
+  if (index >= ts->count) return fallback;
+  PMC_GLOBAL const PmcTexture* tex = &ts->textures[index];
+  float size = (float)(tex->width > tex->height ? tex->width : tex->height);
+  float lod = footprint > 0.0f && isfinite(footprint) ? log2(footprint * size) : 0.0f;
+  float max_lod = (float)(tex->levels - 1);
+  lod = lod > 0.0f ? (lod < max_lod ? lod : max_lod) : 0.0f;
+  int l0 = (int)floor(lod);
+  float t = lod - (float)l0;
+  float4 c0 = pmc_texture_level(ts, tex, uv, l0, umode, vmode, filter, fallback);
+  if (t <= 0.0f || l0 + 1 > (int)max_lod) return c0;
+  float4 c1 = pmc_texture_level(ts, tex, uv, l0 + 1, umode, vmode, filter, fallback);
+  return c0 + (c1 - c0) * t;
+}
+
+#endif /* PMC_TEXTURE_H */

@@ -6,7 +6,7 @@
  * here on both sides. Data flows:
  *   camera kernel   -> PmcRay queue + PmcPathState
  *   host (Embree)   -> PmcHit per ray (and occlusion bytes for shadow rays)
- *   shade kernel    -> next PmcRay queue, shadow PmcRay queue + PmcShadowLoad
+ *   shade kernel    -> runs PmcMaterialInfo.entry's bytecode, writes the next PmcRay queue, shadow PmcRay queue + PmcShadowLoad
  *   resolve kernel  -> PmcPathState.radiance; film kernel -> PmcFilmPixel
  */
 #ifndef PMC_TYPES_H
@@ -78,15 +78,15 @@ typedef struct PmcTexture {
   pmc_u32 pad[3];
 } PmcTexture;
 
-/* The MTL material model of the first renderer: Lambert + GGX + emission. */
-typedef struct PmcMtlMaterial {
-  float kd[3];
-  pmc_i32 kd_tex; /* texture index or -1 */
-  float ks[3];
-  float roughness; /* GGX alpha from Ns */
-  float ke[3];
+/* Per material: where its program starts, and its constant emission (the
+ * light table and next-event estimation use it). */
+#define PMC_MAT_CUTOUT 1u
+typedef struct PmcMaterialInfo {
+  pmc_u32 entry;
   pmc_u32 flags;
-} PmcMtlMaterial;
+  float emission[3];
+  pmc_u32 pad[3];
+} PmcMaterialInfo;
 
 /* Everything a wave's kernels need to know about the frame. */
 typedef struct PmcFrame {
@@ -105,7 +105,8 @@ typedef struct PmcFrame {
   pmc_u32 pixel_offset, path_count;
   pmc_i32 max_depth, light_count;
   float light_total_power;
-  pmc_u32 pad3[3];
+  pmc_u32 texture_count;
+  pmc_u32 pad3[2];
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

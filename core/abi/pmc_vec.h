@@ -19,12 +19,14 @@
 #define PMC_CONSTANT __constant
 #define make_float2(x, y) ((float2)((x), (y)))
 #define make_float3(x, y, z) ((float3)((x), (y), (z)))
+#define make_float4(x, y, z, w) ((float4)((x), (y), (z), (w)))
 typedef uint pmc_u32;
 typedef int pmc_i32;
 typedef ulong pmc_u64;
 #else
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #define PMC_FN static inline
 #define PMC_GLOBAL
 #define PMC_CONSTANT
@@ -39,6 +41,21 @@ struct float2 {
 struct float3 {
   float x, y, z;
 };
+struct float4 {
+  float x, y, z, w;
+};
+PMC_FN float4 make_float4(float x, float y, float z, float w) { return float4{x, y, z, w}; }
+/* OpenCL's bit casts. */
+PMC_FN float as_float(int i) {
+  float f;
+  std::memcpy(&f, &i, 4);
+  return f;
+}
+PMC_FN int as_int(float f) {
+  int i;
+  std::memcpy(&i, &f, 4);
+  return i;
+}
 PMC_FN float2 make_float2(float x, float y) { return float2{x, y}; }
 PMC_FN float3 make_float3(float x, float y, float z) { return float3{x, y, z}; }
 PMC_FN float3 operator+(float3 a, float3 b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
@@ -56,6 +73,35 @@ PMC_FN float2 operator+(float2 a, float2 b) { return {a.x + b.x, a.y + b.y}; }
 PMC_FN float2 operator-(float2 a, float2 b) { return {a.x - b.x, a.y - b.y}; }
 PMC_FN float2 operator*(float2 a, float s) { return {a.x * s, a.y * s}; }
 PMC_FN float2 operator*(float s, float2 a) { return {a.x * s, a.y * s}; }
+#define PMC_F4_BINOP(OP)                                                      \
+  PMC_FN float4 operator OP(float4 a, float4 b) {                           \
+    return {a.x OP b.x, a.y OP b.y, a.z OP b.z, a.w OP b.w};                \
+  }                                                                         \
+  PMC_FN float4 operator OP(float4 a, float s) { return {a.x OP s, a.y OP s, a.z OP s, a.w OP s}; } \
+  PMC_FN float4 operator OP(float s, float4 a) { return {s OP a.x, s OP a.y, s OP a.z, s OP a.w}; }
+PMC_F4_BINOP(+)
+PMC_F4_BINOP(-)
+PMC_F4_BINOP(*)
+PMC_F4_BINOP(/)
+#undef PMC_F4_BINOP
+PMC_FN float4 operator-(float4 a) { return {-a.x, -a.y, -a.z, -a.w}; }
+#define PMC_F4_UNARY(FN) \
+  PMC_FN float4 FN(float4 a) { return {std::FN(a.x), std::FN(a.y), std::FN(a.z), std::FN(a.w)}; }
+PMC_F4_UNARY(fabs)
+PMC_F4_UNARY(floor)
+PMC_F4_UNARY(ceil)
+PMC_F4_UNARY(sin)
+PMC_F4_UNARY(cos)
+PMC_F4_UNARY(sqrt)
+#undef PMC_F4_UNARY
+#define PMC_F4_BINARY(FN)                                                        \
+  PMC_FN float4 FN(float4 a, float4 b) {                                         \
+    return {std::FN(a.x, b.x), std::FN(a.y, b.y), std::FN(a.z, b.z), std::FN(a.w, b.w)}; \
+  }
+PMC_F4_BINARY(fmin)
+PMC_F4_BINARY(fmax)
+PMC_F4_BINARY(pow)
+#undef PMC_F4_BINARY
 PMC_FN float dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 PMC_FN float dot(float2 a, float2 b) { return a.x * b.x + a.y * b.y; }
 PMC_FN float3 cross(float3 a, float3 b) {

@@ -15,8 +15,9 @@
 #include "pmc_rng.h"
 #include "pmc_bsdf.h"
 #include "pmc_geometry.h"
-#include "texture.cl"
-#include "material_mtl.cl"
+#include "pmc_interp.h"
+#include "pmc_raycone.h"
+#include "material_network.cl"
 
 __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
                               __global PmcPathState* paths) {
@@ -105,8 +106,8 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
                         __global const PmcHit* hits, __global PmcPathState* paths,
                         __global const float* positions, __global const float* normals,
                         __global const float* uvs, __global const PmcTriangle* triangles,
-                        __global const PmcMtlMaterial* materials,
-                        __global const PmcTexture* textures, __global const uchar4* texels,
+                        __global const pmc_u32* code, __global const PmcMaterialInfo* materials,
+                        __global const PmcTexture* textures, __global const pmc_u32* texels,
                         __constant float* srgb_lut, __global const int* light_tris,
                         __global const float* light_cdf, __global const float* tri_light_pmf,
                         __global PmcRay* next_rays, __global PmcRay* shadow_rays,
@@ -153,21 +154,50 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     }
   }
   float2 uv = make_float2(b1, b2);
+  float2 t0 = make_float2(0.0f, 0.0f), t1 = make_float2(1.0f, 0.0f), t2 = make_float2(0.0f, 1.0f);
   if (tri.t[0] >= 0) {
-    uv = make_float2(uvs[2 * tri.t[0]], uvs[2 * tri.t[0] + 1]) * b0 +
-         make_float2(uvs[2 * tri.t[1]], uvs[2 * tri.t[1] + 1]) * b1 +
-         make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]) * b2;
+    t0 = make_float2(uvs[2 * tri.t[0]], uvs[2 * tri.t[0] + 1]);
+    t1 = make_float2(uvs[2 * tri.t[1]], uvs[2 * tri.t[1] + 1]);
+    t2 = make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]);
+    uv = t0 * b0 + t1 * b1 + t2 * b2;
   }
   float3 wo_world = -dir;
   if (dot(ns, wo_world) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
 
-  PmcMaterialData md = {materials, textures, texels, srgb_lut};
-  PmcShadingPoint sp;
+  /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
+  float cone_width = path->cone_width + hit.t * path->cone_spread;
+  float2 g1, g2;
+  pmc_ray_cone_gradients(dir, ng, 0.5f * cone_width, p0, p1, p2, t0, t1, t2, &g1, &g2);
+
+  /* Tangent frame from the uv parameterisation (dp/du), orthonormalised to ns. */
+  float2 d1 = t1 - t0, d2 = t2 - t0;
+  float det = d1.x * d2.y - d1.y * d2.x;
+  float3 tangent = (p1 - p0) * d2.y - (p2 - p0) * d1.y;
+  tangent = tangent - ns * dot(ns, tangent);
+  float tl = length(tangent);
+  if (!(fabs(det) > 1e-20f) || !(tl > 1e-20f) || !isfinite(tl)) {
+    float3 tb;
+    pmc_basis(ns, &tangent, &tb);
+  } else {
+    tangent = tangent * ((det < 0.0f ? -1.0f : 1.0f) / tl);
+  }
+
+  PmcMaterialData md;
+  md.code = code;
+  md.materials = materials;
+  md.textures.textures = textures;
+  md.textures.texels = texels;
+  md.textures.srgb_lut = srgb_lut;
+  md.textures.count = frame->texture_count;
+  PmcShadingInputs sp;
+  sp.uv = uv;
   sp.position = pos;
   sp.normal = ns;
-  sp.uv = uv;
-  sp.material = tri.material;
-  PmcBsdf bsdf = pmc_eval_material(&md, &sp);
+  sp.tangent = tangent;
+  sp.bitangent = cross(ns, tangent);
+  sp.footprint = 2.0f * fmax(length(g1), length(g2));
+  PmcBsdf bsdf = pmc_eval_material(&md, tri.material, &sp);
+  if (dot(sp.normal, wo_world) > 0.0f) ns = sp.normal; /* normal maps, unless they face away */
 
   /* Emission reached by the path: MIS against light sampling. */
   if (pmc_max3(bsdf.emission) > 0.0f) {
@@ -258,7 +288,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
       pmc_append_ray(next_rays, slot, origin, wi_world, INFINITY, pid);
       path->bsdf_pdf = pdf;
       path->flags = 0u;
-      path->cone_width = path->cone_width + hit.t * path->cone_spread;
+      path->cone_width = cone_width;
     }
   }
   path->depth = depth;

@@ -5,10 +5,10 @@
 // Outputs: EXR + PNG + stats JSON with the promised keys. Bad options: exit
 // code 2, a message naming the option, and no output file left behind.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "tests/test_support.h"
 
@@ -30,8 +30,9 @@ TEST(RenderCli, SameSeedGivesBitIdenticalImagesWithOneAndTwoThreads) {
   ASSERT_GT(test::image_mean(a), 0.0);
   EXPECT_EQ(0, std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)));
   // And a different seed gives a different image (the comparison can fail).
-  ASSERT_EQ(test::run_pmc("render " + scene() + " --width 96 --height 64 --spp 4 --max-depth 5 --seed 8 --quiet -o " +
-                              dir + "/t3.exr",
+  ASSERT_EQ(test::run_pmc("render " + scene() +
+                              " --width 96 --height 64 --spp 4 --max-depth 5 --seed 8 --quiet -o " + dir +
+                              "/t3.exr",
                           &log),
             0);
   Image c = read_image(dir + "/t3.exr");
@@ -41,8 +42,8 @@ TEST(RenderCli, SameSeedGivesBitIdenticalImagesWithOneAndTwoThreads) {
 TEST(RenderCli, WritesExrPngAndStats) {
   const std::string dir = test::temp_dir();
   std::string log;
-  ASSERT_EQ(test::run_pmc("render " + scene() + " --width 64 --height 48 --spp 2 -o " + dir + "/img.exr --stats " +
-                              dir + "/s.json",
+  ASSERT_EQ(test::run_pmc("render " + scene() + " --width 64 --height 48 --spp 2 -o " + dir +
+                              "/img.exr --stats " + dir + "/s.json",
                           &log),
             0)
       << log;
@@ -55,7 +56,8 @@ TEST(RenderCli, WritesExrPngAndStats) {
   for (const char* key : {"render_seconds", "width", "height", "spp", "paths", "rays", "rays_per_second",
                           "nan_pixels", "stage_seconds", "device"})
     EXPECT_TRUE(j.contains(key)) << key;
-  for (const char* stage : {"trace", "shade", "shadow", "film"}) EXPECT_TRUE(j["stage_seconds"].contains(stage)) << stage;
+  for (const char* stage : {"trace", "shade", "shadow", "film"})
+    EXPECT_TRUE(j["stage_seconds"].contains(stage)) << stage;
   EXPECT_EQ(j["paths"].get<long>(), 64 * 48 * 2);
   EXPECT_EQ(j["nan_pixels"].get<long>(), 0);
   EXPECT_NE(log.find("spp"), std::string::npos) << "one-line summary expected";
@@ -69,10 +71,16 @@ struct BadOption {
 TEST(RenderCli, BadOptionsExitWithCode2AndLeaveNoOutput) {
   const std::string dir = test::temp_dir();
   const BadOption cases[] = {
-      {"--width 0", "--width"},          {"--height -5", "--height"},      {"--spp 0", "--spp"},
-      {"--spp abc", "--spp"},            {"--max-depth 0", "--max-depth"}, {"--fov 200", "--fov"},
-      {"--env 1,2", "--env"},            {"--device no-such-device", "no-such-device"},
-      {"--no-such-option 3", "--no-such-option"}, {"--threads 0", "--threads"},
+      {"--width 0", "--width"},
+      {"--height -5", "--height"},
+      {"--spp 0", "--spp"},
+      {"--spp abc", "--spp"},
+      {"--max-depth 0", "--max-depth"},
+      {"--fov 200", "--fov"},
+      {"--env 1,2", "--env"},
+      {"--device no-such-device", "no-such-device"},
+      {"--no-such-option 3", "--no-such-option"},
+      {"--threads 0", "--threads"},
   };
   for (const BadOption& c : cases) {
     std::string log;

@@ -20,10 +20,10 @@ namespace {
 TEST(AbiLayout, HostAndKernelAgreeOnSizesAndOffsets) {
   std::vector<std::string> names;
   std::vector<unsigned> host;
-#define PMC_HOST_STRUCT(S)         \
-  names.push_back("sizeof " #S);   \
+#define PMC_HOST_STRUCT(S)       \
+  names.push_back("sizeof " #S); \
   host.push_back(unsigned(sizeof(S)));
-#define PMC_HOST_FIELD(S, F)            \
+#define PMC_HOST_FIELD(S, F)              \
   names.push_back("offsetof " #S "." #F); \
   host.push_back(unsigned(offsetof(S, F)));
   PMC_LAYOUT_STRUCTS(PMC_HOST_STRUCT)

@@ -1,8 +1,9 @@
 // program_test.cpp — kernel sources: embedding, include expansion, build errors.
+#include "gpu/program.h"
+
 #include <gtest/gtest.h>
 
 #include "core/error.h"
-#include "gpu/program.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -20,7 +21,8 @@ TEST(Program, EmbedsAndExpandsIncludesWithLineDirectives) {
 
 TEST(Program, BuildFailureCarriesTheCompilerLog) {
   try {
-    ClProgram::from_text(test::cl(), "broken.cl", "__kernel void k(__global int* x) { x[0] = undefined_name; }\n");
+    ClProgram::from_text(test::cl(), "broken.cl",
+                         "__kernel void k(__global int* x) { x[0] = undefined_name; }\n");
     FAIL() << "a broken kernel must not build";
   } catch (const Error& e) {
     std::string what = e.what();
@@ -29,9 +31,7 @@ TEST(Program, BuildFailureCarriesTheCompilerLog) {
   }
 }
 
-TEST(Program, MissingKernelSourceIsAnError) {
-  EXPECT_THROW(expand_kernel_source("no_such_file.cl"), Error);
-}
+TEST(Program, MissingKernelSourceIsAnError) { EXPECT_THROW(expand_kernel_source("no_such_file.cl"), Error); }
 
 }  // namespace
 }  // namespace pmc

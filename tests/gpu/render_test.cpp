@@ -21,7 +21,8 @@ namespace pmc {
 namespace {
 
 // A UV sphere of radius r around the origin, flat-shaded (no normals), one material.
-std::string sphere_obj(float r, int rings, int segments, const std::string& mtllib, const std::string& material) {
+std::string sphere_obj(float r, int rings, int segments, const std::string& mtllib,
+                       const std::string& material) {
   std::ostringstream os;
   if (!mtllib.empty()) os << "mtllib " << mtllib << "\nusemtl " << material << "\n";
   os << "v 0 " << r << " 0\n";
@@ -39,14 +40,17 @@ std::string sphere_obj(float r, int rings, int segments, const std::string& mtll
   for (int j = 0; j < segments; ++j) os << "f 1 " << ring(1, j + 1) << " " << ring(1, j) << "\n";
   for (int i = 1; i < rings - 1; ++i)
     for (int j = 0; j < segments; ++j)
-      os << "f " << ring(i, j) << " " << ring(i, j + 1) << " " << ring(i + 1, j + 1) << " " << ring(i + 1, j) << "\n";
-  for (int j = 0; j < segments; ++j) os << "f " << bottom << " " << ring(rings - 1, j) << " " << ring(rings - 1, j + 1) << "\n";
+      os << "f " << ring(i, j) << " " << ring(i, j + 1) << " " << ring(i + 1, j + 1) << " " << ring(i + 1, j)
+         << "\n";
+  for (int j = 0; j < segments; ++j)
+    os << "f " << bottom << " " << ring(rings - 1, j) << " " << ring(rings - 1, j + 1) << "\n";
   return os.str();
 }
 
-RenderOutput render_scene(const Scene& scene, const RenderSettings& s) {
+RenderOutput render_scene(Scene& scene, const RenderSettings& s) {
+  MaterialSet materials = build_material_set(scene, {});
   EmbreeTracer tracer(scene);
-  WavefrontRenderer renderer(test::cl(), scene, tracer);
+  WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
   return renderer.render(s);
 }
 

@@ -1,0 +1,124 @@
+/* pmc_bytecode.h — the material stack machine's instruction encoding.
+ *
+ * All materials compile into one flat buffer of 32-bit words; a material is
+ * an entry offset into it. An instruction is
+ *   word 0: opcode (bits 0-7) | output width - 1 (bits 8-9) | operand count
+ *           (bits 10-13) | 16-bit immediate (bits 16-31)
+ *   word 1: destination slot in the float stack
+ *   words 2 ..: one operand word per input
+ * An operand word names a value of 1-4 floats: bit 31 set means an inline
+ * constant stored in the code buffer at word index (bits 0-27), else a stack
+ * slot; bits 28-29 hold width - 1. A width-1 operand broadcasts to all lanes,
+ * which is how MaterialX's "FA" variants (color3 * float) work. Every
+ * operation computes on float4 lanes and writes `width` floats.
+ *
+ * PMC_OPCODES lists (name, minimum operands, maximum operands); the kernel
+ * interpreter (pmc_interp.h), the CPU reference, the compiler and the
+ * disassembler all expand this one list.
+ */
+#ifndef PMC_BYTECODE_H
+#define PMC_BYTECODE_H
+
+#include "pmc_vec.h"
+
+#define PMC_OPCODES(X)                                                           \
+  X(END, 0, 0)           /* stop */                                              \
+  X(OUTPUT, 1, 1)        /* surface parameter `imm` = operand */                 \
+  X(MOVE, 1, 1)          /* dst = a (broadcast/truncate to width) */             \
+  X(SWIZZLE, 1, 1)       /* imm: 3 bits per lane: 0-3 = xyzw, 4 = 0, 5 = 1 */     \
+  X(COMBINE, 2, 4)       /* dst lanes = first lane of each operand */            \
+  X(TEXCOORD, 0, 0)      /* uv */                                                \
+  X(POSITION, 0, 0)      /* world (= object) position */                         \
+  X(NORMAL, 0, 0)        /* shading normal, world */                             \
+  X(TANGENT, 0, 0)       /* tangent, world */                                    \
+  X(BITANGENT, 0, 0)     /* bitangent, world */                                  \
+  X(ADD, 2, 2) X(SUB, 2, 2) X(MUL, 2, 2) X(DIV, 2, 2) X(MOD, 2, 2) X(POW, 2, 2)   \
+  X(MIN, 2, 2) X(MAX, 2, 2) X(DOT, 2, 2)                                         \
+  X(ABS, 1, 1) X(FLOOR, 1, 1) X(CEIL, 1, 1) X(SIN, 1, 1) X(COS, 1, 1)             \
+  X(SQRT, 1, 1) X(NORMALIZE, 1, 1)                                               \
+  X(CLAMP, 3, 3)         /* in, low, high */                                     \
+  X(SMOOTHSTEP, 3, 3)    /* in, low, high */                                     \
+  X(MIX, 3, 3)           /* fg, bg, mix: bg + (fg - bg) * mix */                 \
+  X(REMAP, 5, 5)         /* in, inlow, inhigh, outlow, outhigh */                \
+  X(IFGREATER, 4, 4)     /* value1, value2, in1, in2 */                          \
+  X(IFGREATEREQ, 4, 4)   /* value1, value2, in1, in2 */                          \
+  X(LUMINANCE, 2, 2)     /* in, lumacoeffs */                                    \
+  X(RGBTOHSV, 1, 1) X(HSVTORGB, 1, 1)                                            \
+  X(IMAGE, 3, 3)         /* uv, default, mode; imm = texture index */           \
+  X(PLACE2D, 6, 6)       /* texcoord, pivot, scale, rotate, offset, order */     \
+  X(NOISE2D, 3, 3)       /* texcoord, amplitude, pivot */                        \
+  X(NOISE3D, 3, 3)       /* position, amplitude, pivot */                        \
+  X(FRACTAL2D, 5, 5)     /* texcoord, amplitude, octaves, lacunarity, diminish */\
+  X(FRACTAL3D, 5, 5)     /* position, amplitude, octaves, lacunarity, diminish */\
+  X(CELLNOISE2D, 1, 1) X(CELLNOISE3D, 1, 1)                                      \
+  X(WORLEY2D, 3, 3)      /* texcoord, jitter, style */                           \
+  X(WORLEY3D, 3, 3)      /* position, jitter, style */                           \
+  X(RAMPLR, 3, 3)        /* valuel, valuer, texcoord */                          \
+  X(RAMPTB, 3, 3)        /* valuet, valueb, texcoord */                          \
+  X(RAMP4, 5, 5)         /* tl, tr, bl, br, texcoord */                          \
+  X(SPLITLR, 4, 4)       /* valuel, valuer, center, texcoord */                  \
+  X(SPLITTB, 4, 4)       /* valuet, valueb, center, texcoord */                  \
+  X(TILEDSHAPE, 5, 5)    /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */ \
+  X(LINEPATTERN, 5, 5)   /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
+  X(NORMALMAP, 4, 4)     /* in, scale, normal, tangent */                        \
+  X(CACHE_LOOKUP, 0, 0)  /* reserved for the material cache */                   \
+  X(CACHE_STORE, 1, 1)   /* reserved for the material cache */
+
+#define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,
+enum PmcOpcode { PMC_OPCODES(PMC_OP_ENUM) PMC_OP_COUNT };
+#undef PMC_OP_ENUM
+
+#define PMC_OPERAND_CONST 0x80000000u
+#define PMC_OPERAND_INDEX_MASK 0x0fffffffu
+
+PMC_FN pmc_u32 pmc_op_header(pmc_u32 op, pmc_u32 width, pmc_u32 nargs, pmc_u32 imm) {
+  return op | ((width - 1u) << 8) | (nargs << 10) | (imm << 16);
+}
+PMC_FN pmc_u32 pmc_op_code(pmc_u32 h) { return h & 0xffu; }
+PMC_FN pmc_u32 pmc_op_width(pmc_u32 h) { return ((h >> 8) & 3u) + 1u; }
+PMC_FN pmc_u32 pmc_op_nargs(pmc_u32 h) { return (h >> 10) & 15u; }
+PMC_FN pmc_u32 pmc_op_imm(pmc_u32 h) { return h >> 16; }
+PMC_FN pmc_u32 pmc_operand(int is_const, pmc_u32 index, pmc_u32 width) {
+  return (is_const ? PMC_OPERAND_CONST : 0u) | ((width - 1u) << 28) | index;
+}
+PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
+
+/* Image address modes and filters, packed into the IMAGE `mode` constant:
+ * u mode | v mode << 2 | filter << 4 | srgb << 6 | channels - 1 << 7. */
+#define PMC_ADDR_CONSTANT 0u
+#define PMC_ADDR_CLAMP 1u
+#define PMC_ADDR_PERIODIC 2u
+#define PMC_ADDR_MIRROR 3u
+#define PMC_FILTER_CLOSEST 0u
+#define PMC_FILTER_LINEAR 1u
+
+/* Tiled shapes and line patterns (imm of TILEDSHAPE / LINEPATTERN). */
+#define PMC_SHAPE_CIRCLES 0u
+#define PMC_SHAPE_CLOVERLEAFS 1u
+#define PMC_SHAPE_HEXAGONS 2u
+#define PMC_LINES_GRID 0u
+#define PMC_LINES_CROSSHATCH 1u
+
+/* Surface parameters a material program writes with OUTPUT (float offsets
+ * into the parameter block). Unwritten parameters keep the defaults set by
+ * pmc_surface_defaults(). */
+#define PMC_P_MODEL 0 /* 0: standard_surface, 1: MTL (Kd + Ks lobes as given) */
+#define PMC_P_BASE 1
+#define PMC_P_BASE_COLOR 2 /* 3 floats */
+#define PMC_P_METALNESS 5
+#define PMC_P_SPECULAR 6
+#define PMC_P_SPECULAR_COLOR 7 /* 3 */
+#define PMC_P_SPECULAR_ROUGHNESS 10
+#define PMC_P_SPECULAR_IOR 11
+#define PMC_P_EMISSION 12
+#define PMC_P_EMISSION_COLOR 13 /* 3 */
+#define PMC_P_NORMAL 16          /* 3, world; (0,0,0) = keep the shading normal */
+#define PMC_P_OPACITY 19         /* 3 */
+#define PMC_P_COAT 22
+#define PMC_P_COAT_COLOR 23 /* 3 */
+#define PMC_P_COAT_ROUGHNESS 26
+#define PMC_P_COUNT 28
+
+#define PMC_STACK_SIZE 128 /* floats of stack per shading point */
+
+#endif /* PMC_BYTECODE_H */

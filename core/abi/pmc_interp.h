@@ -1,0 +1,404 @@
+/* pmc_interp.h — the material bytecode interpreter, one source for both sides.
+ *
+ * pmc_interp_run() executes one material program (see pmc_bytecode.h) for one
+ * shading point: it reads operands from the float stack or inline constants,
+ * computes on float4 lanes and writes `width` floats to the destination slot,
+ * until END. OUTPUT instructions fill the surface parameter block that
+ * pmc_surface_to_bsdf() turns into a BSDF. The OpenCL shade kernel and the
+ * host's reference interpreter (materials/cpu_interpreter.cpp) both compile
+ * this file, so tests can run every opcode on both and compare.
+ */
+#ifndef PMC_INTERP_H
+#define PMC_INTERP_H
+
+#include "pmc_bsdf.h"
+#include "pmc_bytecode.h"
+#include "pmc_noise.h"
+#include "pmc_patterns.h"
+#include "pmc_texture.h"
+
+/* What a material may read at the shading point. */
+typedef struct PmcShadingInputs {
+  float2 uv;
+  float3 position;
+  float3 normal; /* shading normal, facing the viewer */
+  float3 tangent;
+  float3 bitangent;
+  float footprint; /* uv-space width of the ray-cone footprint (texture LOD) */
+} PmcShadingInputs;
+
+PMC_FN float4 pmc_broadcast(float v) { return make_float4(v, v, v, v); }
+
+PMC_FN float4 pmc_load_operand(PMC_GLOBAL const pmc_u32* code, const float* stack, pmc_u32 o) {
+  pmc_u32 index = o & PMC_OPERAND_INDEX_MASK;
+  pmc_u32 w = pmc_operand_width(o);
+  float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  if (o & PMC_OPERAND_CONST) {
+    for (pmc_u32 i = 0; i < w; ++i) v[i] = as_float((int)code[index + i]);
+  } else {
+    for (pmc_u32 i = 0; i < w; ++i) v[i] = stack[index + i];
+  }
+  if (w == 1u) return pmc_broadcast(v[0]);
+  return make_float4(v[0], v[1], v[2], v[3]);
+}
+
+PMC_FN float pmc_lane(float4 v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : (i == 2 ? v.z : v.w)); }
+
+/* Lane-wise a > b ? x : y */
+PMC_FN float4 pmc_where_greater(float4 a, float4 b, float4 x, float4 y, int or_equal) {
+  float4 r;
+  r.x = (or_equal ? a.x >= b.x : a.x > b.x) ? x.x : y.x;
+  r.y = (or_equal ? a.y >= b.y : a.y > b.y) ? x.y : y.y;
+  r.z = (or_equal ? a.z >= b.z : a.z > b.z) ? x.z : y.z;
+  r.w = (or_equal ? a.w >= b.w : a.w > b.w) ? x.w : y.w;
+  return r;
+}
+
+PMC_FN float pmc_smoothstep1(float x, float lo, float hi) {
+  if (x >= hi) return 1.0f;
+  if (x <= lo) return 0.0f;
+  float t = (x - lo) / (hi - lo);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+PMC_FN float4 pmc_rgb_to_hsv(float4 c) {
+  float mx = fmax(c.x, fmax(c.y, c.z)), mn = fmin(c.x, fmin(c.y, c.z));
+  float d = mx - mn;
+  float h = 0.0f, s = mx > 0.0f ? d / mx : 0.0f;
+  if (d > 0.0f) {
+    if (mx == c.x)
+      h = (c.y - c.z) / d;
+    else if (mx == c.y)
+      h = 2.0f + (c.z - c.x) / d;
+    else
+      h = 4.0f + (c.x - c.y) / d;
+    h *= 1.0f / 6.0f;
+    if (h < 0.0f) h += 1.0f;
+  }
+  return make_float4(h, s, mx, c.w);
+}
+
+PMC_FN float4 pmc_hsv_to_rgb(float4 c) {
+  float h = c.x, s = c.y, v = c.z;
+  if (s <= 0.0f) return make_float4(v, v, v, c.w);
+  if (!isfinite(h)) h = 0.0f;
+  h = 6.0f * (h - floor(h));
+  if (h >= 6.0f) h = 0.0f;
+  int i = (int)floor(h);
+  float f = h - (float)i;
+  float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
+  float r, g, b;
+  if (i == 0) r = v, g = t, b = p;
+  else if (i == 1) r = q, g = v, b = p;
+  else if (i == 2) r = p, g = v, b = t;
+  else if (i == 3) r = p, g = q, b = v;
+  else if (i == 4) r = t, g = p, b = v;
+  else r = v, g = p, b = q;
+  return make_float4(r, g, b, c.w);
+}
+
+/* MaterialX place2d: SRT (order 0) or TRS (order 1) about a pivot. */
+PMC_FN float4 pmc_place2d(float4 uv, float4 pivot, float4 scale, float rotate_degrees, float4 offset, int order) {
+  float a = -rotate_degrees * (PMC_PI / 180.0f);
+  float ca = cos(a), sa = sin(a);
+  float x = uv.x - pivot.x, y = uv.y - pivot.y;
+  if (order == 0) {
+    x = x / scale.x;
+    y = y / scale.y;
+    float rx = ca * x - sa * y, ry = sa * x + ca * y;
+    x = rx - offset.x;
+    y = ry - offset.y;
+  } else {
+    x -= offset.x;
+    y -= offset.y;
+    float rx = ca * x - sa * y, ry = sa * x + ca * y;
+    x = rx / scale.x;
+    y = ry / scale.y;
+  }
+  return make_float4(x + pivot.x, y + pivot.y, 0.0f, 0.0f);
+}
+
+/* Tangent-space normal map (0..1 encoded) to a world normal. */
+PMC_FN float4 pmc_normalmap(float4 in, float scale, float3 n, float3 t) {
+  float3 v = make_float3(in.x * 2.0f - 1.0f, in.y * 2.0f - 1.0f, in.z * 2.0f - 1.0f);
+  v = make_float3(v.x * scale, v.y * scale, v.z);
+  float3 b = cross(n, t);
+  float3 r = t * v.x + b * v.y + n * v.z;
+  float l = length(r);
+  r = l > 0.0f && isfinite(l) ? r * (1.0f / l) : n;
+  return make_float4(r.x, r.y, r.z, 0.0f);
+}
+
+#define PMC_ARG(i) pmc_load_operand(code, stack, code[pc + 2u + (i)])
+
+/* Runs the program at `pc` until END. `params` receives OUTPUT values. */
+PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
+                           const PmcTextureSet* ts, float* stack, float* params) {
+  for (int guard = 0; guard < 1 << 16; ++guard) {
+    pmc_u32 h = code[pc];
+    pmc_u32 op = pmc_op_code(h);
+    pmc_u32 width = pmc_op_width(h);
+    pmc_u32 nargs = pmc_op_nargs(h);
+    pmc_u32 imm = pmc_op_imm(h);
+    pmc_u32 dst = code[pc + 1u];
+    float4 r = pmc_broadcast(0.0f);
+    if (op == PMC_OP_END) return;
+    switch (op) {
+      case PMC_OP_OUTPUT: {
+        float4 a = PMC_ARG(0);
+        for (pmc_u32 i = 0; i < width && imm + i < PMC_P_COUNT; ++i) params[imm + i] = pmc_lane(a, (int)i);
+        pc += 2u + nargs;
+        continue;
+      }
+      case PMC_OP_MOVE: r = PMC_ARG(0); break;
+      case PMC_OP_SWIZZLE: {
+        float4 a = PMC_ARG(0);
+        float v[4];
+        for (int i = 0; i < 4; ++i) {
+          pmc_u32 sel = (imm >> (3 * i)) & 7u;
+          v[i] = sel < 4u ? pmc_lane(a, (int)sel) : (sel == 5u ? 1.0f : 0.0f);
+        }
+        r = make_float4(v[0], v[1], v[2], v[3]);
+        break;
+      }
+      case PMC_OP_COMBINE: {
+        float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (pmc_u32 i = 0; i < nargs && i < 4u; ++i) v[i] = PMC_ARG(i).x;
+        r = make_float4(v[0], v[1], v[2], v[3]);
+        break;
+      }
+      case PMC_OP_TEXCOORD: r = make_float4(in->uv.x, in->uv.y, 0.0f, 0.0f); break;
+      case PMC_OP_POSITION: r = make_float4(in->position.x, in->position.y, in->position.z, 0.0f); break;
+      case PMC_OP_NORMAL: r = make_float4(in->normal.x, in->normal.y, in->normal.z, 0.0f); break;
+      case PMC_OP_TANGENT: r = make_float4(in->tangent.x, in->tangent.y, in->tangent.z, 0.0f); break;
+      case PMC_OP_BITANGENT: r = make_float4(in->bitangent.x, in->bitangent.y, in->bitangent.z, 0.0f); break;
+      case PMC_OP_ADD: r = PMC_ARG(0) + PMC_ARG(1); break;
+      case PMC_OP_SUB: r = PMC_ARG(0) - PMC_ARG(1); break;
+      case PMC_OP_MUL: r = PMC_ARG(0) * PMC_ARG(1); break;
+      case PMC_OP_DIV: r = PMC_ARG(0) / PMC_ARG(1); break;
+      case PMC_OP_MOD: {
+        float4 a = PMC_ARG(0), b = PMC_ARG(1);
+        r = a - b * floor(a / b);
+        break;
+      }
+      case PMC_OP_POW: r = pow(PMC_ARG(0), PMC_ARG(1)); break;
+      case PMC_OP_MIN: r = fmin(PMC_ARG(0), PMC_ARG(1)); break;
+      case PMC_OP_MAX: r = fmax(PMC_ARG(0), PMC_ARG(1)); break;
+      case PMC_OP_DOT: {
+        float4 a = PMC_ARG(0), b = PMC_ARG(1);
+        pmc_u32 n = imm == 0u ? 3u : imm; /* imm = operand width */
+        float d = a.x * b.x;
+        if (n > 1u) d += a.y * b.y;
+        if (n > 2u) d += a.z * b.z;
+        if (n > 3u) d += a.w * b.w;
+        r = pmc_broadcast(d);
+        break;
+      }
+      case PMC_OP_ABS: r = fabs(PMC_ARG(0)); break;
+      case PMC_OP_FLOOR: r = floor(PMC_ARG(0)); break;
+      case PMC_OP_CEIL: r = ceil(PMC_ARG(0)); break;
+      case PMC_OP_SIN: r = sin(PMC_ARG(0)); break;
+      case PMC_OP_COS: r = cos(PMC_ARG(0)); break;
+      case PMC_OP_SQRT: r = sqrt(PMC_ARG(0)); break;
+      case PMC_OP_NORMALIZE: {
+        float4 a = PMC_ARG(0);
+        float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
+                   (width > 3u ? a.w * a.w : 0.0f);
+        r = l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a;
+        break;
+      }
+      case PMC_OP_CLAMP: r = fmin(fmax(PMC_ARG(0), PMC_ARG(1)), PMC_ARG(2)); break;
+      case PMC_OP_SMOOTHSTEP: {
+        float4 a = PMC_ARG(0), lo = PMC_ARG(1), hi = PMC_ARG(2);
+        r = make_float4(pmc_smoothstep1(a.x, lo.x, hi.x), pmc_smoothstep1(a.y, lo.y, hi.y),
+                        pmc_smoothstep1(a.z, lo.z, hi.z), pmc_smoothstep1(a.w, lo.w, hi.w));
+        break;
+      }
+      case PMC_OP_MIX: {
+        float4 fg = PMC_ARG(0), bg = PMC_ARG(1), t = PMC_ARG(2);
+        r = bg + (fg - bg) * t;
+        break;
+      }
+      case PMC_OP_REMAP: {
+        float4 a = PMC_ARG(0), il = PMC_ARG(1), ih = PMC_ARG(2), ol = PMC_ARG(3), oh = PMC_ARG(4);
+        r = ol + (a - il) * (oh - ol) / (ih - il);
+        break;
+      }
+      case PMC_OP_IFGREATER: r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 0); break;
+      case PMC_OP_IFGREATEREQ: r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 1); break;
+      case PMC_OP_LUMINANCE: {
+        float4 c = PMC_ARG(0), k = PMC_ARG(1);
+        float l = c.x * k.x + c.y * k.y + c.z * k.z;
+        r = make_float4(l, l, l, c.w);
+        break;
+      }
+      case PMC_OP_RGBTOHSV: r = pmc_rgb_to_hsv(PMC_ARG(0)); break;
+      case PMC_OP_HSVTORGB: r = pmc_hsv_to_rgb(PMC_ARG(0)); break;
+      case PMC_OP_IMAGE: {
+        float4 uv = PMC_ARG(0), def = PMC_ARG(1), mode = PMC_ARG(2);
+        pmc_u32 bits = (pmc_u32)mode.x;
+        float4 c = pmc_texture_sample(ts, imm, make_float2(uv.x, uv.y), in->footprint * mode.y, bits & 3u,
+                                      (bits >> 2) & 3u, (bits >> 4) & 3u, def);
+        /* A float image reads the first channel. */
+        r = width == 1u ? pmc_broadcast(c.x) : c;
+        break;
+      }
+      case PMC_OP_PLACE2D:
+        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4), (int)PMC_ARG(5).x);
+        break;
+      case PMC_OP_NOISE2D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_noise2d(make_float2(p.x, p.y), width) * PMC_ARG(1) + PMC_ARG(2);
+        break;
+      }
+      case PMC_OP_NOISE3D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_noise3d(make_float3(p.x, p.y, p.z), width) * PMC_ARG(1) + PMC_ARG(2);
+        break;
+      }
+      case PMC_OP_FRACTAL2D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_fractal2d(make_float2(p.x, p.y), (int)PMC_ARG(2).x, PMC_ARG(3).x, PMC_ARG(4).x, width) *
+            PMC_ARG(1);
+        break;
+      }
+      case PMC_OP_FRACTAL3D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_fractal3d(make_float3(p.x, p.y, p.z), (int)PMC_ARG(2).x, PMC_ARG(3).x, PMC_ARG(4).x,
+                             width) *
+            PMC_ARG(1);
+        break;
+      }
+      case PMC_OP_CELLNOISE2D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_broadcast(pmc_op_cellnoise2d(make_float2(p.x, p.y)));
+        break;
+      }
+      case PMC_OP_CELLNOISE3D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_broadcast(pmc_op_cellnoise3d(make_float3(p.x, p.y, p.z)));
+        break;
+      }
+      case PMC_OP_WORLEY2D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_worley2d(make_float2(p.x, p.y), PMC_ARG(1).x, (int)PMC_ARG(2).x, width);
+        break;
+      }
+      case PMC_OP_WORLEY3D: {
+        float4 p = PMC_ARG(0);
+        r = pmc_op_worley3d(make_float3(p.x, p.y, p.z), PMC_ARG(1).x, (int)PMC_ARG(2).x, width);
+        break;
+      }
+      case PMC_OP_RAMPLR: {
+        float4 uv = PMC_ARG(2);
+        r = PMC_ARG(0) + (PMC_ARG(1) - PMC_ARG(0)) * clamp(uv.x, 0.0f, 1.0f);
+        break;
+      }
+      case PMC_OP_RAMPTB: {
+        float4 uv = PMC_ARG(2);
+        r = PMC_ARG(1) + (PMC_ARG(0) - PMC_ARG(1)) * clamp(uv.y, 0.0f, 1.0f);
+        break;
+      }
+      case PMC_OP_RAMP4: {
+        float4 uv = PMC_ARG(4);
+        float s = clamp(uv.x, 0.0f, 1.0f), t = clamp(uv.y, 0.0f, 1.0f);
+        float4 top = PMC_ARG(0) + (PMC_ARG(1) - PMC_ARG(0)) * s;
+        float4 bottom = PMC_ARG(2) + (PMC_ARG(3) - PMC_ARG(2)) * s;
+        r = bottom + (top - bottom) * t;
+        break;
+      }
+      case PMC_OP_SPLITLR: {
+        float4 uv = PMC_ARG(3);
+        r = uv.x < PMC_ARG(2).x ? PMC_ARG(0) : PMC_ARG(1);
+        break;
+      }
+      case PMC_OP_SPLITTB: {
+        float4 uv = PMC_ARG(3);
+        r = uv.y > PMC_ARG(2).x ? PMC_ARG(0) : PMC_ARG(1);
+        break;
+      }
+      case PMC_OP_TILEDSHAPE: {
+        float4 uv = PMC_ARG(0), tiling = PMC_ARG(1), offset = PMC_ARG(2);
+        r = pmc_op_tiledshape(make_float2(uv.x, uv.y), make_float2(tiling.x, tiling.y),
+                              make_float2(offset.x, offset.y), PMC_ARG(3).x, PMC_ARG(4).x != 0.0f, imm);
+        break;
+      }
+      case PMC_OP_LINEPATTERN: {
+        float4 uv = PMC_ARG(0), tiling = PMC_ARG(1), offset = PMC_ARG(2);
+        r = pmc_op_linepattern(make_float2(uv.x, uv.y), make_float2(tiling.x, tiling.y),
+                               make_float2(offset.x, offset.y), PMC_ARG(3).x, PMC_ARG(4).x != 0.0f, imm);
+        break;
+      }
+      case PMC_OP_NORMALMAP: {
+        float4 n = PMC_ARG(2), t = PMC_ARG(3);
+        r = pmc_normalmap(PMC_ARG(0), PMC_ARG(1).x, make_float3(n.x, n.y, n.z), make_float3(t.x, t.y, t.z));
+        break;
+      }
+      default:
+        return; /* unknown opcode: the compiler never emits one; stop safely */
+    }
+    stack[dst] = r.x;
+    if (width > 1u) stack[dst + 1u] = r.y;
+    if (width > 2u) stack[dst + 2u] = r.z;
+    if (width > 3u) stack[dst + 3u] = r.w;
+    pc += 2u + nargs;
+  }
+}
+
+#undef PMC_ARG
+
+/* Parameter defaults of standard_surface (MaterialX 1.39). */
+PMC_FN void pmc_surface_defaults(float* p, float3 shading_normal) {
+  for (int i = 0; i < PMC_P_COUNT; ++i) p[i] = 0.0f;
+  p[PMC_P_BASE] = 1.0f;
+  p[PMC_P_BASE_COLOR] = p[PMC_P_BASE_COLOR + 1] = p[PMC_P_BASE_COLOR + 2] = 0.8f;
+  p[PMC_P_SPECULAR] = 1.0f;
+  p[PMC_P_SPECULAR_COLOR] = p[PMC_P_SPECULAR_COLOR + 1] = p[PMC_P_SPECULAR_COLOR + 2] = 1.0f;
+  p[PMC_P_SPECULAR_ROUGHNESS] = 0.2f;
+  p[PMC_P_SPECULAR_IOR] = 1.5f;
+  p[PMC_P_EMISSION_COLOR] = p[PMC_P_EMISSION_COLOR + 1] = p[PMC_P_EMISSION_COLOR + 2] = 1.0f;
+  p[PMC_P_NORMAL] = shading_normal.x;
+  p[PMC_P_NORMAL + 1] = shading_normal.y;
+  p[PMC_P_NORMAL + 2] = shading_normal.z;
+  p[PMC_P_OPACITY] = p[PMC_P_OPACITY + 1] = p[PMC_P_OPACITY + 2] = 1.0f;
+  p[PMC_P_COAT_COLOR] = p[PMC_P_COAT_COLOR + 1] = p[PMC_P_COAT_COLOR + 2] = 1.0f;
+  p[PMC_P_COAT_ROUGHNESS] = 0.1f;
+}
+
+PMC_FN float pmc_nonneg(float x) { return x > 0.0f && isfinite(x) ? x : 0.0f; }
+PMC_FN float3 pmc_param3(const float* p, int i) {
+  return make_float3(pmc_nonneg(p[i]), pmc_nonneg(p[i + 1]), pmc_nonneg(p[i + 2]));
+}
+
+/* The surface parameter block as a BSDF (Lambert + GGX + emission). For
+ * standard_surface: dielectric F0 from specular_IOR, metals tint F0 by the
+ * base colour; the coat (if any) is folded into the specular lobe as an
+ * approximation. For MTL: Kd and Ks lobes as given. */
+PMC_FN PmcBsdf pmc_surface_to_bsdf(const float* p) {
+  PmcBsdf b;
+  float3 base_color = pmc_param3(p, PMC_P_BASE_COLOR) * pmc_nonneg(p[PMC_P_BASE]);
+  float rough = clamp(p[PMC_P_SPECULAR_ROUGHNESS], 0.0f, 1.0f);
+  if (!isfinite(rough)) rough = 0.5f;
+  b.emission = pmc_param3(p, PMC_P_EMISSION_COLOR) * pmc_nonneg(p[PMC_P_EMISSION]);
+  if (p[PMC_P_MODEL] > 0.5f) {
+    b.diffuse = base_color;
+    b.specular = pmc_param3(p, PMC_P_SPECULAR_COLOR) * pmc_nonneg(p[PMC_P_SPECULAR]);
+    b.alpha = rough * rough;
+    return b;
+  }
+  float metal = clamp(p[PMC_P_METALNESS], 0.0f, 1.0f);
+  if (!isfinite(metal)) metal = 0.0f;
+  float ior = p[PMC_P_SPECULAR_IOR];
+  float f0 = isfinite(ior) && ior > 0.0f ? pmc_sqr((ior - 1.0f) / (ior + 1.0f)) : 0.04f;
+  float3 dielectric = pmc_param3(p, PMC_P_SPECULAR_COLOR) * (f0 * pmc_nonneg(p[PMC_P_SPECULAR]));
+  b.specular = dielectric * (1.0f - metal) + base_color * metal;
+  b.diffuse = base_color * ((1.0f - metal) * (1.0f - f0 * fmin(1.0f, pmc_nonneg(p[PMC_P_SPECULAR]))));
+  b.alpha = rough * rough;
+  float coat = clamp(p[PMC_P_COAT], 0.0f, 1.0f);
+  if (coat > 0.0f && isfinite(coat)) {
+    b.specular = b.specular + pmc_param3(p, PMC_P_COAT_COLOR) * (0.04f * coat);
+  }
+  return b;
+}
+
+#endif /* PMC_INTERP_H */

@@ -1,0 +1,487 @@
+/* pmc_noise.h — MaterialX 1.39 procedural noise nodes: noise2d/3d, fractal2d/3d,
+ * cellnoise2d/3d, worleynoise2d/3d. Shared by the OpenCL interpreter and the
+ * host reference (see pmc_vec.h for the dialect rules).
+ *
+ * The algorithms and constants are those of MaterialX's own shader library
+ * (libraries/stdlib/genglsl/lib/mx_noise.glsl and the per-node wrappers),
+ * which in turn reproduces Open Shading Language's noise (oslnoise.h), so a
+ * document renders with the same pattern here as in MaterialX viewers:
+ *
+ *  - Integer hash: Bob Jenkins' lookup3 "hashword" over the cell coordinates
+ *    with initval 13 (a = b = c = 0xdeadbeef + 4*len + 13; add the words;
+ *    mix every three words; final). Only the final mixing differs between
+ *    lengths, see pmc_noise_hash2/3/4.
+ *  - Perlin "improved" gradient noise with the quintic fade 6t^5-15t^4+10t^3.
+ *    2D gradients are the eight (+-1,+-2)/(+-2,+-1) picked by the low 3 hash
+ *    bits, 3D gradients the twelve cube edges (16 entries) by the low 4 bits;
+ *    the results are scaled by 0.6616 (2D) and 0.9820 (3D) so that the range
+ *    is about [-1, 1]. The three-channel variant takes one gradient per byte
+ *    of the same hash, so its first channel equals the one-channel noise.
+ *  - noise2d/3d vector4: xyz from the three-channel noise, w from the
+ *    one-channel noise at p + (19, 73) (2D) or p + (19, 73, 29) (3D).
+ *  - fractal: sum over octaves of amplitude * noise(p), amplitude *= diminish,
+ *    p *= lacunarity. vector2 = (F(p), F(p + o)), vector4 = (F3(p), F(p + o))
+ *    with o = (19, 193) in 2D and (19, 193, 17) in 3D.
+ *  - cellnoise: hash of floor(p) mapped to [0, 1).
+ *  - worley: one feature point per cell at cell + 0.5 + (h - 0.5) * jitter,
+ *    h from the cell hash (lanes 0 and 1, or 0..2 in 3D); the 3x3 (3x3x3)
+ *    neighbourhood is searched; Euclidean distances F1 <= F2 <= F3. Style 1
+ *    ("Solid", MaterialX 1.39) returns the cell noise of the cell holding
+ *    the nearest feature point instead of distances.
+ *
+ * Deviations from the GLSL, all for robustness and only visible outside the
+ * range where the GLSL is well defined:
+ *  - Cell indices are unsigned and wrap modulo 2^32, which equals the GLSL's
+ *    int arithmetic whenever that does not overflow. For |p| >= 2^31 (where
+ *    int(floor(p)) is undefined) the index is floor(p) mod 2^32, so the noise
+ *    stays defined, finite and deterministic. Worley hashes its neighbour
+ *    cells directly as integers (the GLSL round-trips them through float,
+ *    which only matters beyond 2^24).
+ *  - Hash-to-[0,1) never returns 1.0 (the GLSL's float(bits)/float(0xffffffff)
+ *    rounds the top 128 hash values up to 1.0; here they give 1 - 2^-24).
+ *  - Worley "Solid" finds the feature cell as cell + floor(offset) in integer
+ *    arithmetic instead of floor(feature + p) in float.
+ *  - Non-finite inputs (NaN, +-Inf) return 0 in every lane; fractal sums that
+ *    overflow are clamped to +-FLT_MAX and stop adding octaves.
+ */
+#ifndef PMC_NOISE_H
+#define PMC_NOISE_H
+
+#include "pmc_vec.h"
+
+#define PMC_NOISE_FLT_MAX 3.40282347e38f
+#define PMC_NOISE_MAX_OCTAVES 16
+
+/* ---- small helpers ------------------------------------------------------ */
+
+/* True for finite x (false for NaN and +-Inf); plain comparisons, so it works
+ * the same in both compilers without isfinite's return-type differences. */
+PMC_FN int pmc_noise_finite(float x) { return fabs(x) <= PMC_NOISE_FLT_MAX; }
+
+/* NaN -> 0, +-Inf -> +-FLT_MAX. */
+PMC_FN float pmc_noise_sanitize(float x) {
+  if (!(x == x)) return 0.0f;
+  if (x > PMC_NOISE_FLT_MAX) return PMC_NOISE_FLT_MAX;
+  if (x < -PMC_NOISE_FLT_MAX) return -PMC_NOISE_FLT_MAX;
+  return x;
+}
+
+PMC_FN float pmc_noise_fmod(float x, float y) {
+#ifdef __OPENCL_VERSION__
+  return fmod(x, y);
+#else
+  return std::fmod(x, y);
+#endif
+}
+
+/* Cell index of an integer-valued finite float `fl` (a floor() result):
+ * exactly (uint)(int)fl where that conversion is defined, else fl mod 2^32.
+ * fmod is exact, and once |fl| >= 2^31 every float is a multiple of 256, so
+ * the adjustments below are exact too. */
+PMC_FN pmc_u32 pmc_noise_cell(float fl) {
+  if (fabs(fl) < 2147483648.0f) return (pmc_u32)(pmc_i32)fl;
+  float r = pmc_noise_fmod(fl, 4294967296.0f); /* (-2^32, 2^32) */
+  if (r >= 2147483648.0f) r -= 4294967296.0f;
+  if (r < -2147483648.0f) r += 4294967296.0f; /* now in [-2^31, 2^31) */
+  return (pmc_u32)(pmc_i32)r;
+}
+
+/* floor(x) as a cell index, returns the fraction x - floor(x) in [0, 1]. */
+PMC_FN float pmc_noise_floorfrac(float x, pmc_u32* cell) {
+  float fl = floor(x);
+  *cell = pmc_noise_cell(fl);
+  return x - fl;
+}
+
+/* ---- lookup3 hash ------------------------------------------------------- */
+
+PMC_FN pmc_u32 pmc_noise_rotl(pmc_u32 x, int k) { return (x << k) | (x >> (32 - k)); }
+
+/* lookup3 mix(): reversible mixing of three words. */
+PMC_FN void pmc_noise_bjmix(pmc_u32* a, pmc_u32* b, pmc_u32* c) {
+  *a -= *c; *a ^= pmc_noise_rotl(*c, 4);  *c += *b;
+  *b -= *a; *b ^= pmc_noise_rotl(*a, 6);  *a += *c;
+  *c -= *b; *c ^= pmc_noise_rotl(*b, 8);  *b += *a;
+  *a -= *c; *a ^= pmc_noise_rotl(*c, 16); *c += *b;
+  *b -= *a; *b ^= pmc_noise_rotl(*a, 19); *a += *c;
+  *c -= *b; *c ^= pmc_noise_rotl(*b, 4);  *b += *a;
+}
+
+/* lookup3 final(): returns the finished c. */
+PMC_FN pmc_u32 pmc_noise_bjfinal(pmc_u32 a, pmc_u32 b, pmc_u32 c) {
+  c ^= b; c -= pmc_noise_rotl(b, 14);
+  a ^= c; a -= pmc_noise_rotl(c, 11);
+  b ^= a; b -= pmc_noise_rotl(a, 25);
+  c ^= b; c -= pmc_noise_rotl(b, 16);
+  a ^= c; a -= pmc_noise_rotl(c, 4);
+  b ^= a; b -= pmc_noise_rotl(a, 14);
+  c ^= b; c -= pmc_noise_rotl(b, 24);
+  return c;
+}
+
+/* Initial state of lookup3's hashword for `len` words and initval 13. */
+PMC_FN pmc_u32 pmc_noise_seed(pmc_u32 len) { return 0xdeadbeefu + (len << 2) + 13u; }
+
+PMC_FN pmc_u32 pmc_noise_hash2(pmc_u32 x, pmc_u32 y) {
+  pmc_u32 s = pmc_noise_seed(2u);
+  return pmc_noise_bjfinal(s + x, s + y, s);
+}
+
+PMC_FN pmc_u32 pmc_noise_hash3(pmc_u32 x, pmc_u32 y, pmc_u32 z) {
+  pmc_u32 s = pmc_noise_seed(3u);
+  return pmc_noise_bjfinal(s + x, s + y, s + z);
+}
+
+PMC_FN pmc_u32 pmc_noise_hash4(pmc_u32 x, pmc_u32 y, pmc_u32 z, pmc_u32 w) {
+  pmc_u32 s = pmc_noise_seed(4u);
+  pmc_u32 a = s + x, b = s + y, c = s + z;
+  pmc_noise_bjmix(&a, &b, &c);
+  return pmc_noise_bjfinal(a + w, b, c);
+}
+
+/* Hash bits to [0, 1): bits * 2^-32 (correctly rounded conversion), with the
+ * few values that round up to 1.0 pulled back to the largest float below 1. */
+PMC_FN float pmc_noise_to01(pmc_u32 bits) {
+  float f = (float)bits * 2.3283064365386963e-10f;
+  return f < 1.0f ? f : 0.99999994f;
+}
+
+/* ---- Perlin noise ------------------------------------------------------- */
+
+PMC_FN float pmc_noise_fade(float t) { return t * t * t * (t * (t * 6.0f - 15.0f) + 10.0f); }
+
+PMC_FN float pmc_noise_grad2(pmc_u32 hash, float x, float y) {
+  pmc_u32 h = hash & 7u;
+  float u = h < 4u ? x : y;
+  float v = 2.0f * (h < 4u ? y : x);
+  return ((h & 1u) ? -u : u) + ((h & 2u) ? -v : v);
+}
+
+PMC_FN float pmc_noise_grad3(pmc_u32 hash, float x, float y, float z) {
+  pmc_u32 h = hash & 15u;
+  float u = h < 8u ? x : y;
+  float v = h < 4u ? y : ((h == 12u || h == 14u) ? x : z);
+  return ((h & 1u) ? -u : u) + ((h & 2u) ? -v : v);
+}
+
+PMC_FN float pmc_noise_bilerp(float v0, float v1, float v2, float v3, float s, float t) {
+  float s1 = 1.0f - s;
+  return (1.0f - t) * (v0 * s1 + v1 * s) + t * (v2 * s1 + v3 * s);
+}
+
+PMC_FN float pmc_noise_trilerp(float v0, float v1, float v2, float v3, float v4, float v5, float v6,
+                               float v7, float s, float t, float r) {
+  float s1 = 1.0f - s, t1 = 1.0f - t, r1 = 1.0f - r;
+  return (r1 * (t1 * (v0 * s1 + v1 * s) + t * (v2 * s1 + v3 * s)) +
+          r * (t1 * (v4 * s1 + v5 * s) + t * (v6 * s1 + v7 * s)));
+}
+
+/* Signed 2D Perlin noise of finite (px, py). `lanes` 1: x only (the float
+ * noise); 3: x, y, z from hash bytes 0, 1, 2. Unused lanes are 0. */
+PMC_FN float4 pmc_noise_perlin2(float px, float py, int lanes) {
+  pmc_u32 X, Y;
+  float fx = pmc_noise_floorfrac(px, &X);
+  float fy = pmc_noise_floorfrac(py, &Y);
+  float u = pmc_noise_fade(fx), v = pmc_noise_fade(fy);
+  pmc_u32 h00 = pmc_noise_hash2(X, Y), h10 = pmc_noise_hash2(X + 1u, Y);
+  pmc_u32 h01 = pmc_noise_hash2(X, Y + 1u), h11 = pmc_noise_hash2(X + 1u, Y + 1u);
+  float out[3] = {0.0f, 0.0f, 0.0f};
+  for (int k = 0; k < lanes && k < 3; ++k) {
+    int sh = 8 * k;
+    out[k] = 0.6616f * pmc_noise_bilerp(pmc_noise_grad2(h00 >> sh, fx, fy),
+                                        pmc_noise_grad2(h10 >> sh, fx - 1.0f, fy),
+                                        pmc_noise_grad2(h01 >> sh, fx, fy - 1.0f),
+                                        pmc_noise_grad2(h11 >> sh, fx - 1.0f, fy - 1.0f), u, v);
+  }
+  return make_float4(out[0], out[1], out[2], 0.0f);
+}
+
+/* Signed 3D Perlin noise of finite p, lanes as for pmc_noise_perlin2. */
+PMC_FN float4 pmc_noise_perlin3(float px, float py, float pz, int lanes) {
+  pmc_u32 X, Y, Z;
+  float fx = pmc_noise_floorfrac(px, &X);
+  float fy = pmc_noise_floorfrac(py, &Y);
+  float fz = pmc_noise_floorfrac(pz, &Z);
+  float u = pmc_noise_fade(fx), v = pmc_noise_fade(fy), w = pmc_noise_fade(fz);
+  pmc_u32 h000 = pmc_noise_hash3(X, Y, Z), h100 = pmc_noise_hash3(X + 1u, Y, Z);
+  pmc_u32 h010 = pmc_noise_hash3(X, Y + 1u, Z), h110 = pmc_noise_hash3(X + 1u, Y + 1u, Z);
+  pmc_u32 h001 = pmc_noise_hash3(X, Y, Z + 1u), h101 = pmc_noise_hash3(X + 1u, Y, Z + 1u);
+  pmc_u32 h011 = pmc_noise_hash3(X, Y + 1u, Z + 1u), h111 = pmc_noise_hash3(X + 1u, Y + 1u, Z + 1u);
+  float gx = fx - 1.0f, gy = fy - 1.0f, gz = fz - 1.0f;
+  float out[3] = {0.0f, 0.0f, 0.0f};
+  for (int k = 0; k < lanes && k < 3; ++k) {
+    int sh = 8 * k;
+    out[k] = 0.9820f * pmc_noise_trilerp(pmc_noise_grad3(h000 >> sh, fx, fy, fz),
+                                         pmc_noise_grad3(h100 >> sh, gx, fy, fz),
+                                         pmc_noise_grad3(h010 >> sh, fx, gy, fz),
+                                         pmc_noise_grad3(h110 >> sh, gx, gy, fz),
+                                         pmc_noise_grad3(h001 >> sh, fx, fy, gz),
+                                         pmc_noise_grad3(h101 >> sh, gx, fy, gz),
+                                         pmc_noise_grad3(h011 >> sh, fx, gy, gz),
+                                         pmc_noise_grad3(h111 >> sh, gx, gy, gz), u, v, w);
+  }
+  return make_float4(out[0], out[1], out[2], 0.0f);
+}
+
+PMC_FN float4 pmc_noise_zero4(void) { return make_float4(0.0f, 0.0f, 0.0f, 0.0f); }
+
+/* ---- noise2d / noise3d -------------------------------------------------- */
+
+/* MaterialX noise2d before amplitude/pivot. width 1: the float noise in all
+ * lanes; 2 and 3: the vector3 noise (lanes beyond the width are 0); 4: the
+ * vector3 noise in xyz and w = float noise at p + (19, 73). */
+PMC_FN float4 pmc_op_noise2d(float2 p, pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y)) return pmc_noise_zero4();
+  if (width <= 1u) {
+    float n = pmc_noise_perlin2(p.x, p.y, 1).x;
+    return make_float4(n, n, n, n);
+  }
+  float4 r = pmc_noise_perlin2(p.x, p.y, 3);
+  if (width == 2u) r.z = 0.0f;
+  if (width >= 4u) r.w = pmc_noise_perlin2(p.x + 19.0f, p.y + 73.0f, 1).x;
+  return r;
+}
+
+/* MaterialX noise3d before amplitude/pivot; lanes as pmc_op_noise2d, the
+ * vector4 w from the float noise at p + (19, 73, 29). */
+PMC_FN float4 pmc_op_noise3d(float3 p, pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z))
+    return pmc_noise_zero4();
+  if (width <= 1u) {
+    float n = pmc_noise_perlin3(p.x, p.y, p.z, 1).x;
+    return make_float4(n, n, n, n);
+  }
+  float4 r = pmc_noise_perlin3(p.x, p.y, p.z, 3);
+  if (width == 2u) r.z = 0.0f;
+  if (width >= 4u) r.w = pmc_noise_perlin3(p.x + 19.0f, p.y + 73.0f, p.z + 29.0f, 1).x;
+  return r;
+}
+
+/* ---- fractal2d / fractal3d ---------------------------------------------- */
+
+PMC_FN int pmc_noise_octaves(int octaves) {
+  return octaves < 0 ? 0 : (octaves > PMC_NOISE_MAX_OCTAVES ? PMC_NOISE_MAX_OCTAVES : octaves);
+}
+
+/* Octave sum of the 2D noise (lanes 1 or 3). Stops early once the position or
+ * the amplitude is no longer finite; the sum is clamped to finite floats. */
+PMC_FN float4 pmc_noise_fbm2(float px, float py, int octaves, float lacunarity, float diminish,
+                             int lanes) {
+  float4 sum = pmc_noise_zero4();
+  float amp = 1.0f;
+  int n = pmc_noise_octaves(octaves);
+  for (int i = 0; i < n; ++i) {
+    if (!pmc_noise_finite(px) || !pmc_noise_finite(py) || !pmc_noise_finite(amp)) break;
+    float4 v = pmc_noise_perlin2(px, py, lanes);
+    sum.x += amp * v.x;
+    sum.y += amp * v.y;
+    sum.z += amp * v.z;
+    amp *= diminish;
+    px *= lacunarity;
+    py *= lacunarity;
+  }
+  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y),
+                     pmc_noise_sanitize(sum.z), 0.0f);
+}
+
+PMC_FN float4 pmc_noise_fbm3(float px, float py, float pz, int octaves, float lacunarity,
+                             float diminish, int lanes) {
+  float4 sum = pmc_noise_zero4();
+  float amp = 1.0f;
+  int n = pmc_noise_octaves(octaves);
+  for (int i = 0; i < n; ++i) {
+    if (!pmc_noise_finite(px) || !pmc_noise_finite(py) || !pmc_noise_finite(pz) ||
+        !pmc_noise_finite(amp))
+      break;
+    float4 v = pmc_noise_perlin3(px, py, pz, lanes);
+    sum.x += amp * v.x;
+    sum.y += amp * v.y;
+    sum.z += amp * v.z;
+    amp *= diminish;
+    px *= lacunarity;
+    py *= lacunarity;
+    pz *= lacunarity;
+  }
+  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y),
+                     pmc_noise_sanitize(sum.z), 0.0f);
+}
+
+/* MaterialX fractal2d before amplitude. width 1: float fractal in all lanes;
+ * 2: (F(p), F(p + (19, 193))); 3: vector3 fractal; 4: vector3 fractal and
+ * w = F(p + (19, 193)). Octaves are clamped to [0, 16]. */
+PMC_FN float4 pmc_op_fractal2d(float2 p, int octaves, float lacunarity, float diminish,
+                               pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(lacunarity) ||
+      !pmc_noise_finite(diminish))
+    return pmc_noise_zero4();
+  if (width <= 1u) {
+    float n = pmc_noise_fbm2(p.x, p.y, octaves, lacunarity, diminish, 1).x;
+    return make_float4(n, n, n, n);
+  }
+  if (width == 2u) {
+    float a = pmc_noise_fbm2(p.x, p.y, octaves, lacunarity, diminish, 1).x;
+    float b = pmc_noise_fbm2(p.x + 19.0f, p.y + 193.0f, octaves, lacunarity, diminish, 1).x;
+    return make_float4(a, b, 0.0f, 0.0f);
+  }
+  float4 r = pmc_noise_fbm2(p.x, p.y, octaves, lacunarity, diminish, 3);
+  if (width >= 4u) r.w = pmc_noise_fbm2(p.x + 19.0f, p.y + 193.0f, octaves, lacunarity, diminish, 1).x;
+  return r;
+}
+
+/* MaterialX fractal3d before amplitude; lanes as pmc_op_fractal2d with the
+ * offset (19, 193, 17). */
+PMC_FN float4 pmc_op_fractal3d(float3 p, int octaves, float lacunarity, float diminish,
+                               pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z) ||
+      !pmc_noise_finite(lacunarity) || !pmc_noise_finite(diminish))
+    return pmc_noise_zero4();
+  if (width <= 1u) {
+    float n = pmc_noise_fbm3(p.x, p.y, p.z, octaves, lacunarity, diminish, 1).x;
+    return make_float4(n, n, n, n);
+  }
+  if (width == 2u) {
+    float a = pmc_noise_fbm3(p.x, p.y, p.z, octaves, lacunarity, diminish, 1).x;
+    float b = pmc_noise_fbm3(p.x + 19.0f, p.y + 193.0f, p.z + 17.0f, octaves, lacunarity, diminish, 1).x;
+    return make_float4(a, b, 0.0f, 0.0f);
+  }
+  float4 r = pmc_noise_fbm3(p.x, p.y, p.z, octaves, lacunarity, diminish, 3);
+  if (width >= 4u)
+    r.w = pmc_noise_fbm3(p.x + 19.0f, p.y + 193.0f, p.z + 17.0f, octaves, lacunarity, diminish, 1).x;
+  return r;
+}
+
+/* ---- cellnoise ---------------------------------------------------------- */
+
+PMC_FN float pmc_op_cellnoise2d(float2 p) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y)) return 0.0f;
+  return pmc_noise_to01(pmc_noise_hash2(pmc_noise_cell(floor(p.x)), pmc_noise_cell(floor(p.y))));
+}
+
+PMC_FN float pmc_op_cellnoise3d(float3 p) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z)) return 0.0f;
+  return pmc_noise_to01(pmc_noise_hash3(pmc_noise_cell(floor(p.x)), pmc_noise_cell(floor(p.y)),
+                                        pmc_noise_cell(floor(p.z))));
+}
+
+/* ---- worley ------------------------------------------------------------- */
+
+/* Keeps the three smallest squared distances in ascending order; returns 1
+ * when d became the new nearest. Same update chain as MaterialX (strict <, so
+ * the first of equal candidates in loop order wins). */
+PMC_FN int pmc_noise_worley_insert(float d, float* d0, float* d1, float* d2) {
+  if (d < *d0) {
+    *d2 = *d1;
+    *d1 = *d0;
+    *d0 = d;
+    return 1;
+  }
+  if (d < *d1) {
+    *d2 = *d1;
+    *d1 = d;
+  } else if (d < *d2) {
+    *d2 = d;
+  }
+  return 0;
+}
+
+/* Packs the worley result: distances (style 0) or the cell noise of the
+ * nearest feature's cell (style 1; `c0..c2` are its three cell-noise lanes). */
+PMC_FN float4 pmc_noise_worley_out(int style, pmc_u32 width, float d0, float d1, float d2, float c0,
+                                   float c1, float c2) {
+  float a, b, c;
+  if (style == 1) {
+    a = c0;
+    b = c1;
+    c = c2;
+  } else {
+    a = sqrt(d0);
+    b = sqrt(d1);
+    c = sqrt(d2);
+  }
+  if (width <= 1u) return make_float4(a, a, a, a);
+  if (width == 2u) return make_float4(a, b, 0.0f, 0.0f);
+  return make_float4(a, b, c, 0.0f);
+}
+
+/* MaterialX worleynoise2d (Euclidean). width 1: F1 in all lanes; 2: (F1, F2);
+ * 3: (F1, F2, F3). style 1 (Solid): cell noise of the nearest feature's cell
+ * (float in all lanes for width 1, else the vector cell noise). */
+PMC_FN float4 pmc_op_worley2d(float2 p, float jitter, int style, pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(jitter))
+    return pmc_noise_zero4();
+  pmc_u32 X, Y;
+  float lx = pmc_noise_floorfrac(p.x, &X);
+  float ly = pmc_noise_floorfrac(p.y, &Y);
+  /* "Some big number" start value, as MaterialX: with jitter > 1 the
+   * neighbourhood may hold no nearer point. */
+  float d0 = 1e6f, d1 = 1e6f, d2 = 1e6f;
+  pmc_u32 bx = X, by = Y;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      pmc_u32 cx = X + (pmc_u32)i, cy = Y + (pmc_u32)j;
+      float ox = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 0u)) - 0.5f) * jitter + 0.5f;
+      float oy = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 1u)) - 0.5f) * jitter + 0.5f;
+      float dx = ((float)i + ox) - lx;
+      float dy = ((float)j + oy) - ly;
+      if (pmc_noise_worley_insert(dx * dx + dy * dy, &d0, &d1, &d2)) {
+        bx = cx + pmc_noise_cell(floor(ox));
+        by = cy + pmc_noise_cell(floor(oy));
+      }
+    }
+  }
+  float c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+  if (style == 1) {
+    if (width <= 1u) {
+      c0 = pmc_noise_to01(pmc_noise_hash2(bx, by));
+    } else {
+      c0 = pmc_noise_to01(pmc_noise_hash3(bx, by, 0u));
+      c1 = pmc_noise_to01(pmc_noise_hash3(bx, by, 1u));
+      c2 = pmc_noise_to01(pmc_noise_hash3(bx, by, 2u));
+    }
+  }
+  return pmc_noise_worley_out(style, width, d0, d1, d2, c0, c1, c2);
+}
+
+/* MaterialX worleynoise3d; outputs as pmc_op_worley2d. */
+PMC_FN float4 pmc_op_worley3d(float3 p, float jitter, int style, pmc_u32 width) {
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z) ||
+      !pmc_noise_finite(jitter))
+    return pmc_noise_zero4();
+  pmc_u32 X, Y, Z;
+  float lx = pmc_noise_floorfrac(p.x, &X);
+  float ly = pmc_noise_floorfrac(p.y, &Y);
+  float lz = pmc_noise_floorfrac(p.z, &Z);
+  float d0 = 1e6f, d1 = 1e6f, d2 = 1e6f;
+  pmc_u32 bx = X, by = Y, bz = Z;
+  for (int i = -1; i <= 1; ++i) {
+    for (int j = -1; j <= 1; ++j) {
+      for (int k = -1; k <= 1; ++k) {
+        pmc_u32 cx = X + (pmc_u32)i, cy = Y + (pmc_u32)j, cz = Z + (pmc_u32)k;
+        float ox = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 0u)) - 0.5f) * jitter + 0.5f;
+        float oy = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 1u)) - 0.5f) * jitter + 0.5f;
+        float oz = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 2u)) - 0.5f) * jitter + 0.5f;
+        float dx = ((float)i + ox) - lx;
+        float dy = ((float)j + oy) - ly;
+        float dz = ((float)k + oz) - lz;
+        if (pmc_noise_worley_insert(dx * dx + dy * dy + dz * dz, &d0, &d1, &d2)) {
+          bx = cx + pmc_noise_cell(floor(ox));
+          by = cy + pmc_noise_cell(floor(oy));
+          bz = cz + pmc_noise_cell(floor(oz));
+        }
+      }
+    }
+  }
+  float c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+  if (style == 1) {
+    if (width <= 1u) {
+      c0 = pmc_noise_to01(pmc_noise_hash3(bx, by, bz));
+    } else {
+      c0 = pmc_noise_to01(pmc_noise_hash4(bx, by, bz, 0u));
+      c1 = pmc_noise_to01(pmc_noise_hash4(bx, by, bz, 1u));
+      c2 = pmc_noise_to01(pmc_noise_hash4(bx, by, bz, 2u));
+    }
+  }
+  return pmc_noise_worley_out(style, width, d0, d1, d2, c0, c1, c2);
+}
+
+#endif /* PMC_NOISE_H */

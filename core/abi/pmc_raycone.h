@@ -1,0 +1,54 @@
+/* pmc_raycone.h — ray-cone texture footprints, shared by host and kernels.
+ *
+ * A path carries a cone (width at its origin, spread angle); at a hit the
+ * width is w + t * spread. Following Akenine-Möller et al. 2021 ("Improved
+ * Shader and Texture Level of Detail Using Ray Cones", anisotropic variant),
+ * the cone's elliptical footprint on the triangle has half-axes a1, a2; mapped
+ * through the triangle's barycentrics they give uv-space gradients g1, g2.
+ * The texture LOD uses them now; the material cache derives its virtual mip
+ * level from the same g1, g2. Guards: a ray along the normal (a1 would be 0:
+ * any tangent direction serves, the footprint is a circle), grazing angles
+ * (the projection is clamped), zero-area position or uv triangles (g = 0).
+ */
+#ifndef PMC_RAYCONE_H
+#define PMC_RAYCONE_H
+
+#include "pmc_vec.h"
+
+/* uv gradients along the footprint's axes. `ng` is the unit geometric normal,
+ * `dir` the unit ray direction, `radius` the cone radius at the hit. */
+PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p0, float3 p1, float3 p2, float2 t0,
+                                   float2 t1, float2 t2, float2* g1, float2* g2) {
+  *g1 = make_float2(0.0f, 0.0f);
+  *g2 = make_float2(0.0f, 0.0f);
+  if (!(radius > 0.0f) || !isfinite(radius)) return;
+  float3 a1 = dir - ng * dot(ng, dir);
+  float l1 = length(a1);
+  if (!(l1 > 1e-6f)) { /* looking straight down the normal: any tangent axis */
+    float3 t, b;
+    pmc_basis(ng, &t, &b);
+    a1 = t;
+  } else {
+    a1 = a1 * (1.0f / l1);
+  }
+  /* Each unit axis is stretched by the inverse of its projection onto the
+   * plane orthogonal to dir (grazing angles elongate the ellipse), clamped. */
+  float3 a2 = cross(ng, a1); /* unit: a1 is a unit vector orthogonal to ng */
+  float3 q1 = a1 - dir * dot(dir, a1);
+  float3 q2 = a2 - dir * dot(dir, a2);
+  a1 = a1 * (radius / fmax(1e-4f, length(q1)));
+  a2 = a2 * (radius / fmax(1e-4f, length(q2)));
+  float3 e1 = p1 - p0, e2 = p2 - p0;
+  float area = dot(ng, cross(e1, e2));
+  if (!(fabs(area) > 1e-30f) || !isfinite(area)) return;
+  float inv = 1.0f / area;
+  float du1 = dot(ng, cross(a1, e2)) * inv, dv1 = dot(ng, cross(e1, a1)) * inv;
+  float du2 = dot(ng, cross(a2, e2)) * inv, dv2 = dot(ng, cross(e1, a2)) * inv;
+  float2 d1 = t1 - t0, d2 = t2 - t0;
+  float2 r1 = d1 * du1 + d2 * dv1;
+  float2 r2 = d1 * du2 + d2 * dv2;
+  if (isfinite(r1.x) && isfinite(r1.y)) *g1 = r1;
+  if (isfinite(r2.x) && isfinite(r2.y)) *g2 = r2;
+}
+
+#endif /* PMC_RAYCONE_H */

@@ -1,0 +1,52 @@
+// compiler.h — material graphs into one flat bytecode buffer.
+//
+// compile_material() optimises a graph (passes.h) and appends its program to
+// a MaterialProgram: nodes are emitted in topological order, each output gets
+// contiguous stack slots chosen first-fit and freed after the last consumer
+// is emitted, unlinked inputs become inline constants stored after the
+// material's END, and the surface's inputs become OUTPUT instructions. All
+// materials share one buffer; each has an entry offset. Images are loaded
+// into the scene's texture pool here, so only textures a live node reads are
+// ever loaded. A program that needs more stack than PMC_STACK_SIZE is
+// refused with an error naming the material.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/texture.h"
+#include "materials/node_graph.h"
+#include "materials/passes.h"
+
+namespace pmc {
+
+struct CompiledMaterial {
+  std::string name;
+  std::string file;
+  uint32_t entry = 0;       // first instruction word
+  uint32_t code_words = 0;  // instructions + constants
+  uint32_t instructions = 0;
+  uint32_t peak_stack = 0;  // floats
+  std::vector<PassStat> passes;
+  std::vector<std::pair<std::string, uint32_t>> param_dependencies;  // surface input -> dep bits
+  bool has_cutout = false;                                           // opacity depends on the shading point
+  float constant_emission[3] = {0, 0, 0};                            // for light sampling
+};
+
+struct MaterialProgram {
+  std::vector<uint32_t> code;
+  std::vector<CompiledMaterial> materials;
+};
+
+// Optimises `graph` in place and appends its program. Throws pmc::Error.
+const CompiledMaterial& compile_material(Graph& graph, TexturePool& textures, MaterialProgram& program);
+
+// Human-readable listing of one material's program.
+std::string disassemble(const MaterialProgram& program, const CompiledMaterial& m);
+
+// Evaluates a node whose inputs are all constants (constant folding).
+// Returns false if the node cannot be folded (geometric, image ...).
+bool evaluate_constant(const Graph& g, const Node& n, Value& out);
+
+}  // namespace pmc

@@ -1,0 +1,89 @@
+// material_set.cpp — binding usemtl names to networks and compiling them.
+#include "materials/material_set.h"
+
+#include <map>
+
+#include "core/error.h"
+#include "materials/mtl_graph.h"
+#include "materials/mtlx_reader.h"
+
+namespace pmc {
+
+MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
+  std::map<std::string, Graph> mtlx;
+  for (const std::string& file : options.mtlx_files)
+    for (Graph& g : read_mtlx_file(file)) {
+      if (mtlx.count(g.material))
+        warn(file + ": material '" + g.material + "' also defined earlier; the later one wins");
+      mtlx[g.material] = std::move(g);
+    }
+  if (!options.override_material.empty()) {
+    if (!mtlx.count(options.override_material)) {
+      std::string names;
+      for (const auto& kv : mtlx) names += (names.empty() ? "" : ", ") + kv.first;
+      fail("--material: no material '", options.override_material,
+           "' in the --mtlx documents (they define: ", names.empty() ? "nothing" : names, ")");
+    }
+    MtlMaterial m;
+    m.name = options.override_material;
+    scene.materials.push_back(m);
+    for (PmcTriangle& t : scene.triangles) t.material = int(scene.materials.size()) - 1;
+  }
+  std::vector<char> used(scene.materials.size(), 0);
+  for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
+
+  MaterialSet set;
+  set.infos.assign(scene.materials.size(), PmcMaterialInfo{});
+  set.compiled.assign(scene.materials.size(), -1);
+  const std::string mtl_file = scene.obj_path;
+  uint32_t unused_entry = 0;
+  bool have_unused = false;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (!used[i]) continue;
+    const MtlMaterial& m = scene.materials[i];
+    auto found = mtlx.find(m.name);
+    Graph g = found != mtlx.end() ? found->second : mtl_to_graph(m, mtl_file);
+    const CompiledMaterial& cm = compile_material(g, scene.textures, set.program);
+    set.compiled[i] = int(set.program.materials.size()) - 1;
+    set.graphs.push_back(std::move(g));
+    PmcMaterialInfo& info = set.infos[i];
+    info.entry = cm.entry;
+    info.flags = cm.has_cutout ? PMC_MAT_CUTOUT : 0u;
+    for (int k = 0; k < 3; ++k) info.emission[k] = cm.constant_emission[k];
+  }
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    if (used[i]) continue;
+    if (!have_unused) {  // one END for every unused material
+      unused_entry = uint32_t(set.program.code.size());
+      set.program.code.push_back(pmc_op_header(PMC_OP_END, 1, 0, 0));
+      set.program.code.push_back(0);
+      have_unused = true;
+    }
+    set.infos[i].entry = unused_entry;
+  }
+  const std::vector<uint8_t>& bytes = scene.textures.texels();
+  set.texel_words.resize(bytes.size() / 4);
+  for (size_t i = 0; i < set.texel_words.size(); ++i)
+    set.texel_words[i] = uint32_t(bytes[4 * i]) | uint32_t(bytes[4 * i + 1]) << 8 |
+                         uint32_t(bytes[4 * i + 2]) << 16 | uint32_t(bytes[4 * i + 3]) << 24;
+  set.srgb_lut = srgb_decode_table();
+  return set;
+}
+
+void MaterialSet::evaluate(const PmcTextureSet& textures, int scene_material, const PmcShadingInputs& in,
+                           float params[PMC_P_COUNT]) const {
+  float stack[PMC_STACK_SIZE];
+  pmc_surface_defaults(params, in.normal);
+  pmc_interp_run(program.code.data(), infos[size_t(scene_material)].entry, &in, &textures, stack, params);
+}
+
+PmcTextureSet MaterialSet::host_textures(const Scene& scene) const {
+  PmcTextureSet ts{};
+  ts.textures = scene.textures.textures().data();
+  ts.texels = texel_words.data();
+  ts.srgb_lut = srgb_lut.data();
+  ts.count = uint32_t(scene.textures.size());
+  return ts;
+}
+
+}  // namespace pmc

@@ -1,0 +1,131 @@
+// mtl_graph.cpp — MTL parameters into pmc_mtl_surface networks.
+#include "materials/mtl_graph.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "materials/node_library.h"
+
+namespace pmc {
+namespace {
+
+Input constant(const std::string& name, ValueType t, float a, float b = 0, float c = 0) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.value = Value::number(t, a, b, c);
+  return in;
+}
+
+Input link(const std::string& name, ValueType t, int node) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.linked = true;
+  in.node = node;
+  return in;
+}
+
+int image_node(Graph& g, const std::string& file, ValueType type, bool srgb, const std::string& origin) {
+  Node uv;
+  uv.category = "texcoord";
+  uv.type = ValueType::Vector2;
+  uv.origin = origin;
+  int uv_id = g.add(uv);
+  Node n;
+  n.category = "image";
+  n.type = type;
+  n.origin = origin;
+  Input f;
+  f.name = "file";
+  f.type = ValueType::Filename;
+  f.value.type = ValueType::Filename;
+  f.value.text = file;
+  f.value.f[0] = srgb ? 1.0f : 0.0f;
+  n.inputs.push_back(f);
+  n.inputs.push_back(constant("default", type, 0, 0, 0));
+  n.inputs.push_back(link("texcoord", ValueType::Vector2, uv_id));
+  for (const char* mode : {"uaddressmode", "vaddressmode"}) {
+    Input s;
+    s.name = mode;
+    s.type = ValueType::String;
+    s.value.type = ValueType::String;
+    s.value.text = "periodic";
+    n.inputs.push_back(s);
+  }
+  Input filter;
+  filter.name = "filtertype";
+  filter.type = ValueType::String;
+  filter.value.type = ValueType::String;
+  filter.value.text = "linear";
+  n.inputs.push_back(filter);
+  return g.add(n);
+}
+
+int binary(Graph& g, const std::string& cat, ValueType t, Input a, Input b, const std::string& origin) {
+  Node n;
+  n.category = cat;
+  n.type = t;
+  n.origin = origin;
+  a.name = "in1";
+  b.name = "in2";
+  n.inputs = {a, b};
+  return g.add(n);
+}
+
+bool has_alpha_channel(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  return in && in->spec().nchannels == 4;
+}
+
+}  // namespace
+
+Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
+  Graph g;
+  g.material = m.name;
+  g.file = mtl_file;
+  const std::string origin = mtl_file + ": material '" + m.name + "'";
+  Node surface;
+  surface.category = "pmc_mtl_surface";
+  surface.type = ValueType::Surface;
+  surface.origin = origin;
+  for (const SurfaceParam& p : surface_params("pmc_mtl_surface"))
+    surface.inputs.push_back(constant(p.input, p.type, p.def[0], p.def[1], p.def[2]));
+
+  Input* base = surface.input("base_color");
+  *base = constant("base_color", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]);
+  if (!m.map_kd.empty()) {
+    int img = image_node(g, m.map_kd, ValueType::Color3, true, origin + " map_Kd");
+    int mul = binary(g, "multiply", ValueType::Color3, link("", ValueType::Color3, img),
+                     constant("", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]), origin + " Kd*map_Kd");
+    *base = link("base_color", ValueType::Color3, mul);
+  }
+  *surface.input("specular_color") = constant("specular_color", ValueType::Color3, m.ks[0], m.ks[1], m.ks[2]);
+  float alpha = std::sqrt(2.0f / (std::max(0.0f, m.ns) + 2.0f));
+  *surface.input("specular_roughness") = constant("specular_roughness", ValueType::Float, std::sqrt(alpha));
+  *surface.input("emission_color") = constant("emission_color", ValueType::Color3, m.ke[0], m.ke[1], m.ke[2]);
+  Input* opacity = surface.input("opacity");
+  *opacity = constant("opacity", ValueType::Float, m.dissolve);
+  if (!m.map_d.empty()) {
+    bool alpha_channel = has_alpha_channel(m.map_d);
+    int img = image_node(g, m.map_d, ValueType::Color4, false, origin + " map_d");
+    Node ex;
+    ex.category = "extract";
+    ex.type = ValueType::Float;
+    ex.origin = origin + " map_d channel";
+    ex.inputs = {link("in", ValueType::Color4, img),
+                 constant("index", ValueType::Integer, alpha_channel ? 3.0f : 0.0f)};
+    int e = g.add(ex);
+    *opacity = link("opacity", ValueType::Float, e);
+  }
+  std::string dropped;
+  if (!m.map_bump.empty()) dropped += " bump map (" + m.map_bump + ")";
+  if (!m.map_ks.empty()) dropped += " specular map (" + m.map_ks + ")";
+  if (!dropped.empty()) warn(origin + ": not modelled:" + dropped);
+  g.surface = g.add(surface);
+  return g;
+}
+
+}  // namespace pmc

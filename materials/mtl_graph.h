@@ -1,0 +1,18 @@
+// mtl_graph.h — a plain MTL material as a small node network.
+//
+// Kd (times map_Kd) becomes the base colour, Ks the specular colour, Ns the
+// roughness (Phong exponent to GGX alpha, Walter et al. 2007), Ke the
+// emission, d / map_d the cut-out opacity (map_d's alpha channel if it has
+// one, else its first channel). Everything goes through the same compiler and
+// interpreter as MaterialX. What pmc cannot model (bump and normal maps from
+// MTL, specular maps ...) is named in a warning, never silently dropped.
+#pragma once
+
+#include "core/scene.h"
+#include "materials/node_graph.h"
+
+namespace pmc {
+
+Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file);
+
+}  // namespace pmc

@@ -1,0 +1,81 @@
+// node_graph.h — the typed node graph every material becomes before compiling.
+//
+// A Graph is one material, flattened: nodegraphs are inlined, interface
+// inputs resolved, and every input is either a constant Value or a link to
+// another node's output. Geometric defaults (an unconnected texcoord means
+// UV0, position means Pobject ...) are explicit nodes, so the dependency
+// analysis sees them. The root is a surface node (standard_surface,
+// UsdPreviewSurface, or the MTL model) whose inputs become surface parameters.
+// Nodes remember the file and element they came from for error messages.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace pmc {
+
+enum class ValueType {
+  None,
+  Float,
+  Integer,
+  Boolean,
+  Vector2,
+  Vector3,
+  Vector4,
+  Color3,
+  Color4,
+  String,
+  Filename,
+  Surface,
+  Material
+};
+
+// Number of float lanes a value of this type occupies (0 for non-numeric types).
+int type_width(ValueType t);
+const char* type_name(ValueType t);
+ValueType parse_type(const std::string& name);  // None if unknown
+bool is_numeric(ValueType t);
+
+struct Value {
+  ValueType type = ValueType::None;
+  std::array<float, 4> f{0, 0, 0, 0};
+  std::string text;  // strings and filenames
+  static Value number(ValueType t, float a, float b = 0, float c = 0, float d = 0);
+};
+
+struct Input {
+  std::string name;
+  ValueType type = ValueType::None;
+  bool linked = false;
+  int node = -1;  // source node when linked
+  Value value;    // the constant when not linked
+};
+
+struct Node {
+  std::string name;      // element name in the document ("" for nodes pmc made)
+  std::string category;  // MaterialX node category, e.g. "multiply"
+  ValueType type = ValueType::None;
+  std::vector<Input> inputs;
+  std::string origin;   // "file.mtlx: nodegraph 'NG' node 'n1'" for messages
+  bool dead = false;    // removed by a pass
+  int cache_point = 0;  // reserved for the material cache
+
+  const Input* input(const std::string& n) const;
+  Input* input(const std::string& n);
+};
+
+struct Graph {
+  std::string material;  // material name (what `usemtl` binds to)
+  std::string file;      // document or MTL file it came from
+  std::vector<Node> nodes;
+  int surface = -1;  // root node
+
+  int add(Node n) {
+    nodes.push_back(std::move(n));
+    return int(nodes.size()) - 1;
+  }
+  size_t live_count() const;
+};
+
+}  // namespace pmc
