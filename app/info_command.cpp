@@ -6,14 +6,18 @@
 #include "core/error.h"
 #include "core/obj_loader.h"
 #include "gpu/cl_context.h"
+#include "materials/material_set.h"
 
 namespace pmc {
 
 int run_info(const std::vector<std::string>& args) {
-  ArgParser p("pmc info [--devices] [--scene SCENE.obj]",
+  ArgParser p("pmc info [--devices] [--scene SCENE.obj [--mtlx F ...] [--dump-bytecode]]",
               "Prints what pmc sees: OpenCL devices, scene contents.");
   p.flag("--devices", "list OpenCL platforms and devices");
   p.option("--scene", "SCENE.obj", "summarise a scene: triangles, materials, textures, bounds");
+  p.option("--mtlx", "FILE.mtlx", "MaterialX document to bind (repeatable)", "", true);
+  p.option("--material", "NAME", "use this MaterialX material for every triangle");
+  p.flag("--dump-bytecode", "per material: node counts per pass, bytecode, peak stack, dependencies");
   if (!p.parse(args)) return 0;
   if (!p.positional().empty()) fail("info: unexpected argument '", p.positional()[0], "'");
   if (!p.has("--devices") && !p.has("--scene")) {
@@ -29,6 +33,29 @@ int run_info(const std::vector<std::string>& args) {
                   d.version.c_str(), d.compute_units, double(d.global_memory) / double(1ull << 30),
                   d.is_gpu ? " | GPU" : " | CPU");
     std::printf("(* = default device; pick another with --device NAME)\n");
+  }
+  if (p.has("--dump-bytecode")) {
+    if (!p.has("--scene")) fail("--dump-bytecode needs --scene SCENE.obj");
+    ObjLoadOptions load;
+    load.load_textures = false;
+    Scene scene = load_obj(p.get("--scene"), load);
+    MaterialOptions mo;
+    mo.mtlx_files = p.all("--mtlx");
+    mo.override_material = p.get("--material");
+    MaterialSet set = build_material_set(scene, mo);
+    std::printf("bytecode: %zu words for %zu materials\n", set.program.code.size(),
+                set.program.materials.size());
+    for (const CompiledMaterial& m : set.program.materials) {
+      std::printf("\nmaterial '%s' (%s)\n  passes:", m.name.c_str(), m.file.c_str());
+      for (const PassStat& ps : m.passes) std::printf(" %s %zu->%zu;", ps.pass.c_str(), ps.before, ps.after);
+      std::printf("\n  %u instructions, %u code words, peak stack %u floats\n", m.instructions, m.code_words,
+                  m.peak_stack);
+      std::printf("  outputs depend on:");
+      for (const auto& [input, bits] : m.param_dependencies)
+        if (bits) std::printf(" %s=%s", input.c_str(), dependency_names(bits).c_str());
+      std::printf("\n%s", disassemble(set.program, m).c_str());
+    }
+    return 0;
   }
   if (p.has("--scene")) {
     Scene scene = load_obj(p.get("--scene"));
