@@ -9,6 +9,7 @@
 #include "app/render_options.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
+#include "materials/cutout.h"
 
 namespace pmc {
 namespace {
@@ -71,7 +72,9 @@ int run_render(const std::vector<std::string>& args) {
   MaterialSet materials = build_material_set(scene, material_options_from(p));
   RenderSettings settings = render_settings_from(p, scene, obj);
   ClContext cl(p.get("--device"));
-  EmbreeTracer tracer(scene, parse_trace_mode(p.get("--trace-mode", "single")));
+  CutoutTester cutout(scene, materials);
+  EmbreeTracer tracer(scene, parse_trace_mode(p.get("--trace-mode", "single")),
+                      cutout.any() ? &cutout : nullptr);
   WavefrontRenderer renderer(cl, scene, materials, tracer);
   ProgressBar bar("render", !p.has("--quiet"));
   RenderOutput out =

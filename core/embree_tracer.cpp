@@ -26,14 +26,6 @@ void embree_error(void*, RTCError code, const char* message) {
   warn(std::string("Embree error ") + std::to_string(int(code)) + ": " + (message ? message : ""));
 }
 
-void write_hit(const RTCRayHit& rh, PmcHit& hit) {
-  bool found = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
-  hit.t = found ? rh.ray.tfar : INFINITY;
-  hit.u = rh.hit.u;
-  hit.v = rh.hit.v;
-  hit.prim = found ? int(rh.hit.primID) : -1;
-}
-
 void load_ray(const PmcRay& r, RTCRayHit& rh) {
   std::memcpy(&rh.ray, &r, sizeof(RTCRay));
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -41,6 +33,11 @@ void load_ray(const PmcRay& r, RTCRayHit& rh) {
 }
 
 }  // namespace
+
+// Scene triangle of a (geometry, local primitive) hit, or -1.
+inline int scene_prim(const std::vector<uint32_t>* prims, unsigned geom, unsigned local) {
+  return geom == RTC_INVALID_GEOMETRY_ID ? -1 : int(prims[geom][local]);
+}
 
 TraceMode parse_trace_mode(const std::string& name) {
   if (name == "stream") return TraceMode::Stream;
@@ -60,27 +57,53 @@ const char* trace_mode_name(TraceMode mode) {
   }
 }
 
-EmbreeTracer::EmbreeTracer(const Scene& scene, TraceMode mode) : mode_(mode) {
+// Embree filter callbacks: reject transparent candidate hits.
+struct EmbreeFilter {
+  static void run(const RTCFilterFunctionNArguments* args) {
+    const EmbreeTracer* tracer = static_cast<const EmbreeTracer*>(args->geometryUserPtr);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] != -1) continue;
+      unsigned local = RTCHitN_primID(args->hit, args->N, i);
+      float u = RTCHitN_u(args->hit, args->N, i), v = RTCHitN_v(args->hit, args->N, i);
+      if (tracer->alpha_->transparent(tracer->geometry_prims_[1][local], u, v)) args->valid[i] = 0;
+    }
+  }
+};
+
+EmbreeTracer::EmbreeTracer(const Scene& scene, TraceMode mode, const AlphaTester* alpha)
+    : mode_(mode), alpha_(alpha) {
   device_ = rtcNewDevice(nullptr);
   if (!device_) fail("Embree: cannot create a device (error ", int(rtcGetDeviceError(nullptr)), ")");
   rtcSetDeviceErrorFunction(device_, embree_error, nullptr);
   scene_ = rtcNewScene(device_);
   rtcSetSceneFlags(scene_, RTC_SCENE_FLAG_ROBUST);
   rtcSetSceneBuildQuality(scene_, RTC_BUILD_QUALITY_HIGH);
-  RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+  const std::vector<char>* cutout = alpha ? &alpha->cutout_triangles() : nullptr;
+  for (uint32_t i = 0; i < scene.triangles.size(); ++i)
+    geometry_prims_[cutout && (*cutout)[i] ? 1 : 0].push_back(i);
   size_t nv = scene.positions.size() / 3;
-  // Embree reads vertex buffers with 16-byte loads: pad by one float.
-  float* vb = static_cast<float*>(
-      rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv + 1));
-  std::memcpy(vb, scene.positions.data(), nv * 3 * sizeof(float));
-  vb[3 * nv] = vb[3 * nv + 1] = vb[3 * nv + 2] = 0.0f;
-  unsigned* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
-      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), scene.triangles.size()));
-  for (size_t i = 0; i < scene.triangles.size(); ++i)
-    for (int k = 0; k < 3; ++k) ib[3 * i + k] = unsigned(scene.triangles[i].v[k]);
-  rtcCommitGeometry(geom);
-  rtcAttachGeometry(scene_, geom);
-  rtcReleaseGeometry(geom);
+  for (unsigned g = 0; g < 2; ++g) {
+    const std::vector<uint32_t>& prims = geometry_prims_[g];
+    if (prims.empty()) continue;
+    RTCGeometry geom = rtcNewGeometry(device_, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree reads vertex buffers with 16-byte loads: pad by one float.
+    float* vb = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                            RTC_FORMAT_FLOAT3, 3 * sizeof(float), nv + 1));
+    std::memcpy(vb, scene.positions.data(), nv * 3 * sizeof(float));
+    vb[3 * nv] = vb[3 * nv + 1] = vb[3 * nv + 2] = 0.0f;
+    unsigned* ib = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), prims.size()));
+    for (size_t i = 0; i < prims.size(); ++i)
+      for (int k = 0; k < 3; ++k) ib[3 * i + k] = unsigned(scene.triangles[prims[i]].v[k]);
+    if (g == 1) {
+      rtcSetGeometryUserData(geom, this);
+      rtcSetGeometryIntersectFilterFunction(geom, EmbreeFilter::run);
+      rtcSetGeometryOccludedFilterFunction(geom, EmbreeFilter::run);
+    }
+    rtcCommitGeometry(geom);
+    rtcAttachGeometryByID(scene_, geom, g);
+    rtcReleaseGeometry(geom);
+  }
   rtcCommitScene(scene_);
   if (rtcGetDeviceError(device_) != RTC_ERROR_NONE) fail("Embree: building the BVH failed");
 }
@@ -92,6 +115,14 @@ EmbreeTracer::~EmbreeTracer() {
 
 void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, bool coherent) const {
   const TraceMode mode = mode_;
+  const std::vector<uint32_t>* prims = geometry_prims_;
+  auto write_hit = [](const RTCRayHit& rh, PmcHit& hit, const std::vector<uint32_t>* p) {
+    bool found = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+    hit.t = found ? rh.ray.tfar : INFINITY;
+    hit.u = rh.hit.u;
+    hit.v = rh.hit.v;
+    hit.prim = found ? scene_prim(p, rh.hit.geomID, rh.hit.primID) : -1;
+  };
   RTCScene scene = scene_;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext ctx;
@@ -102,14 +133,14 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
         RTCRayHit rh;
         load_ray(rays[i], rh);
         rtcIntersect1(scene, &ctx, &rh);
-        write_hit(rh, hits[i]);
+        write_hit(rh, hits[i], prims);
       }
     } else if (mode == TraceMode::Stream) {
       RTCRayHit batch[kGrain];
       size_t n = r.end() - r.begin();
       for (size_t i = 0; i < n; ++i) load_ray(rays[r.begin() + i], batch[i]);
       rtcIntersect1M(scene, &ctx, batch, unsigned(n), sizeof(RTCRayHit));
-      for (size_t i = 0; i < n; ++i) write_hit(batch[i], hits[r.begin() + i]);
+      for (size_t i = 0; i < n; ++i) write_hit(batch[i], hits[r.begin() + i], prims);
     } else {
       for (size_t base = r.begin(); base < r.end(); base += 16) {
         RTCRayHit16 p;
@@ -132,7 +163,7 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
           h.t = found ? p.ray.tfar[k] : INFINITY;
           h.u = p.hit.u[k];
           h.v = p.hit.v[k];
-          h.prim = found ? int(p.hit.primID[k]) : -1;
+          h.prim = found ? scene_prim(prims, p.hit.geomID[k], p.hit.primID[k]) : -1;
         }
       }
     }

@@ -6,7 +6,8 @@
 // TBB threads; within a thread three query styles are available because their
 // speed differs by workload (see docs/BENCHMARKS.md, scripts/bench-trace):
 // Embree's ray streams (rtcIntersect1M), 16-wide packets (rtcIntersect16), and
-// single rays (rtcIntersect1). Camera rays are flagged coherent.
+// single rays (rtcIntersect1). Camera rays are flagged coherent. Triangles
+// with cut-out materials live in a second geometry with filter functions.
 #pragma once
 
 #include <embree3/rtcore.h>
@@ -14,8 +15,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/abi/pmc_types.h"
+#include "core/alpha_test.h"
 #include "core/scene.h"
 
 namespace pmc {
@@ -27,7 +30,10 @@ const char* trace_mode_name(TraceMode mode);
 
 class EmbreeTracer {
  public:
-  explicit EmbreeTracer(const Scene& scene, TraceMode mode = TraceMode::Single);
+  // Triangles flagged by `alpha` go into a second geometry whose hits the
+  // tester may reject; `alpha` must outlive the tracer.
+  explicit EmbreeTracer(const Scene& scene, TraceMode mode = TraceMode::Single,
+                        const AlphaTester* alpha = nullptr);
   ~EmbreeTracer();
   EmbreeTracer(const EmbreeTracer&) = delete;
   EmbreeTracer& operator=(const EmbreeTracer&) = delete;
@@ -42,6 +48,10 @@ class EmbreeTracer {
   RTCDevice device_ = nullptr;
   RTCScene scene_ = nullptr;
   TraceMode mode_;
+  const AlphaTester* alpha_ = nullptr;
+  std::vector<uint32_t> geometry_prims_[2];  // per geometry: local primitive -> scene triangle
+
+  friend struct EmbreeFilter;
 };
 
 }  // namespace pmc

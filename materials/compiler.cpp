@@ -325,7 +325,8 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   for (const SurfaceParam& p : surface_params(surface.category)) {
     const Input* in = surface.input(p.input);
     if (!in) continue;
-    int pw = type_width(p.type);
+    // Opacity is three floats in the block whatever the surface's type (a float broadcasts).
+    int pw = p.param == PMC_P_OPACITY ? 3 : type_width(p.type);
     uint32_t d = in->linked ? deps[size_t(in->node)] : 0;
     cm.param_dependencies.push_back({p.input, d});
     if (p.param == PMC_P_OPACITY && in->linked && d != 0) cm.has_cutout = true;

@@ -42,6 +42,13 @@ PMC_FN float4 pmc_load_operand(PMC_GLOBAL const pmc_u32* code, const float* stac
   return make_float4(v[0], v[1], v[2], v[3]);
 }
 
+/* Float to int without undefined behaviour for NaN or huge values. */
+PMC_FN int pmc_to_int(float x) {
+  if (!(x > -1e6f)) return x > 0.0f ? 1000000 : -1000000; /* NaN and below */
+  if (!(x < 1e6f)) return 1000000;
+  return (int)x;
+}
+
 PMC_FN float pmc_lane(float4 v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : (i == 2 ? v.z : v.w)); }
 
 /* Lane-wise a > b ? x : y */
@@ -236,7 +243,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       case PMC_OP_HSVTORGB: r = pmc_hsv_to_rgb(PMC_ARG(0)); break;
       case PMC_OP_IMAGE: {
         float4 uv = PMC_ARG(0), def = PMC_ARG(1), mode = PMC_ARG(2);
-        pmc_u32 bits = (pmc_u32)mode.x;
+        pmc_u32 bits = (pmc_u32)pmc_to_int(mode.x);
         float4 c = pmc_texture_sample(ts, imm, make_float2(uv.x, uv.y), in->footprint * mode.y, bits & 3u,
                                       (bits >> 2) & 3u, (bits >> 4) & 3u, def);
         /* A float image reads the first channel. */
@@ -244,7 +251,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         break;
       }
       case PMC_OP_PLACE2D:
-        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4), (int)PMC_ARG(5).x);
+        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4), pmc_to_int(PMC_ARG(5).x));
         break;
       case PMC_OP_NOISE2D: {
         float4 p = PMC_ARG(0);
@@ -258,13 +265,13 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       }
       case PMC_OP_FRACTAL2D: {
         float4 p = PMC_ARG(0);
-        r = pmc_op_fractal2d(make_float2(p.x, p.y), (int)PMC_ARG(2).x, PMC_ARG(3).x, PMC_ARG(4).x, width) *
+        r = pmc_op_fractal2d(make_float2(p.x, p.y), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x, width) *
             PMC_ARG(1);
         break;
       }
       case PMC_OP_FRACTAL3D: {
         float4 p = PMC_ARG(0);
-        r = pmc_op_fractal3d(make_float3(p.x, p.y, p.z), (int)PMC_ARG(2).x, PMC_ARG(3).x, PMC_ARG(4).x,
+        r = pmc_op_fractal3d(make_float3(p.x, p.y, p.z), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x,
                              width) *
             PMC_ARG(1);
         break;
@@ -281,12 +288,12 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       }
       case PMC_OP_WORLEY2D: {
         float4 p = PMC_ARG(0);
-        r = pmc_op_worley2d(make_float2(p.x, p.y), PMC_ARG(1).x, (int)PMC_ARG(2).x, width);
+        r = pmc_op_worley2d(make_float2(p.x, p.y), PMC_ARG(1).x, pmc_to_int(PMC_ARG(2).x), width);
         break;
       }
       case PMC_OP_WORLEY3D: {
         float4 p = PMC_ARG(0);
-        r = pmc_op_worley3d(make_float3(p.x, p.y, p.z), PMC_ARG(1).x, (int)PMC_ARG(2).x, width);
+        r = pmc_op_worley3d(make_float3(p.x, p.y, p.z), PMC_ARG(1).x, pmc_to_int(PMC_ARG(2).x), width);
         break;
       }
       case PMC_OP_RAMPLR: {
