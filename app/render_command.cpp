@@ -8,6 +8,7 @@
 #include "app/progress.h"
 #include "app/render_options.h"
 #include "core/error.h"
+#include "core/heatmap.h"
 #include "core/obj_loader.h"
 #include "materials/cutout.h"
 
@@ -34,6 +35,22 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
                         {"shade", st.stages.shade},   {"shadow", st.stages.shadow},
                         {"film", st.stages.film},     {"transfer", st.stages.transfer}};
   j["device"] = st.device;
+  nlohmann::json c;
+  c["enabled"] = s.cache.on;
+  c["eval"] = s.cache.center ? "center" : "hit";
+  c["mip_bias"] = s.cache.mip_bias;
+  c["lookups"] = st.cache.lookups;
+  c["hits"] = st.cache.hits;
+  c["hit_rate"] = st.cache.lookups ? double(st.cache.hits) / double(st.cache.lookups) : 0.0;
+  c["inserts"] = st.cache.inserts;
+  c["dropped_full"] = st.cache.dropped_full;
+  c["not_encodable"] = st.cache.not_encodable;
+  c["occupancy"] = st.cache.occupancy();
+  c["memory_bytes"] = st.cache.memory_bytes;
+  c["cells"] = st.cache.cells;
+  c["entries"] = st.cache.ways;
+  c["size_reason"] = s.cache.on ? s.cache.reason : std::string("cache off");
+  j["cache"] = c;
   return j;
 }
 
@@ -56,6 +73,8 @@ int run_render(const std::vector<std::string>& args) {
               "Writes linear OUT.exr and a tone-mapped sRGB OUT.png beside it.");
   p.option("-o", "OUT.exr", "output image (EXR); the PNG goes beside it");
   p.option("--stats", "OUT.json", "write render statistics as JSON");
+  p.option("--hitmap", "MAP.png",
+           "cache points found per sample as a viridis heat map (0..20) + raw MAP.exr");
   p.flag("--quiet", "no progress bar");
   declare_render_options(p);
   if (!p.parse(args)) return 0;
@@ -71,6 +90,7 @@ int run_render(const std::vector<std::string>& args) {
   Scene scene = load_obj(obj, load);
   MaterialSet materials = build_material_set(scene, material_options_from(p));
   RenderSettings settings = render_settings_from(p, scene, obj);
+  size_cache(p, materials, settings, !p.has("--quiet"));
   ClContext cl(p.get("--device"));
   CutoutTester cutout(scene, materials);
   EmbreeTracer tracer(scene, parse_trace_mode(p.get("--trace-mode", "single")),
@@ -86,6 +106,15 @@ int run_render(const std::vector<std::string>& args) {
   guard.track(png);
   write_exr(exr, out.image);
   write_png_tonemapped(png, out.image);
+  if (p.has("--hitmap")) {
+    const std::string map = p.get("--hitmap");
+    const std::string raw = replace_extension(map, ".exr");
+    if (raw == map) fail("--hitmap: give a .png path (the raw values go to the .exr beside it)");
+    guard.track(map);
+    guard.track(raw);
+    write_png_display(map, heatmap_with_colorbar(out.hitmap));
+    write_exr(raw, out.hitmap);
+  }
   if (p.has("--stats")) {
     guard.track(p.get("--stats"));
     write_text_atomic(p.get("--stats"), stats_json(settings, out.stats, obj).dump(2) + "\n");
@@ -98,6 +127,14 @@ int run_render(const std::vector<std::string>& args) {
       obj.c_str(), settings.width, settings.height, settings.spp, st.render_seconds,
       st.render_seconds > 0 ? st.rays / st.render_seconds * 1e-6 : 0.0, st.stages.trace, st.stages.shade,
       st.stages.shadow, st.device.c_str(), exr.c_str());
+  if (settings.cache.on)
+    std::fprintf(
+        stderr,
+        "pmc: cache: %llu lookups, %.1f%% hits, %llu inserts, %llu dropped (cell full), %.1f%% occupied\n",
+        (unsigned long long)st.cache.lookups,
+        st.cache.lookups ? 100.0 * double(st.cache.hits) / double(st.cache.lookups) : 0.0,
+        (unsigned long long)st.cache.inserts, (unsigned long long)st.cache.dropped_full,
+        100.0 * st.cache.occupancy());
   if (st.nan_pixels > 0 || st.bad_samples > 0)
     warn(std::to_string(st.bad_samples) + " NaN/Inf samples dropped, " + std::to_string(st.nan_pixels) +
          " non-finite pixels");

@@ -3,10 +3,14 @@
 
 #include <tbb/global_control.h>
 
+#include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
+#include <sstream>
 #include <string>
 
+#include "core/cache_sizing.h"
 #include "core/error.h"
 #include "core/image_io.h"
 
@@ -16,6 +20,14 @@ void declare_render_options(ArgParser& p) {
   p.option("--mtlx", "FILE.mtlx", "MaterialX document; usemtl NAME binds to its material NAME (repeatable)",
            "", true);
   p.option("--material", "NAME", "render every triangle with this MaterialX material");
+  p.option("--cache", "on|off", "progressive material cache", "on");
+  p.option("--cache-cells", "N", "cache cells (with --cache-entries)", "sized from the scene");
+  p.option("--cache-entries", "N", "entries per cache cell", "8");
+  p.option("--mip-bias", "B", "added to the cache's virtual mip level (higher: finer, more accurate)", "0");
+  p.option("--cache-eval", "hit|center",
+           "values stored for a texel: at the inserting hit, or at the texel centre", "center");
+  p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point",
+           std::to_string(kDefaultCacheMinNodes));
   p.option("--width", "W", "image width in pixels", "640");
   p.option("--height", "H", "image height in pixels", "360");
   p.option("--spp", "N", "samples per pixel", "16");
@@ -48,6 +60,11 @@ void apply_thread_option(const ArgParser& p) {
 
 MaterialOptions material_options_from(const ArgParser& p) {
   MaterialOptions m;
+  std::string cache = p.get("--cache", "on");
+  if (cache != "on" && cache != "off") fail("--cache: expected on or off, got '", cache, "'");
+  m.compile.cache = cache == "on";
+  m.compile.cache_min_nodes = p.get_int("--cache-min-nodes", kDefaultCacheMinNodes);
+  if (m.compile.cache_min_nodes < 1) fail("--cache-min-nodes: must be at least 1");
   m.mtlx_files = p.all("--mtlx");
   m.override_material = p.get("--material");
   if (!m.override_material.empty() && m.mtlx_files.empty())
@@ -78,6 +95,11 @@ RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, cons
   if (chunk < 0) fail("--chunk-rays: must not be negative");
   s.chunk_rays = size_t(chunk);
 
+  s.cache.mip_bias = p.get_float("--mip-bias", 0.0f);
+  if (std::fabs(s.cache.mip_bias) > 32.0f) fail("--mip-bias: must be within -32..32, got ", s.cache.mip_bias);
+  std::string eval = p.get("--cache-eval", "center");
+  if (eval != "hit" && eval != "center") fail("--cache-eval: expected hit or center, got '", eval, "'");
+  s.cache.center = eval == "center";
   float aspect = float(s.width) / float(s.height);
   float fov = p.get_float("--fov", 45.0f);
   if (!(fov > 0.0f && fov < 180.0f)) fail("--fov: must be in (0, 180) degrees, got ", fov);
@@ -95,6 +117,65 @@ RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, cons
     p.get_vec3("--camera-up", s.camera.up);
   }
   return s;
+}
+
+}  // namespace pmc
+
+namespace pmc {
+
+void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool verbose) {
+  s.cache.on = p.get("--cache", "on") == "on";
+  if (!s.cache.on) return;
+  size_t points = 0, with_points = 0;
+  for (const CompiledMaterial& m : materials.program.materials) {
+    points += m.cache_plan.points.size();
+    with_points += m.cache_plan.points.empty() ? 0 : 1;
+  }
+  if (points == 0) {
+    s.cache.on = false;  // nothing cacheable: run the cacheless path, allocate nothing
+    if (verbose)
+      std::fprintf(stderr, "pmc: cache: no cacheable nodes in this scene's materials; cache not used\n");
+    return;
+  }
+  long long cells = p.get_int64("--cache-cells", 0), entries = p.get_int64("--cache-entries", 8);
+  if (p.has("--cache-cells") && cells <= 0) fail("--cache-cells: must be at least 1, got ", cells);
+  if (entries <= 0 || entries > 1024) fail("--cache-entries: must be in 1..1024, got ", entries);
+  uint64_t avail = available_memory_bytes();
+  if (p.has("--cache-cells")) {
+    s.cache.cells = uint64_t(cells);
+    s.cache.ways = uint32_t(entries);
+    double bytes = double(cells) * double(entries) * 8.0;
+    if (bytes > double(avail) * 0.8)
+      fail("--cache-cells/--cache-entries: a table of ", bytes / double(1 << 20), " MiB does not fit in the ",
+           double(avail) / double(1 << 20), " MiB of free memory");
+    s.cache.reason = "set by --cache-cells/--cache-entries";
+  } else {
+    double per_material = double(points) / double(std::max<size_t>(1, with_points));
+    CacheSize cs =
+        choose_cache_size(s.width, s.height, per_material, std::min<uint64_t>(avail / 4, 4ull << 30));
+    s.cache.cells = cs.cells;
+    s.cache.ways = p.has("--cache-entries") ? uint32_t(entries) : cs.entries;
+    s.cache.reason = cs.reason;
+  }
+  if (verbose)
+    std::fprintf(stderr, "pmc: cache: %llu cells x %u entries = %.1f MiB (%s)\n",
+                 (unsigned long long)s.cache.cells, s.cache.ways,
+                 double(s.cache.cells) * s.cache.ways * 8.0 / double(1 << 20), s.cache.reason.c_str());
+}
+
+uint64_t available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  while (in >> key) {
+    if (key == "MemAvailable:") {
+      in >> kb;
+      return kb * 1024;
+    }
+    std::string rest;
+    std::getline(in, rest);
+  }
+  return uint64_t(8) << 30;
 }
 
 }  // namespace pmc

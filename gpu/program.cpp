@@ -135,6 +135,16 @@ cl_kernel ClProgram::kernel(const std::string& name) {
   return k;
 }
 
+void check_kernel_arg_count(cl_kernel k, cl_uint given) {
+  cl_uint expected = 0;
+  clGetKernelInfo(k, CL_KERNEL_NUM_ARGS, sizeof(expected), &expected, nullptr);
+  if (expected != given) {
+    char name[128] = {0};
+    clGetKernelInfo(k, CL_KERNEL_FUNCTION_NAME, sizeof(name) - 1, name, nullptr);
+    fail("internal: kernel '", name, "' takes ", expected, " arguments, the host passes ", given);
+  }
+}
+
 void enqueue_1d(cl_command_queue q, cl_kernel k, size_t offset, size_t count, cl_event* event) {
   if (count == 0) return;
   const size_t local = 64;

@@ -47,15 +47,19 @@ class ClProgram {
 // Typed argument setting: set_kernel_args(k, buffer, 3u, frame_buffer ...).
 inline void set_kernel_arg(cl_kernel k, cl_uint index, const ClBuffer& b) {
   cl_mem m = b.get();
-  cl_check(clSetKernelArg(k, index, sizeof(cl_mem), &m), "clSetKernelArg(buffer)");
+  cl_int st = clSetKernelArg(k, index, sizeof(cl_mem), &m);
+  if (st != CL_SUCCESS) cl_check(st, ("clSetKernelArg(buffer #" + std::to_string(index) + ")").c_str());
 }
 template <typename T>
 void set_kernel_arg(cl_kernel k, cl_uint index, const T& value) {
   static_assert(std::is_trivially_copyable<T>::value, "kernel arguments are plain values");
-  cl_check(clSetKernelArg(k, index, sizeof(T), &value), "clSetKernelArg(value)");
+  cl_int st = clSetKernelArg(k, index, sizeof(T), &value);
+  if (st != CL_SUCCESS) cl_check(st, ("clSetKernelArg(value #" + std::to_string(index) + ")").c_str());
 }
+void check_kernel_arg_count(cl_kernel k, cl_uint given);
 template <typename... Args>
 void set_kernel_args(cl_kernel k, const Args&... args) {
+  check_kernel_arg_count(k, cl_uint(sizeof...(Args)));
   cl_uint i = 0;
   (set_kernel_arg(k, i++, args), ...);
 }

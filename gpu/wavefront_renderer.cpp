@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/abi/pmc_cache.h"
 #include "core/error.h"
 #include "core/lights.h"
 #include "gpu/program.h"
@@ -49,8 +50,14 @@ struct WavefrontRenderer::Impl {
   ClBuffer positions, normals, uvs, triangles, code, materials, textures, texels, srgb_lut;
   ClBuffer light_tris, light_cdf, tri_light_pmf;
 
+  static std::string build_options(const MaterialSet& mats) {
+    uint32_t peak = 4;
+    for (const CompiledMaterial& m : mats.program.materials) peak = std::max(peak, m.peak_stack);
+    return "-DPMC_STACK_SIZE=" + std::to_string(peak);
+  }
+
   Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t)
-      : cl(c), scene(s), tracer(t), program(c, "pmc_kernels.cl") {
+      : cl(c), scene(s), tracer(t), program(c, "pmc_kernels.cl", build_options(mats)) {
     std::vector<float> emission;
     for (const PmcMaterialInfo& m : mats.infos)
       for (int i = 0; i < 3; ++i) emission.push_back(m.emission[i]);
@@ -97,7 +104,23 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   ClBuffer shadow_loads = cl.buffer(wave * sizeof(PmcShadowLoad));
   ClBuffer occluded = cl.buffer(wave);
   ClBuffer counters = cl.buffer(sizeof(PmcCounters));
-  std::vector<PmcFilmPixel> film_init(pixels, PmcFilmPixel{{0, 0, 0}, 0});
+  // The cache table lives for the whole render: all samples, all bounces.
+  const CacheSettings& cs = s.cache;
+  if (cs.on && (cs.cells == 0 || cs.ways == 0))
+    fail("cache: the table needs at least one cell and one entry");
+  const size_t cache_words = cs.on ? size_t(cs.cells) * cs.ways : 1;
+  ClBuffer cache_entries = cl.buffer(cache_words * sizeof(uint64_t));
+  ClBuffer cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
+  {  // zero the table in 8 MiB pieces (PoCL 3.1's clEnqueueFillBuffer crashed here)
+    std::vector<uint64_t> zeros(
+        std::max<size_t>(PMC_CSTAT_COUNT, std::min<size_t>(cache_words, size_t(1) << 20)), 0);
+    for (size_t at = 0; at < cache_words; at += zeros.size()) {
+      size_t n = std::min(zeros.size(), cache_words - at);
+      cl.write(cache_entries, at * sizeof(uint64_t), n * sizeof(uint64_t), zeros.data(), true);
+    }
+    cl.write(cache_stats, 0, PMC_CSTAT_COUNT * sizeof(uint64_t), zeros.data(), true);
+  }
+  std::vector<PmcFilmPixel> film_init(pixels, PmcFilmPixel{{0, 0, 0}, 0, 0, {0, 0, 0}});
   ClBuffer film = cl.buffer_of(film_init, CL_MEM_READ_WRITE);
 
   std::vector<PmcRay> host_rays(wave);
@@ -114,6 +137,12 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   frame.texture_count = m.texture_count;
   for (int i = 0; i < 3; ++i) frame.env[i] = std::max(0.0f, s.env[i]);
   fill_frame_camera(s.camera, frame);
+  frame.cache_on = cs.on ? 1u : 0u;
+  frame.cache_center = cs.center ? 1u : 0u;
+  frame.cache_ways = cs.ways;
+  frame.cache_cells_lo = uint32_t(cs.cells & 0xffffffffu);
+  frame.cache_cells_hi = uint32_t(cs.cells >> 32);
+  frame.mip_bias = cs.mip_bias;
 
   cl_kernel k_camera = m.program.kernel("pmc_camera_rays");
   cl_kernel k_shade = m.program.kernel("pmc_shade");
@@ -157,7 +186,8 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
                    "clEnqueueWriteBuffer(hits)");
           set_kernel_args(k_shade, frame_buf, *cur, hits, paths, m.positions, m.normals, m.uvs, m.triangles,
                           m.code, m.materials, m.textures, m.texels, m.srgb_lut, m.light_tris, m.light_cdf,
-                          m.tri_light_pmf, *next, shadow_rays, shadow_loads, counters, cl_uint(c0 + cn));
+                          m.tri_light_pmf, *next, shadow_rays, shadow_loads, counters, cache_entries,
+                          cache_stats, cl_uint(c0 + cn));
           enqueue_1d(q, k_shade, c0, cn, events.add(&st.stages.shade));
           clFlush(q);
         }
@@ -206,6 +236,10 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   out.image.height = s.height;
   out.image.channels = 3;
   out.image.pixels.resize(pixels * 3);
+  out.hitmap.width = s.width;
+  out.hitmap.height = s.height;
+  out.hitmap.channels = 1;
+  out.hitmap.pixels.resize(pixels);
   for (size_t i = 0; i < pixels; ++i) {
     const PmcFilmPixel& p = result[i];
     st.bad_samples += p.bad_samples;
@@ -217,6 +251,22 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
       out.image.pixels[3 * i + c] = v;
     }
     st.nan_pixels += finite ? 0 : 1;
+    out.hitmap.pixels[i] = float(p.cache_hits) / float(s.spp);
+  }
+  if (cs.on) {
+    uint64_t counts[PMC_CSTAT_COUNT];
+    cl.read(cache_stats, 0, sizeof(counts), counts);
+    st.cache.lookups = counts[PMC_CSTAT_LOOKUPS];
+    st.cache.hits = counts[PMC_CSTAT_HITS];
+    st.cache.inserts = counts[PMC_CSTAT_INSERTS];
+    st.cache.dropped_full = counts[PMC_CSTAT_DROPPED_FULL];
+    st.cache.not_encodable = counts[PMC_CSTAT_NOT_ENCODABLE];
+    std::vector<uint64_t> table(cache_words);
+    cl.read(cache_entries, 0, cache_words * sizeof(uint64_t), table.data());
+    for (uint64_t e : table) st.cache.occupied += e != 0 ? 1 : 0;
+    st.cache.cells = cs.cells;
+    st.cache.ways = cs.ways;
+    st.cache.memory_bytes = cache_words * sizeof(uint64_t);
   }
   st.render_seconds = since(t_start);
   return out;

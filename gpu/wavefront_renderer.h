@@ -23,6 +23,24 @@
 
 namespace pmc {
 
+// The progressive material cache of one render (the programs must have been
+// compiled with cache instructions for `on` to matter).
+struct CacheSettings {
+  bool on = false;
+  uint64_t cells = 0;
+  uint32_t ways = 0;  // entries per cell
+  float mip_bias = 0.0f;
+  bool center = false;  // --cache-eval center
+  std::string reason;   // why this size (printed, and written to stats)
+};
+
+struct CacheStats {
+  uint64_t lookups = 0, hits = 0, inserts = 0, dropped_full = 0, not_encodable = 0;
+  uint64_t occupied = 0;  // non-empty entries after the render
+  uint64_t cells = 0, ways = 0, memory_bytes = 0;
+  double occupancy() const { return cells * ways ? double(occupied) / double(cells * ways) : 0.0; }
+};
+
 struct RenderSettings {
   int width = 640;
   int height = 360;
@@ -33,6 +51,7 @@ struct RenderSettings {
   Camera camera;
   size_t chunk_rays = 65536;        // rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave
+  CacheSettings cache;
 };
 
 struct StageSeconds {
@@ -49,10 +68,12 @@ struct RenderStats {
   uint64_t nan_pixels = 0;   // non-finite pixels in the final image
   StageSeconds stages;
   std::string device;
+  CacheStats cache;
 };
 
 struct RenderOutput {
   Image image;
+  Image hitmap;  // cache points found per sample, per pixel (1 channel)
   RenderStats stats;
 };
 

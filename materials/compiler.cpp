@@ -56,6 +56,17 @@ class Emitter {
     ++instructions_;
   }
 
+  // An instruction whose operand words are raw integers (not patched as constants).
+  void instr_raw(int op, int width, uint32_t imm, uint32_t dst, const std::vector<uint32_t>& words) {
+    code_.push_back(
+        pmc_op_header(uint32_t(op), uint32_t(std::max(1, std::min(4, width))), uint32_t(words.size()), imm));
+    code_.push_back(dst);
+    code_.insert(code_.end(), words.begin(), words.end());
+    ++instructions_;
+  }
+  size_t size() const { return code_.size(); }
+  void patch(size_t at, uint32_t word) { code_[at] = word; }
+
   // END, then constants; operands become absolute indices from `base`.
   std::vector<uint32_t> finish(uint32_t base) {
     code_.push_back(pmc_op_header(PMC_OP_END, 1, 0, 0));
@@ -263,27 +274,56 @@ bool evaluate_constant(const Graph& g, const Node& n, Value& out) {
   float params[PMC_P_COUNT] = {0};
   PmcShadingInputs inputs{};
   PmcTextureSet ts{};
-  pmc_interp_run(code.data(), 0, &inputs, &ts, stack, params);
+  pmc_interp_run(code.data(), 0, &inputs, &ts, stack, params, nullptr);
   out = Value::number(n.type, stack[0], stack[1], stack[2], stack[3]);
   return true;
 }
 
-const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, MaterialProgram& program) {
+const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, MaterialProgram& program,
+                                         const CompileOptions& options) {
   CompiledMaterial cm;
   cm.name = g.material;
   cm.file = g.file;
   cm.passes = optimize(g);
   std::vector<uint32_t> deps = dependencies(g);
-  std::vector<int> order = topological_order(g);
+  std::vector<char> is_point(g.nodes.size(), 0);
+  if (options.cache) {
+    cm.cache_plan = plan_cache(g, options.cache_min_nodes);
+    std::vector<CachePoint> kept;
+    for (const CachePoint& p : cm.cache_plan.points)
+      if (p.node < (1 << 14)) {  // the node id travels in 14 bits of the instruction
+        kept.push_back(p);
+        is_point[size_t(p.node)] = 1;
+      }
+    cm.cache_plan.points = kept;
+  }
 
-  // Remaining uses of each node's value, for freeing slots after the last one.
-  std::vector<int> uses(g.nodes.size(), 0);
-  for (int i : order)
-    for (const Input& in : g.nodes[size_t(i)].inputs)
-      if (in.linked) ++uses[size_t(in.node)];
+  // Outside order: cache points are leaves here (their sub-graphs live in blocks).
+  std::vector<int> order;
+  {
+    std::vector<char> seen(g.nodes.size(), 0);
+    std::function<void(int)> visit = [&](int i) {
+      if (seen[size_t(i)]) return;
+      seen[size_t(i)] = 1;
+      if (!is_point[size_t(i)])
+        for (const Input& in : g.nodes[size_t(i)].inputs)
+          if (in.linked) visit(in.node);
+      order.push_back(i);
+    };
+    visit(g.surface);
+  }
+  auto count_uses = [&](const std::vector<int>& nodes, bool stop_at_points) {
+    std::vector<int> uses(g.nodes.size(), 0);
+    for (int i : nodes) {
+      if (stop_at_points && is_point[size_t(i)]) continue;
+      for (const Input& in : g.nodes[size_t(i)].inputs)
+        if (in.linked) ++uses[size_t(in.node)];
+    }
+    return uses;
+  };
+  std::vector<int> uses = count_uses(order, true);
 
   std::vector<char> used(PMC_STACK_SIZE + 8, 0);
-  std::vector<int> slot_of(g.nodes.size(), -1);
   uint32_t peak = 0;
   auto allocate = [&](int width, const std::string& who) {
     for (int s = 0; s + width <= PMC_STACK_SIZE; ++s) {
@@ -297,26 +337,61 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
     fail(g.file, ": material '", g.material, "' needs more than ", PMC_STACK_SIZE,
          " floats of interpreter stack at ", who, " (the network is too deep or wide to evaluate)");
   };
+  auto release = [&](int slot, int width) {
+    for (int k = 0; k < width; ++k) used[size_t(slot + k)] = 0;
+  };
+  auto width_of = [&](int node) { return std::max(1, type_width(g.nodes[size_t(node)].type)); };
 
   Emitter em;
+  std::vector<int> slot_of(g.nodes.size(), -1);
+  std::vector<int>* slots = &slot_of;  // the slot map operands read (outside or block-local)
   EmitContext cx{g, &textures, em, nullptr};
   cx.operand = [&](const Input& in) -> uint32_t {
     if (!in.linked) return em.constant(in.value, std::max(1, type_width(in.type)));
-    int s = slot_of[size_t(in.node)];
+    int s = (*slots)[size_t(in.node)];
     PMC_CHECK(s >= 0, "operand emitted before its node");
-    return Emitter::slot(uint32_t(s), type_width(g.nodes[size_t(in.node)].type));
+    return Emitter::slot(uint32_t(s), width_of(in.node));
+  };
+  // Emits the nodes of `nodes` (inputs first) with slots freed after their last use.
+  auto emit_nodes = [&](const std::vector<int>& nodes, std::vector<int>& use_count, int last_dst) {
+    for (size_t k = 0; k < nodes.size(); ++k) {
+      int i = nodes[k];
+      const Node& n = g.nodes[size_t(i)];
+      int dst = (last_dst >= 0 && k + 1 == nodes.size())
+                    ? last_dst
+                    : allocate(width_of(i), "node '" + n.name + "' (" + n.origin + ")");
+      emit_node(cx, n, uint32_t(dst));
+      (*slots)[size_t(i)] = dst;
+      for (const Input& in : n.inputs)
+        if (in.linked && --use_count[size_t(in.node)] == 0)
+          release((*slots)[size_t(in.node)], width_of(in.node));
+    }
   };
   for (int i : order) {
     if (i == g.surface) continue;
+    if (!is_point[size_t(i)]) {
+      std::vector<int> one{i};
+      emit_nodes(one, uses, -1);
+      continue;
+    }
+    // A cache block: LOOKUP, the whole sub-graph with block-local slots, STORE.
     const Node& n = g.nodes[size_t(i)];
-    int width = std::max(1, type_width(n.type));
-    int dst = allocate(width, "node '" + n.name + "' (" + n.origin + ")");
-    emit_node(cx, n, uint32_t(dst));
+    uint32_t enc = 0;
+    for (const CachePoint& p : cm.cache_plan.points)
+      if (p.node == i) enc = p.encoding;
+    int dst = allocate(width_of(i), "cache point '" + n.name + "'");
     slot_of[size_t(i)] = dst;
-    for (const Input& in : n.inputs)
-      if (in.linked && --uses[size_t(in.node)] == 0)
-        for (int k = 0; k < std::max(1, type_width(g.nodes[size_t(in.node)].type)); ++k)
-          used[size_t(slot_of[size_t(in.node)] + k)] = 0;
+    size_t lookup_at = em.size();
+    em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(i), uint32_t(i) | (enc << 14), uint32_t(dst), {0u});
+    size_t after_lookup = em.size();
+    std::vector<int> block = subgraph_order(g, i);
+    std::vector<int> block_slots(g.nodes.size(), -1);
+    std::vector<int> block_uses = count_uses(block, false);
+    slots = &block_slots;
+    emit_nodes(block, block_uses, dst);
+    slots = &slot_of;
+    em.instr(PMC_OP_CACHE_STORE, width_of(i), enc, 0, {Emitter::slot(uint32_t(dst), width_of(i))});
+    em.patch(lookup_at + 2, uint32_t(em.size() - after_lookup));
   }
   // Surface parameters: links always, constants when they differ from the interpreter's defaults.
   const Node& surface = g.nodes[size_t(g.surface)];
@@ -386,6 +461,12 @@ std::string disassemble(const MaterialProgram& program, const CompiledMaterial& 
       os << "param[" << pmc_op_imm(h) << "]";
     else
       os << "s" << program.code[pc + 1];
+    if (op == PMC_OP_CACHE_LOOKUP) {
+      os << " node " << (pmc_op_imm(h) & 0x3fffu) << " enc " << (pmc_op_imm(h) >> 14) << " (hit: skip "
+         << program.code[pc + 2] << " words)\n";
+      pc += 3;
+      continue;
+    }
     if (pmc_op_imm(h) && op != PMC_OP_OUTPUT) os << " #" << pmc_op_imm(h);
     for (uint32_t k = 0; k < pmc_op_nargs(h); ++k) {
       uint32_t o = program.code[pc + 2 + k];

@@ -9,6 +9,13 @@
 // into the scene's texture pool here, so only textures a live node reads are
 // ever loaded. A program that needs more stack than PMC_STACK_SIZE is
 // refused with an error naming the material.
+//
+// With the cache on, each cache point's whole sub-graph (its own texcoord
+// included) is emitted as one contiguous block between CACHE_LOOKUP, which
+// jumps past the block on a hit, and CACHE_STORE. Blocks are self-contained,
+// so a hit skips all of their work and --cache-eval center can re-evaluate a
+// block at a texel centre. With the cache off the program has no cache
+// instructions at all.
 #pragma once
 
 #include <cstdint>
@@ -16,10 +23,16 @@
 #include <vector>
 
 #include "core/texture.h"
+#include "materials/cache_plan.h"
 #include "materials/node_graph.h"
 #include "materials/passes.h"
 
 namespace pmc {
+
+struct CompileOptions {
+  bool cache = false;  // emit CACHE_LOOKUP/CACHE_STORE around cache points
+  int cache_min_nodes = kDefaultCacheMinNodes;
+};
 
 struct CompiledMaterial {
   std::string name;
@@ -32,6 +45,7 @@ struct CompiledMaterial {
   std::vector<std::pair<std::string, uint32_t>> param_dependencies;  // surface input -> dep bits
   bool has_cutout = false;                                           // opacity depends on the shading point
   float constant_emission[3] = {0, 0, 0};                            // for light sampling
+  CachePlan cache_plan;  // the cache points emitted when the cache is on
 };
 
 struct MaterialProgram {
@@ -40,7 +54,8 @@ struct MaterialProgram {
 };
 
 // Optimises `graph` in place and appends its program. Throws pmc::Error.
-const CompiledMaterial& compile_material(Graph& graph, TexturePool& textures, MaterialProgram& program);
+const CompiledMaterial& compile_material(Graph& graph, TexturePool& textures, MaterialProgram& program,
+                                         const CompileOptions& options = {});
 
 // Human-readable listing of one material's program.
 std::string disassemble(const MaterialProgram& program, const CompiledMaterial& m);

@@ -43,7 +43,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     const MtlMaterial& m = scene.materials[i];
     auto found = mtlx.find(m.name);
     Graph g = found != mtlx.end() ? found->second : mtl_to_graph(m, mtl_file);
-    const CompiledMaterial& cm = compile_material(g, scene.textures, set.program);
+    const CompiledMaterial& cm = compile_material(g, scene.textures, set.program, options.compile);
     set.compiled[i] = int(set.program.materials.size()) - 1;
     set.graphs.push_back(std::move(g));
     PmcMaterialInfo& info = set.infos[i];
@@ -74,7 +74,8 @@ void MaterialSet::evaluate(const PmcTextureSet& textures, int scene_material, co
                            float params[PMC_P_COUNT]) const {
   float stack[PMC_STACK_SIZE];
   pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(program.code.data(), infos[size_t(scene_material)].entry, &in, &textures, stack, params);
+  pmc_interp_run(program.code.data(), infos[size_t(scene_material)].entry, &in, &textures, stack, params,
+                 nullptr);
 }
 
 PmcTextureSet MaterialSet::host_textures(const Scene& scene) const {

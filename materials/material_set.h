@@ -21,6 +21,7 @@ namespace pmc {
 struct MaterialOptions {
   std::vector<std::string> mtlx_files;
   std::string override_material;  // --material: one material for every triangle
+  CompileOptions compile;         // cache instructions on/off, cache threshold
 };
 
 struct MaterialSet {

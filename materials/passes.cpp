@@ -1,6 +1,7 @@
 // passes.cpp — lowering, checks, folding, deduplication, dead-node removal.
 #include "materials/passes.h"
 
+#include <cstring>
 #include <functional>
 #include <map>
 #include <sstream>
@@ -242,7 +243,11 @@ size_t deduplicate(Graph& g) {
         key << 'n' << in.node;
       } else {
         key << int(in.type);
-        for (float f : in.value.f) key << ',' << f;
+        for (float f : in.value.f) {  // exact bits: printing rounds to 6 digits
+          uint32_t bits;
+          std::memcpy(&bits, &f, 4);
+          key << ',' << bits;
+        }
         key << ',' << in.value.text;
       }
     }

@@ -61,8 +61,8 @@
   X(TILEDSHAPE, 5, 5)    /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */ \
   X(LINEPATTERN, 5, 5)   /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
   X(NORMALMAP, 4, 4)     /* in, scale, normal, tangent */                        \
-  X(CACHE_LOOKUP, 0, 0)  /* reserved for the material cache */                   \
-  X(CACHE_STORE, 1, 1)   /* reserved for the material cache */
+  X(CACHE_LOOKUP, 1, 1)  /* dst = cached value; skip word; imm = node | enc << 14 */ \
+  X(CACHE_STORE, 1, 1)   /* insert the operand for the pending lookup; imm = enc */
 
 #define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,
 enum PmcOpcode { PMC_OPCODES(PMC_OP_ENUM) PMC_OP_COUNT };
@@ -119,6 +119,11 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_P_COAT_ROUGHNESS 26
 #define PMC_P_COUNT 28
 
-#define PMC_STACK_SIZE 128 /* floats of stack per shading point */
+/* Floats of stack per shading point: the compiler's limit. Kernels are built
+ * with -DPMC_STACK_SIZE=<the scene's peak>, so private memory is only as
+ * large as the loaded materials need. */
+#ifndef PMC_STACK_SIZE
+#define PMC_STACK_SIZE 128
+#endif
 
 #endif /* PMC_BYTECODE_H */

@@ -13,6 +13,7 @@
 
 #include "pmc_bsdf.h"
 #include "pmc_bytecode.h"
+#include "pmc_cache.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_texture.h"
@@ -26,6 +27,19 @@ typedef struct PmcShadingInputs {
   float3 bitangent;
   float footprint; /* uv-space width of the ray-cone footprint (texture LOD) */
 } PmcShadingInputs;
+
+/* The material cache as one evaluation sees it. A null context (the host
+ * reference, or --cache off, whose programs have no cache instructions)
+ * makes every lookup a miss. */
+typedef struct PmcCacheContext {
+  PmcCacheTable table;
+  PMC_CACHE_PTR stats; /* PMC_CSTAT_* counters */
+  float2 g1, g2;       /* ray-cone uv gradients at the hit */
+  float bias;          /* --mip-bias */
+  pmc_u32 material;
+  pmc_u32 center; /* --cache-eval center: evaluate misses at the texel centre */
+  pmc_u32 hits;   /* out: cache points found in this evaluation */
+} PmcCacheContext;
 
 PMC_FN float4 pmc_broadcast(float v) { return make_float4(v, v, v, v); }
 
@@ -140,7 +154,12 @@ PMC_FN float4 pmc_normalmap(float4 in, float scale, float3 n, float3 t) {
 
 /* Runs the program at `pc` until END. `params` receives OUTPUT values. */
 PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
-                           const PmcTextureSet* ts, float* stack, float* params) {
+                           const PmcTextureSet* ts, float* stack, float* params, PmcCacheContext* cache) {
+  float2 uv_now = in->uv; /* the texel centre while a --cache-eval center miss evaluates */
+  PmcCacheKey pending;
+  int pending_valid = 0;
+  pending.h1 = 0;
+  pending.fingerprint = 0u;
   for (int guard = 0; guard < 1 << 16; ++guard) {
     pmc_u32 h = code[pc];
     pmc_u32 op = pmc_op_code(h);
@@ -174,7 +193,51 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         r = make_float4(v[0], v[1], v[2], v[3]);
         break;
       }
-      case PMC_OP_TEXCOORD: r = make_float4(in->uv.x, in->uv.y, 0.0f, 0.0f); break;
+      case PMC_OP_TEXCOORD: r = make_float4(uv_now.x, uv_now.y, 0.0f, 0.0f); break;
+      case PMC_OP_CACHE_LOOKUP: {
+        /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
+         * the number of words to skip past the matching CACHE_STORE on a hit. */
+        pending_valid = 0;
+        if (cache) {
+          int lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
+          long tx = pmc_cache_texel(in->uv.x, lambda), ty = pmc_cache_texel(in->uv.y, lambda);
+          PmcCacheKey key = pmc_cache_key(cache->material, imm & 0x3fffu, lambda, tx, ty);
+          pmc_u32 bits;
+          pmc_stat_add(cache->stats, PMC_CSTAT_LOOKUPS);
+          if (pmc_cache_lookup(&cache->table, key, &bits)) {
+            float4 v = pmc_cache_decode(bits, imm >> 14);
+            stack[dst] = v.x;
+            if (width > 1u) stack[dst + 1u] = v.y;
+            if (width > 2u) stack[dst + 2u] = v.z;
+            cache->hits += 1u;
+            pmc_stat_add(cache->stats, PMC_CSTAT_HITS);
+            pc += 3u + code[pc + 2u];
+            continue;
+          }
+          pending = key;
+          pending_valid = 1;
+          if (cache->center)
+            uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
+        }
+        pc += 3u;
+        continue;
+      }
+      case PMC_OP_CACHE_STORE: {
+        if (cache && pending_valid) {
+          pmc_u32 bits;
+          if (pmc_cache_encode(PMC_ARG(0), imm, &bits)) {
+            int result = pmc_cache_insert(&cache->table, pending, bits);
+            if (result > 0) pmc_stat_add(cache->stats, PMC_CSTAT_INSERTS);
+            if (result < 0) pmc_stat_add(cache->stats, PMC_CSTAT_DROPPED_FULL);
+          } else {
+            pmc_stat_add(cache->stats, PMC_CSTAT_NOT_ENCODABLE);
+          }
+        }
+        pending_valid = 0;
+        uv_now = in->uv;
+        pc += 2u + nargs;
+        continue;
+      }
       case PMC_OP_POSITION: r = make_float4(in->position.x, in->position.y, in->position.z, 0.0f); break;
       case PMC_OP_NORMAL: r = make_float4(in->normal.x, in->normal.y, in->normal.z, 0.0f); break;
       case PMC_OP_TANGENT: r = make_float4(in->tangent.x, in->tangent.y, in->tangent.z, 0.0f); break;

@@ -43,6 +43,7 @@ typedef struct PmcPathState {
   pmc_u32 pixel;     /* linear pixel index y*width+x */
   pmc_u32 depth;     /* number of surface hits so far */
   pmc_u32 flags;
+  pmc_u32 cache_hits; /* cache points found along the path (hit map) */
 } PmcPathState;
 
 /* Unoccluded contribution of a shadow ray, added to its path if the host
@@ -61,10 +62,13 @@ typedef struct PmcTriangle {
   pmc_i32 material;
 } PmcTriangle;
 
-/* Accumulated film pixel: rgb sum and the number of samples dropped as NaN/Inf. */
+/* Accumulated film pixel: rgb sum, the number of samples dropped as NaN/Inf,
+ * and the cache points found by its samples (the hit map). */
 typedef struct PmcFilmPixel {
   float rgb[3];
   pmc_u32 bad_samples;
+  pmc_u32 cache_hits;
+  pmc_u32 pad[3];
 } PmcFilmPixel;
 
 /* A texture in the shared texel pool: mip level l has size
@@ -106,7 +110,11 @@ typedef struct PmcFrame {
   pmc_i32 max_depth, light_count;
   float light_total_power;
   pmc_u32 texture_count;
-  pmc_u32 pad3[2];
+  pmc_u32 cache_on;     /* the programs contain cache instructions */
+  pmc_u32 cache_center; /* --cache-eval center */
+  pmc_u32 cache_ways;   /* entries per cell */
+  pmc_u32 cache_cells_lo, cache_cells_hi;
+  float mip_bias;
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

@@ -4,7 +4,8 @@
  * from its entry offset in the shared program buffer, starting from the
  * standard_surface defaults, and converts the resulting surface parameters
  * into a BSDF. A normal written by the program (normal maps) replaces the
- * shading normal. Every material of every scene goes through this function:
+ * shading normal. `cache` is the progressive material cache (null when the
+ * cache is off: those programs contain no cache instructions). Every material of every scene goes through this function:
  * there are no per-material kernels.
  */
 
@@ -14,11 +15,12 @@ typedef struct PmcMaterialData {
   PmcTextureSet textures;
 } PmcMaterialData;
 
-static inline PmcBsdf pmc_eval_material(const PmcMaterialData* md, int material, PmcShadingInputs* sp) {
+static inline PmcBsdf pmc_eval_material(const PmcMaterialData* md, int material, PmcShadingInputs* sp,
+                                        PmcCacheContext* cache) {
   float stack[PMC_STACK_SIZE];
   float params[PMC_P_COUNT];
   pmc_surface_defaults(params, sp->normal);
-  pmc_interp_run(md->code, md->materials[material].entry, sp, &md->textures, stack, params);
+  pmc_interp_run(md->code, md->materials[material].entry, sp, &md->textures, stack, params, cache);
   float3 n = make_float3(params[PMC_P_NORMAL], params[PMC_P_NORMAL + 1], params[PMC_P_NORMAL + 2]);
   float nl = length(n);
   if (nl > 0.0f && isfinite(nl)) sp->normal = n * (1.0f / nl);

@@ -56,6 +56,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->bsdf_pdf = 0.0f;
   p->pixel = pixel;
   p->depth = 0u;
+  p->cache_hits = 0u;
   p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
 }
 
@@ -112,6 +113,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
                         __global const float* light_cdf, __global const float* tri_light_pmf,
                         __global PmcRay* next_rays, __global PmcRay* shadow_rays,
                         __global PmcShadowLoad* shadow_loads, __global PmcCounters* counters,
+                        __global volatile ulong* cache_entries, __global volatile ulong* cache_stats,
                         uint ray_count) {
   uint i = get_global_id(0);
   if (i >= ray_count) return;
@@ -196,7 +198,23 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   sp.tangent = tangent;
   sp.bitangent = cross(ns, tangent);
   sp.footprint = 2.0f * fmax(length(g1), length(g2));
-  PmcBsdf bsdf = pmc_eval_material(&md, tri.material, &sp);
+  PmcCacheContext cache;
+  PmcCacheContext* cache_ptr = 0;
+  if (frame->cache_on) {
+    cache.table.entries = cache_entries;
+    cache.table.cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
+    cache.table.ways = frame->cache_ways;
+    cache.stats = cache_stats;
+    cache.g1 = g1;
+    cache.g2 = g2;
+    cache.bias = frame->mip_bias;
+    cache.material = (uint)tri.material;
+    cache.center = frame->cache_center;
+    cache.hits = 0u;
+    cache_ptr = &cache;
+  }
+  PmcBsdf bsdf = pmc_eval_material(&md, tri.material, &sp, cache_ptr);
+  if (cache_ptr) path->cache_hits += cache.hits;
   if (dot(sp.normal, wo_world) > 0.0f) ns = sp.normal; /* normal maps, unless they face away */
 
   /* Emission reached by the path: MIS against light sampling. */
@@ -318,6 +336,7 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
   __global const PmcPathState* p = &paths[i];
   __global PmcFilmPixel* px = &film[p->pixel];
   float r = p->radiance[0], g = p->radiance[1], bl = p->radiance[2];
+  px->cache_hits += p->cache_hits;
   if (isfinite(r) && isfinite(g) && isfinite(bl)) {
     px->rgb[0] += r;
     px->rgb[1] += g;

@@ -1,0 +1,263 @@
+/* pmc_cache.h — the progressive material cache: descriptors, hashes, value
+ * encodings, lookup and insert. Shared by the kernels and host tests.
+ *
+ * A cacheable node's value at a shading point is stored as a texel of a
+ * virtual mip-mapped texture (Fujieda and Harada 2022, sec. 3): the level
+ * lambda = -log2(min(|g1|, |g2|)) + bias comes from the ray-cone uv gradients,
+ * the texel is floor(uv * 2^lambda). The descriptor (material, node, lambda,
+ * texel x, texel y) is hashed twice: h1 picks one of Nc cells, h2 is a 32-bit
+ * fingerprint (never 0; 0 marks an empty entry). A cell holds Ne 64-bit words
+ * {fingerprint << 32 | encoded value}; an insert publishes one with a single
+ * 64-bit compare-and-swap from 0, so readers never see a torn entry; on
+ * collision the first value stays (the paper's Algorithm 1).
+ *
+ * Encodings (32 bits): float as raw bits (exact); colour3/vector3 with
+ * non-negative components as RGB9E5 (shared 5-bit exponent, 9-bit mantissas:
+ * every channel's error is at most 2^-9 times the largest channel, i.e. a
+ * relative error of at most 0.2% on the largest channel); vector2 as two
+ * IEEE halves (relative error at most 2^-11). Values that cannot be encoded
+ * (negative colours, NaN, Inf, beyond the format's range) are not inserted.
+ */
+#ifndef PMC_CACHE_H
+#define PMC_CACHE_H
+
+#include "pmc_vec.h"
+
+#define PMC_LAMBDA_MIN (-16)
+#define PMC_LAMBDA_MAX 40
+
+/* Cache value encodings (the imm of CACHE_LOOKUP / CACHE_STORE, bits 8-9). */
+#define PMC_ENC_FLOAT 0u
+#define PMC_ENC_RGB9E5 1u
+#define PMC_ENC_HALF2 2u
+
+/* Statistics counters (indices into the counter buffer). */
+#define PMC_CSTAT_LOOKUPS 0
+#define PMC_CSTAT_HITS 1
+#define PMC_CSTAT_INSERTS 2
+#define PMC_CSTAT_DROPPED_FULL 3
+#define PMC_CSTAT_NOT_ENCODABLE 4
+#define PMC_CSTAT_COUNT 8
+
+/* ---- virtual mip level and texel indices --------------------------------- */
+
+/* Integer virtual mip level from the footprint gradients; always finite and
+ * clamped. Degenerate footprints (zero-area uv triangles, no cone) use the
+ * finest level so distinct points never share a coarse texel by accident. */
+PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
+  float l1 = length(g1), l2 = length(g2);
+  float m = fmin(l1, l2);
+  if (!(m > 0.0f) || !isfinite(m)) m = fmax(l1, l2);
+  float lambda = (m > 0.0f && isfinite(m)) ? -log2(m) : (float)PMC_LAMBDA_MAX;
+  lambda += isfinite(bias) ? bias : 0.0f;
+  if (!(lambda > (float)PMC_LAMBDA_MIN)) lambda = (float)PMC_LAMBDA_MIN; /* also NaN */
+  if (lambda > (float)PMC_LAMBDA_MAX) lambda = (float)PMC_LAMBDA_MAX;
+  return (int)floor(lambda);
+}
+
+/* floor(u * 2^lambda) as a 64-bit integer without overflow or UB: the product
+ * is clamped to +-2^62 (uv ~1e7 at level 40 is 1e19: clamped, still a valid
+ * key), NaN maps to 0. */
+PMC_FN long pmc_cache_texel(float u, int lambda) {
+  float s = u * exp2((float)lambda);
+  float f = floor(s);
+  const float lim = 4.6116860184e18f; /* 2^62 */
+  if (!(f > -lim)) return f < 0.0f ? -(long)4611686018427387904L : 0L; /* -inf or NaN */
+  if (!(f < lim)) return (long)4611686018427387904L;
+  return (long)f;
+}
+
+/* Centre of a texel, in uv (for --cache-eval center). */
+PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
+  return ((float)texel + 0.5f) * exp2((float)-lambda);
+}
+
+/* ---- hashing --------------------------------------------------------------- */
+
+PMC_FN pmc_u64 pmc_mix64(pmc_u64 x) { /* splitmix64 finaliser */
+  x ^= x >> 30;
+  x *= 0xbf58476d1ce4e5b9UL;
+  x ^= x >> 27;
+  x *= 0x94d049bb133111ebUL;
+  x ^= x >> 31;
+  return x;
+}
+
+typedef struct PmcCacheKey {
+  pmc_u64 h1; /* cell hash */
+  pmc_u32 fingerprint;
+} PmcCacheKey;
+
+PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, long tx, long ty) {
+  pmc_u64 a = pmc_mix64(((pmc_u64)material << 32) ^ (pmc_u64)node ^ ((pmc_u64)(pmc_u32)(lambda + 64) << 48));
+  pmc_u64 b = pmc_mix64(a ^ (pmc_u64)tx);
+  pmc_u64 c = pmc_mix64(b ^ ((pmc_u64)ty * 0x9e3779b97f4a7c15UL));
+  PmcCacheKey k;
+  k.h1 = c;
+  /* A second, independent hash of the same descriptor for the fingerprint. */
+  pmc_u64 d = pmc_mix64(c ^ 0xd6e8feb86659fd93UL);
+  pmc_u32 fp = (pmc_u32)(d >> 32);
+  k.fingerprint = fp == 0u ? 1u : fp;
+  return k;
+}
+
+/* ---- encodings --------------------------------------------------------------- */
+
+PMC_FN pmc_u32 pmc_float_bits(float f) { return (pmc_u32)as_int(f); }
+PMC_FN float pmc_bits_float(pmc_u32 u) { return as_float((int)u); }
+
+/* RGB9E5 (shared exponent, bias 15, 9-bit mantissas). Returns 0xffffffff when
+ * the value cannot be encoded (negative, NaN, Inf, > 65408). */
+#define PMC_RGB9E5_INVALID 0xffffffffu
+PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
+  if (!(r >= 0.0f && g >= 0.0f && b >= 0.0f)) return PMC_RGB9E5_INVALID; /* also NaN */
+  const float max_value = 65408.0f; /* (511/512) * 2^16 */
+  float m = fmax(r, fmax(g, b));
+  if (!(m <= max_value)) return PMC_RGB9E5_INVALID;
+  if (m < 1.52587890625e-05f * (1.0f / 512.0f)) return 0u; /* below the smallest step: zero */
+  int e = (int)floor(log2(m)); /* m in [2^e, 2^(e+1)) */
+  if (e < -16) e = -16;
+  int exp_shared = e + 1; /* mantissas < 512 */
+  float scale = exp2((float)(9 - exp_shared));
+  int mm = (int)floor(m * scale + 0.5f);
+  if (mm == 512) {
+    exp_shared += 1;
+    scale *= 0.5f;
+  }
+  pmc_u32 rm = (pmc_u32)floor(r * scale + 0.5f), gm = (pmc_u32)floor(g * scale + 0.5f),
+          bm = (pmc_u32)floor(b * scale + 0.5f);
+  rm = rm > 511u ? 511u : rm;
+  gm = gm > 511u ? 511u : gm;
+  bm = bm > 511u ? 511u : bm;
+  return rm | (gm << 9) | (bm << 18) | ((pmc_u32)(exp_shared + 15) << 27);
+}
+
+PMC_FN float4 pmc_decode_rgb9e5(pmc_u32 v) {
+  int e = (int)(v >> 27) - 15;
+  float scale = exp2((float)(e - 9));
+  return make_float4((float)(v & 511u) * scale, (float)((v >> 9) & 511u) * scale, (float)((v >> 18) & 511u) * scale,
+                     0.0f);
+}
+
+/* IEEE half from float (round to nearest even), and back; no NaN/Inf inputs. */
+PMC_FN pmc_u32 pmc_float_to_half(float f) {
+  pmc_u32 x = pmc_float_bits(f);
+  pmc_u32 sign = (x >> 16) & 0x8000u;
+  pmc_u32 mag = x & 0x7fffffffu;
+  if (mag >= 0x477ff000u) return sign | 0x7bffu; /* clamp to the largest half */
+  if (mag < 0x33000000u) return sign;            /* underflow to signed zero */
+  if (mag < 0x38800000u) {                       /* subnormal half */
+    pmc_u32 shift = 113u - (mag >> 23);
+    pmc_u32 m = (mag & 0x7fffffu) | 0x800000u;
+    pmc_u32 h = m >> (shift + 13u);
+    pmc_u32 rem = m & ((1u << (shift + 13u)) - 1u);
+    pmc_u32 half_bit = 1u << (shift + 12u);
+    if (rem > half_bit || (rem == half_bit && (h & 1u))) h += 1u;
+    return sign | h;
+  }
+  pmc_u32 h = ((mag - 0x38000000u) >> 13);
+  pmc_u32 rem = mag & 0x1fffu;
+  if (rem > 0x1000u || (rem == 0x1000u && (h & 1u))) h += 1u;
+  return sign | h;
+}
+
+PMC_FN float pmc_half_to_float(pmc_u32 h) {
+  pmc_u32 sign = (h & 0x8000u) << 16;
+  pmc_u32 e = (h >> 10) & 31u, m = h & 1023u;
+  if (e == 0u) {
+    float f = (float)m * 5.9604644775390625e-8f; /* 2^-24 */
+    return sign ? -f : f;
+  }
+  return pmc_bits_float(sign | ((e + 112u) << 23) | (m << 13));
+}
+
+/* Encode `v` for `enc`; returns 0 and leaves *out untouched when it cannot. */
+PMC_FN int pmc_cache_encode(float4 v, pmc_u32 enc, pmc_u32* out) {
+  if (enc == PMC_ENC_FLOAT) {
+    if (!isfinite(v.x)) return 0;
+    *out = pmc_float_bits(v.x);
+    return 1;
+  }
+  if (enc == PMC_ENC_RGB9E5) {
+    pmc_u32 e = pmc_encode_rgb9e5(v.x, v.y, v.z);
+    if (e == PMC_RGB9E5_INVALID) return 0;
+    *out = e;
+    return 1;
+  }
+  if (!(isfinite(v.x) && isfinite(v.y)) || fabs(v.x) > 65504.0f || fabs(v.y) > 65504.0f) return 0;
+  *out = pmc_float_to_half(v.x) | (pmc_float_to_half(v.y) << 16);
+  return 1;
+}
+
+PMC_FN float4 pmc_cache_decode(pmc_u32 bits, pmc_u32 enc) {
+  if (enc == PMC_ENC_FLOAT) {
+    float f = pmc_bits_float(bits);
+    return make_float4(f, f, f, f);
+  }
+  if (enc == PMC_ENC_RGB9E5) return pmc_decode_rgb9e5(bits);
+  return make_float4(pmc_half_to_float(bits & 0xffffu), pmc_half_to_float(bits >> 16), 0.0f, 0.0f);
+}
+
+/* ---- the table ---------------------------------------------------------------- */
+
+#ifdef __OPENCL_VERSION__
+#pragma OPENCL EXTENSION cl_khr_int64_base_atomics : enable
+#define PMC_CACHE_PTR __global volatile ulong*
+PMC_FN pmc_u64 pmc_cas64(PMC_CACHE_PTR p, pmc_u64 expected, pmc_u64 desired) {
+  return atom_cmpxchg(p, expected, desired);
+}
+PMC_FN void pmc_stat_add(__global volatile ulong* stats, int which) {
+  if (stats) atom_inc(&stats[which]);
+}
+#else
+#define PMC_CACHE_PTR pmc_u64*
+PMC_FN pmc_u64 pmc_cas64(pmc_u64* p, pmc_u64 expected, pmc_u64 desired) {
+  __atomic_compare_exchange_n(p, &expected, desired, false, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE);
+  return expected; /* the previous value, as OpenCL's atom_cmpxchg returns */
+}
+PMC_FN void pmc_stat_add(pmc_u64* stats, int which) {
+  if (stats) __atomic_fetch_add(&stats[which], 1ull, __ATOMIC_RELAXED);
+}
+#endif
+
+typedef struct PmcCacheTable {
+  PMC_CACHE_PTR entries; /* cells * ways words */
+  pmc_u64 cells;
+  pmc_u32 ways;
+  pmc_u32 pad;
+} PmcCacheTable;
+
+/* Lookup: 1 and the encoded value on a hit. Entries fill from the front and
+ * are never removed, so the first empty entry ends the scan. */
+PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
+  pmc_u64 base = (k.h1 % t->cells) * (pmc_u64)t->ways;
+  for (pmc_u32 i = 0; i < t->ways; ++i) {
+    pmc_u64 e = t->entries[base + i];
+    if (e == 0ul) return 0;
+    if ((pmc_u32)(e >> 32) == k.fingerprint) {
+      *value = (pmc_u32)e;
+      return 1;
+    }
+  }
+  return 0;
+}
+
+/* Insert (Algorithm 1): publish {fingerprint, value} in the first empty entry
+ * with one 64-bit CAS; if the fingerprint is already there the first value
+ * stays. Returns 1 inserted, 0 already present, -1 cell full (dropped). */
+PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value) {
+  pmc_u64 base = (k.h1 % t->cells) * (pmc_u64)t->ways;
+  pmc_u64 word = ((pmc_u64)k.fingerprint << 32) | (pmc_u64)value;
+  for (pmc_u32 i = 0; i < t->ways; ++i) {
+    pmc_u64 e = t->entries[base + i];
+    if (e == 0ul) {
+      pmc_u64 prev = pmc_cas64(&t->entries[base + i], 0ul, word);
+      if (prev == 0ul) return 1;
+      e = prev; /* somebody else won this entry: look at what they wrote */
+    }
+    if ((pmc_u32)(e >> 32) == k.fingerprint) return 0;
+  }
+  return -1;
+}
+
+#endif /* PMC_CACHE_H */

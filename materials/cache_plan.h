@@ -1,0 +1,40 @@
+// cache_plan.h — which nodes of a material the progressive cache stores.
+//
+// Bottom-up dependency bits (passes.h) say which shading-point inputs each
+// node reads. A node is a cache point when its whole sub-graph depends on uv
+// and nothing else (and is not constant), no consumer of it is also uv-only
+// (it is the highest such node), its value has a 32-bit encoding (float,
+// non-negative colour3/vector3 as RGB9E5, vector2 as two halves), and its
+// sub-graph has at least `min_nodes` nodes: a smaller sub-graph costs less to
+// evaluate than a lookup. When the highest uv-only node cannot be encoded or
+// is too cheap, its uv-only inputs are considered instead. A material can
+// have several cache points. Every other node gets a reason for the plan dump.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "materials/node_graph.h"
+
+namespace pmc {
+
+struct CachePoint {
+  int node = -1;
+  int subgraph_nodes = 0;  // nodes a hit skips
+  uint32_t encoding = 0;   // PMC_ENC_*
+};
+
+struct CachePlan {
+  std::vector<CachePoint> points;
+  std::vector<std::pair<int, std::string>> not_cached;  // node, reason
+};
+
+// The sub-graph size threshold found by measurement (docs/BENCHMARKS.md).
+constexpr int kDefaultCacheMinNodes = 4;
+
+CachePlan plan_cache(const Graph& g, int min_nodes);
+// Nodes of the sub-graph under `node` (itself included), inputs first.
+std::vector<int> subgraph_order(const Graph& g, int node);
+
+}  // namespace pmc
