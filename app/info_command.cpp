@@ -13,8 +13,8 @@ namespace {
 
 std::string node_label(const Graph& g, int n) {
   const Node& node = g.nodes[size_t(n)];
-  return (node.name.empty() ? std::string("(") + node.category + ")" : "'" + node.name + "'") + " " + node.category + " " +
-         type_name(node.type);
+  return (node.name.empty() ? std::string("(") + node.category + ")" : "'" + node.name + "'") + " " +
+         node.category + " " + type_name(node.type);
 }
 
 void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
@@ -41,8 +41,10 @@ int run_info(const std::vector<std::string>& args) {
   p.option("--mtlx", "FILE.mtlx", "MaterialX document to bind (repeatable)", "", true);
   p.option("--material", "NAME", "use this MaterialX material for every triangle");
   p.flag("--dump-bytecode", "per material: node counts per pass, bytecode, peak stack, dependencies");
-  p.flag("--dump-cache-plan", "per material: cache points, the sub-graph each saves, why other nodes are not cached");
-  p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point", std::to_string(kDefaultCacheMinNodes));
+  p.flag("--dump-cache-plan",
+         "per material: cache points, the sub-graph each saves, why other nodes are not cached");
+  p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point",
+           std::to_string(kDefaultCacheMinNodes));
   if (!p.parse(args)) return 0;
   if (!p.positional().empty()) fail("info: unexpected argument '", p.positional()[0], "'");
   if (!p.has("--devices") && !p.has("--scene")) {

@@ -16,6 +16,7 @@ void usage() {
       "usage: pmc COMMAND [options]\n\n"
       "commands:\n"
       "  render SCENE.obj -o OUT.exr   render an OBJ scene (EXR + PNG)\n"
+      "  compare SCENE.obj --out-dir D render cache off and on; images, difference, hit map, metrics\n"
       "  info --devices                list OpenCL devices\n"
       "  info --scene SCENE.obj        summarise a scene\n\n"
       "'pmc COMMAND --help' describes each command's options.\n");
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "render") return pmc::run_render(args);
     if (command == "info") return pmc::run_info(args);
+    if (command == "compare") return pmc::run_compare(args);
     std::fprintf(stderr, "pmc: unknown command '%s'\n", command.c_str());
     usage();
     return 2;

@@ -6,6 +6,7 @@
 #include "app/commands.h"
 #include "app/output_guard.h"
 #include "app/progress.h"
+#include "app/render_job.h"
 #include "app/render_options.h"
 #include "core/error.h"
 #include "core/heatmap.h"
@@ -85,20 +86,12 @@ int run_render(const std::vector<std::string>& args) {
   const std::string png = replace_extension(exr, ".png");
   apply_thread_option(p);
 
-  ObjLoadOptions load;
-  load.load_textures = false;  // the material compiler loads what live nodes read
-  Scene scene = load_obj(obj, load);
-  MaterialSet materials = build_material_set(scene, material_options_from(p));
-  RenderSettings settings = render_settings_from(p, scene, obj);
-  size_cache(p, materials, settings, !p.has("--quiet"));
   ClContext cl(p.get("--device"));
-  CutoutTester cutout(scene, materials);
-  EmbreeTracer tracer(scene, parse_trace_mode(p.get("--trace-mode", "single")),
-                      cutout.any() ? &cutout : nullptr);
-  WavefrontRenderer renderer(cl, scene, materials, tracer);
+  std::unique_ptr<RenderJob> job = prepare_render(p, obj, cl, "", !p.has("--quiet"));
+  const RenderSettings& settings = job->settings;
   ProgressBar bar("render", !p.has("--quiet"));
-  RenderOutput out =
-      renderer.render(settings, [&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });
+  RenderOutput out = job->renderer->render(
+      settings, [&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });
   bar.finish();
 
   OutputGuard guard;

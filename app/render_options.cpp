@@ -123,8 +123,9 @@ RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, cons
 
 namespace pmc {
 
-void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool verbose) {
-  s.cache.on = p.get("--cache", "on") == "on";
+void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool cache_on,
+                bool verbose) {
+  s.cache.on = cache_on;
   if (!s.cache.on) return;
   size_t points = 0, with_points = 0;
   for (const CompiledMaterial& m : materials.program.materials) {

@@ -18,7 +18,8 @@ RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, cons
 // Decides the cache table size (--cache-cells/--cache-entries, else from the
 // scene) once the materials are compiled; turns the cache off when no
 // material has a cache point. Prints the choice when `verbose`.
-void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool verbose);
+void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool cache_on,
+                bool verbose);
 uint64_t available_memory_bytes();
 // Applies --threads (TBB and PoCL thread counts); call before any OpenCL use.
 void apply_thread_option(const ArgParser& p);

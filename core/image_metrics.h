@@ -1,0 +1,25 @@
+// image_metrics.h — how far one render is from another.
+//
+// Errors are measured on linear radiance. PSNR uses values clamped to [0, 1]
+// with peak 1 (what a display shows at exposure 1; HDR outliers would
+// otherwise dominate); relMSE divides each squared error by the reference's
+// squared value plus 0.01 (the usual guard for dark pixels); RMSE and the
+// maximum absolute error are unclamped.
+#pragma once
+
+#include "core/image_io.h"
+
+namespace pmc {
+
+struct ImageError {
+  double rmse = 0, relmse = 0, psnr = 0, max_abs = 0;
+};
+
+// Throws pmc::Error if the sizes differ.
+ImageError compare_images(const Image& test, const Image& reference);
+// |a - b| * scale of the tone-mapped display values (the paper's Fig. 1c).
+Image difference_image(const Image& a, const Image& b, float scale);
+// The display (tone-mapped, sRGB-encoded) values the PNGs show.
+Image tonemap_display(const Image& linear);
+
+}  // namespace pmc
