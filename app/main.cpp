@@ -17,6 +17,7 @@ void usage() {
       "commands:\n"
       "  render SCENE.obj -o OUT.exr   render an OBJ scene (EXR + PNG)\n"
       "  compare SCENE.obj --out-dir D render cache off and on; images, difference, hit map, metrics\n"
+      "  sweep SCENE.obj --out-dir D   cache sizes, mip biases, eval modes -> sweep.csv\n"
       "  info --devices                list OpenCL devices\n"
       "  info --scene SCENE.obj        summarise a scene\n\n"
       "'pmc COMMAND --help' describes each command's options.\n");
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
     if (command == "render") return pmc::run_render(args);
     if (command == "info") return pmc::run_info(args);
     if (command == "compare") return pmc::run_compare(args);
+    if (command == "sweep") return pmc::run_sweep(args);
     std::fprintf(stderr, "pmc: unknown command '%s'\n", command.c_str());
     usage();
     return 2;

@@ -15,9 +15,12 @@ CacheSize choose_cache_size(int width, int height, double points, uint64_t memor
   const double slots = keys * 2.0;                                 // load factor 1/2
   uint64_t cells = uint64_t(std::ceil(slots / s.entries));
   cells = std::max<uint64_t>(cells, 1024);
+  uint64_t pow2 = 1;  // a power of two: the cell index is a mask, not a 64-bit division
+  while (pow2 < cells) pow2 <<= 1;
+  cells = pow2;
   const uint64_t max_cells = std::max<uint64_t>(1024, memory_limit_bytes / (8ull * s.entries));
   bool capped = cells > max_cells;
-  cells = std::min(cells, max_cells);
+  while (cells > max_cells && cells > 1024) cells >>= 1;
   s.cells = cells;
   std::ostringstream os;
   os << width << "x" << height << " pixels x " << points

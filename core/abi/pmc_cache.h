@@ -227,10 +227,15 @@ typedef struct PmcCacheTable {
   pmc_u32 pad;
 } PmcCacheTable;
 
+/* Cell index: h1 % Nc (a mask when Nc is a power of two, as auto-sizing picks). */
+PMC_FN pmc_u64 pmc_cache_cell(const PmcCacheTable* t, pmc_u64 h1) {
+  return (t->cells & (t->cells - 1ul)) == 0ul ? (h1 & (t->cells - 1ul)) : (h1 % t->cells);
+}
+
 /* Lookup: 1 and the encoded value on a hit. Entries fill from the front and
  * are never removed, so the first empty entry ends the scan. */
 PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
-  pmc_u64 base = (k.h1 % t->cells) * (pmc_u64)t->ways;
+  pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   for (pmc_u32 i = 0; i < t->ways; ++i) {
     pmc_u64 e = t->entries[base + i];
     if (e == 0ul) return 0;
@@ -246,7 +251,7 @@ PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* valu
  * with one 64-bit CAS; if the fingerprint is already there the first value
  * stays. Returns 1 inserted, 0 already present, -1 cell full (dropped). */
 PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value) {
-  pmc_u64 base = (k.h1 % t->cells) * (pmc_u64)t->ways;
+  pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u64 word = ((pmc_u64)k.fingerprint << 32) | (pmc_u64)value;
   for (pmc_u32 i = 0; i < t->ways; ++i) {
     pmc_u64 e = t->entries[base + i];
