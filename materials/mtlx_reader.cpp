@@ -27,6 +27,10 @@ bool is_structural(const std::string& tag) {
 
 bool is_surface(const std::string& category) { return !surface_params(category).empty(); }
 
+// Deepest chain of linked nodes a document may have: the passes walk graphs
+// recursively, and no real material comes near this.
+constexpr size_t kMaxNesting = 2000;
+
 class Reader {
  public:
   Reader(const std::string& path) : path_(path), dir_(dirname_of(path)) {}
@@ -223,6 +227,9 @@ class Reader {
       }
       fail(where(el), ": cycle in the node graph: ", chain, "'", el.attribute("name").as_string(), "'");
     }
+    if (active_path_.size() >= kMaxNesting)
+      fail(where(el), ": the node graph is nested deeper than ", kMaxNesting,
+           " nodes (a chain this long would overflow the compiler and interpreter)");
     active_.insert(key);
     active_path_.push_back(key);
 
