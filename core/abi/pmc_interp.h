@@ -45,15 +45,20 @@ PMC_FN float4 pmc_broadcast(float v) { return make_float4(v, v, v, v); }
 
 PMC_FN float4 pmc_load_operand(PMC_GLOBAL const pmc_u32* code, const float* stack, pmc_u32 o) {
   pmc_u32 index = o & PMC_OPERAND_INDEX_MASK;
-  pmc_u32 w = pmc_operand_width(o);
-  float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  pmc_u32 w = (o >> 28) & 3u; /* width - 1 */
   if (o & PMC_OPERAND_CONST) {
-    for (pmc_u32 i = 0; i < w; ++i) v[i] = as_float((int)code[index + i]);
-  } else {
-    for (pmc_u32 i = 0; i < w; ++i) v[i] = stack[index + i];
+    PMC_GLOBAL const pmc_u32* c = code + index;
+    float x = as_float((int)c[0]);
+    if (w == 0u) return pmc_broadcast(x);
+    float y = as_float((int)c[1]);
+    if (w == 1u) return make_float4(x, y, 0.0f, 0.0f);
+    float z = as_float((int)c[2]);
+    return make_float4(x, y, z, w == 2u ? 0.0f : as_float((int)c[3]));
   }
-  if (w == 1u) return pmc_broadcast(v[0]);
-  return make_float4(v[0], v[1], v[2], v[3]);
+  const float* p = stack + index;
+  if (w == 0u) return pmc_broadcast(p[0]);
+  if (w == 1u) return make_float4(p[0], p[1], 0.0f, 0.0f);
+  return make_float4(p[0], p[1], p[2], w == 2u ? 0.0f : p[3]);
 }
 
 /* Float to int without undefined behaviour for NaN or huge values. */
