@@ -247,7 +247,14 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
       return cx.textures != nullptr;
     default: {
       std::vector<uint32_t> operands;
+      // The noise opcodes read their lookup point first (pmc_bytecode.h);
+      // the MaterialX definitions list it last.
+      const char* point = nullptr;
+      if (def->opcode == PMC_OP_NOISE2D || def->opcode == PMC_OP_FRACTAL2D) point = "texcoord";
+      if (def->opcode == PMC_OP_NOISE3D || def->opcode == PMC_OP_FRACTAL3D) point = "position";
+      if (point) operands.push_back(op(point));
       for (const InputDef& d : def->inputs) {
+        if (point && d.name == point) continue;
         const Input* in = n.input(d.name);
         if (!in || in->type == ValueType::String || in->type == ValueType::Filename) continue;
         operands.push_back(cx.operand(*in));
@@ -426,8 +433,16 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
       for (int k = 0; k < type_width(p.type); ++k)
         params[p.param + k] = type_width(in->type) == 1 ? in->value.f[0] : in->value.f[size_t(k)];
     }
+    // A patterned (linked) emission is left to BSDF sampling: the light table
+    // would treat it as uniform and bias the image. Its MIS weight is then 1.
+    bool linked_emission = false;
+    for (const SurfaceParam& p : surface_params(surface.category)) {
+      const Input* in = surface.input(p.input);
+      linked_emission |= in && in->linked && (p.param == PMC_P_EMISSION || p.param == PMC_P_EMISSION_COLOR);
+    }
     for (int k = 0; k < 3; ++k)
-      cm.constant_emission[k] = std::max(0.0f, params[PMC_P_EMISSION] * params[PMC_P_EMISSION_COLOR + k]);
+      cm.constant_emission[k] =
+          linked_emission ? 0.0f : std::max(0.0f, params[PMC_P_EMISSION] * params[PMC_P_EMISSION_COLOR + k]);
   }
   cm.entry = uint32_t(program.code.size());
   std::vector<uint32_t> code = em.finish(cm.entry);
