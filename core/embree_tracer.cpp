@@ -4,6 +4,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -136,11 +137,14 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
         write_hit(rh, hits[i], prims);
       }
     } else if (mode == TraceMode::Stream) {
+      // TBB's auto partitioner may hand out ranges larger than the grain: batch them.
       RTCRayHit batch[kGrain];
-      size_t n = r.end() - r.begin();
-      for (size_t i = 0; i < n; ++i) load_ray(rays[r.begin() + i], batch[i]);
-      rtcIntersect1M(scene, &ctx, batch, unsigned(n), sizeof(RTCRayHit));
-      for (size_t i = 0; i < n; ++i) write_hit(batch[i], hits[r.begin() + i], prims);
+      for (size_t b0 = r.begin(); b0 < r.end(); b0 += kGrain) {
+        size_t n = std::min(kGrain, r.end() - b0);
+        for (size_t i = 0; i < n; ++i) load_ray(rays[b0 + i], batch[i]);
+        rtcIntersect1M(scene, &ctx, batch, unsigned(n), sizeof(RTCRayHit));
+        for (size_t i = 0; i < n; ++i) write_hit(batch[i], hits[b0 + i], prims);
+      }
     } else {
       for (size_t base = r.begin(); base < r.end(); base += 16) {
         RTCRayHit16 p;
@@ -179,10 +183,12 @@ void EmbreeTracer::occluded(const PmcRay* rays, uint8_t* occluded, size_t count)
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
     if (mode == TraceMode::Stream) {
       RTCRay batch[kGrain];
-      size_t n = r.end() - r.begin();
-      std::memcpy(batch, rays + r.begin(), n * sizeof(RTCRay));
-      rtcOccluded1M(scene, &ctx, batch, unsigned(n), sizeof(RTCRay));
-      for (size_t i = 0; i < n; ++i) occluded[r.begin() + i] = batch[i].tfar < 0.0f;
+      for (size_t b0 = r.begin(); b0 < r.end(); b0 += kGrain) {
+        size_t n = std::min(kGrain, r.end() - b0);
+        std::memcpy(batch, rays + b0, n * sizeof(RTCRay));
+        rtcOccluded1M(scene, &ctx, batch, unsigned(n), sizeof(RTCRay));
+        for (size_t i = 0; i < n; ++i) occluded[b0 + i] = batch[i].tfar < 0.0f;
+      }
     } else {
       // Packets buy little for incoherent shadow rays; single rays here.
       for (size_t i = r.begin(); i < r.end(); ++i) {

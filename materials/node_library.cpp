@@ -81,18 +81,19 @@ std::map<std::string, NodeDef> build() {
       PMC_OP_PLACE2D);
 
   def("noise2d", kFloatVec,
-      {in_t("amplitude", 1), in_f("pivot", 0), in_geom("texcoord", "vector2", GeomDefault::UV0)},
+      {in_geom("texcoord", "vector2", GeomDefault::UV0), in_t("amplitude", 1),
+       in_f("pivot", 0)},  // opcode operand order
       PMC_OP_NOISE2D);
   def("noise3d", kFloatVec,
-      {in_t("amplitude", 1), in_f("pivot", 0), in_geom("position", "vector3", GeomDefault::Pobject)},
+      {in_geom("position", "vector3", GeomDefault::Pobject), in_t("amplitude", 1), in_f("pivot", 0)},
       PMC_OP_NOISE3D);
   def("fractal2d", kFloatVec,
-      {in_t("amplitude", 1), in_i("octaves", 3), in_f("lacunarity", 2), in_f("diminish", 0.5f),
-       in_geom("texcoord", "vector2", GeomDefault::UV0)},
+      {in_geom("texcoord", "vector2", GeomDefault::UV0), in_t("amplitude", 1), in_i("octaves", 3),
+       in_f("lacunarity", 2), in_f("diminish", 0.5f)},
       PMC_OP_FRACTAL2D);
   def("fractal3d", kFloatVec,
-      {in_t("amplitude", 1), in_i("octaves", 3), in_f("lacunarity", 2), in_f("diminish", 0.5f),
-       in_geom("position", "vector3", GeomDefault::Pobject)},
+      {in_geom("position", "vector3", GeomDefault::Pobject), in_t("amplitude", 1), in_i("octaves", 3),
+       in_f("lacunarity", 2), in_f("diminish", 0.5f)},
       PMC_OP_FRACTAL3D);
   def("cellnoise2d", {"float", "vector3", "color3"}, {in_geom("texcoord", "vector2", GeomDefault::UV0)},
       PMC_OP_CELLNOISE2D);
