@@ -4,8 +4,9 @@
 # box, a glossy UV sphere and a cylinder, plus two procedural textures
 # (textures/checker.png, textures/wood.png) and a camera (room.camera).
 # The scene is generated rather than downloaded so the project ships a
-# license-free, reproducible test/demo scene. Standard library only;
-# the output is deterministic. Run from anywhere:
+# license-free, reproducible test/demo scene. (Its MaterialX networks,
+# materials.mtlx, come from scripts/make_default_materials.py.) Standard
+# library only; the output is deterministic. Run from anywhere:
 #   python3 scripts/make_default_scene.py
 
 import math

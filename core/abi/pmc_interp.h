@@ -160,7 +160,11 @@ PMC_FN float4 pmc_normalmap(float4 in, float scale, float3 n, float3 t) {
 /* Runs the program at `pc` until END. `params` receives OUTPUT values. */
 PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
                            const PmcTextureSet* ts, float* stack, float* params, PmcCacheContext* cache) {
-  float2 uv_now = in->uv; /* the texel centre while a --cache-eval center miss evaluates */
+  /* While a --cache-eval center miss evaluates its block: the texel's centre
+   * and width replace the hit's uv and ray-cone footprint, so the stored value
+   * depends on the texel alone. */
+  float2 uv_now = in->uv;
+  float footprint_now = in->footprint;
   PmcCacheKey pending;
   int pending_valid = 0;
   pending.h1 = 0;
@@ -221,8 +225,10 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
           }
           pending = key;
           pending_valid = 1;
-          if (cache->center)
+          if (cache->center) {
             uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
+            footprint_now = exp2((float)-lambda);
+          }
         }
         pc += 3u;
         continue;
@@ -231,6 +237,16 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         if (cache && pending_valid) {
           pmc_u32 bits;
           if (pmc_cache_encode(PMC_ARG(0), imm, &bits)) {
+            if (cache->center) {
+              /* Use the stored (quantised) value now too: a texel's value is
+               * then the same whether this sample missed or a later one hits,
+               * which makes center-mode renders independent of who inserts. */
+              float4 q = pmc_cache_decode(bits, imm);
+              pmc_u32 slot = code[pc + 2u] & PMC_OPERAND_INDEX_MASK;
+              stack[slot] = q.x;
+              if (width > 1u) stack[slot + 1u] = q.y;
+              if (width > 2u) stack[slot + 2u] = q.z;
+            }
             int result = pmc_cache_insert(&cache->table, pending, bits);
             if (result > 0) pmc_stat_add(cache->stats, PMC_CSTAT_INSERTS);
             if (result < 0) pmc_stat_add(cache->stats, PMC_CSTAT_DROPPED_FULL);
@@ -240,6 +256,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         }
         pending_valid = 0;
         uv_now = in->uv;
+        footprint_now = in->footprint;
         pc += 2u + nargs;
         continue;
       }
@@ -312,7 +329,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       case PMC_OP_IMAGE: {
         float4 uv = PMC_ARG(0), def = PMC_ARG(1), mode = PMC_ARG(2);
         pmc_u32 bits = (pmc_u32)pmc_to_int(mode.x);
-        float4 c = pmc_texture_sample(ts, imm, make_float2(uv.x, uv.y), in->footprint * mode.y, bits & 3u,
+        float4 c = pmc_texture_sample(ts, imm, make_float2(uv.x, uv.y), footprint_now * mode.y, bits & 3u,
                                       (bits >> 2) & 3u, (bits >> 4) & 3u, def);
         /* A float image reads the first channel. */
         r = width == 1u ? pmc_broadcast(c.x) : c;

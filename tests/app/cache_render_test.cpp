@@ -1,0 +1,238 @@
+// cache_render_test.cpp — the progressive material cache end to end, through
+// the pmc binary (real OpenCL on PoCL).
+//
+// Scene: the MaterialX teapot with M_BrickPattern (two cache points: the
+// base colour, 21 nodes, and the roughness, 7 nodes), white environment,
+// 160x120, 16 spp, a camera close enough that the teapot fills the frame
+// (from the default framing the teapot covers a fifth of the image and even
+// a cache 8 levels too coarse stays above 40 dB: the check could not fail).
+//  * Cache on vs off at equal samples and seed: PSNR (peak 1, all pixels and
+//    channels) above kMinPsnr. Measured on PoCL, seeds 1, 2, 3, 5:
+//    49.8-50.1 dB (seed 3, --max-depth 4, as here: 49.80 dB). One virtual
+//    mip level coarser (--mip-bias -1): 44.9-45.1 dB; two levels coarser:
+//    38.8 dB; --mip-bias -8: 35.0 dB. kMinPsnr = 40 dB, the docs' goal:
+//    ~10 dB (10x MSE) below the measured value, so platform differences and
+//    a legitimate change of the texel-centre evaluation pass (making centre
+//    mode deterministic by giving cached image nodes a texel-sized footprint
+//    measured 43 dB), while a cache that returns values of the wrong texels
+//    (bad keys or levels, mixed words, wrong decoding) looks like a cache
+//    two or more levels too coarse, or worse, and fails. The wrong-level
+//    render shows the check can fail.
+//  * The hit map (raw EXR beside the PNG) is 0 on the background and > 0 on
+//    the teapot; a position-driven material (Marble_3D) has no cache points
+//    and shows zero hits everywhere.
+//  * Stats JSON: the `cache` object's keys, hits <= lookups, memory =
+//    cells x entries x 8 bytes; with one cell of one entry the render
+//    completes with drops and no NaN; with --cache off no lookups, 0 bytes.
+//  * --cache-eval center with --threads 1 and 2 is bit-identical (README):
+//    (see the test for what makes it hold).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "core/image_io.h"
+#include "tests/test_support.h"
+
+namespace pmc {
+namespace {
+
+constexpr double kMinPsnr = 40.0;
+
+std::string teapot() { return test::shared_scene("materialx/geometry/teapot.obj"); }
+std::string mtlx(const std::string& file) { return test::shared_scene("materialx/" + file); }
+std::string brick() { return " --mtlx " + mtlx("standard_surface_brick_procedural.mtlx") + " --material M_BrickPattern"; }
+std::string marble() { return " --mtlx " + mtlx("standard_surface_marble_solid.mtlx") + " --material Marble_3D"; }
+const std::string kView =
+    " --env 1,1,1 --camera-from -0.1,0.5,2.2 --camera-at -0.1,0.1,0 --fov 40 --max-depth 4 --quiet";
+const std::string kFull = " --width 160 --height 120 --spp 16 --seed 3";
+
+struct Render {
+  Image image, hits;
+  nlohmann::json stats;
+  std::string log;
+};
+
+// One directory for the whole binary run, so renders shared by tests run once.
+const std::string& shared_dir() {
+  static std::string dir = [] {
+    std::filesystem::path p = std::filesystem::temp_directory_path() / "pmc_tests" / "CacheRender_shared";
+    std::filesystem::remove_all(p);
+    std::filesystem::create_directories(p);
+    return p.string();
+  }();
+  return dir;
+}
+
+// Renders once per name: `args` after the scene; always writes stats and the hit map.
+const Render& render(const std::string& name, const std::string& args) {
+  static std::map<std::string, Render> done;
+  auto it = done.find(name);
+  if (it != done.end()) return it->second;
+  const std::string base = shared_dir() + "/" + name;
+  Render r;
+  int rc = test::run_pmc("render " + teapot() + args + " -o " + base + ".exr --stats " + base + ".json --hitmap " +
+                             base + "_hits.png",
+                         &r.log);
+  EXPECT_EQ(rc, 0) << r.log;
+  if (rc == 0) {
+    r.image = read_image(base + ".exr");
+    r.hits = read_image(base + "_hits.exr");
+    std::ifstream in(base + ".json");
+    r.stats = nlohmann::json::parse(in);
+  }
+  return done.emplace(name, r).first->second;
+}
+
+const Render& brick_off() { return render("brick_off", brick() + kView + kFull + " --cache off"); }
+const Render& brick_on() { return render("brick_on", brick() + kView + kFull + " --cache on"); }
+
+double psnr(const Image& a, const Image& b) {
+  EXPECT_EQ(a.pixels.size(), b.pixels.size());
+  double se = 0;
+  size_t n = std::min(a.pixels.size(), b.pixels.size());
+  for (size_t i = 0; i < n; ++i) se += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
+  double mse = se / double(n ? n : 1);
+  return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 1e9;
+}
+
+// The environment is exactly 1 in every channel where no sample hit the teapot.
+bool background(const Image& img, size_t pixel) {
+  for (int c = 0; c < 3; ++c)
+    if (img.pixels[pixel * size_t(img.channels) + size_t(c)] != 1.0f) return false;
+  return true;
+}
+
+TEST(CacheRender, CachedBrickTeapotMatchesTheUncachedRender) {
+  const Render& off = brick_off();
+  const Render& on = brick_on();
+  ASSERT_FALSE(off.image.pixels.empty());
+  ASSERT_FALSE(on.image.pixels.empty());
+  double p = psnr(on.image, off.image);
+  std::printf("PSNR cache on vs off: %.2f dB (threshold %.1f)\n", p, kMinPsnr);
+  EXPECT_GT(p, kMinPsnr);
+  EXPECT_LT(p, 1e9) << "the cache must change something (RGB9E5, texel centres): is it really on?";
+  EXPECT_EQ(test::non_finite(on.image), 0u);
+  EXPECT_GT(on.stats["cache"]["hits"].get<uint64_t>(), 0u);
+}
+
+TEST(CacheRender, WrongMipLevelFailsThePsnrCheck) {
+  // Texels 256x too wide: the pattern is smeared and the check must notice.
+  const Render& off = brick_off();
+  const Render& coarse = render("brick_coarse", brick() + kView + kFull + " --cache on --mip-bias -8");
+  ASSERT_FALSE(coarse.image.pixels.empty());
+  double p = psnr(coarse.image, off.image);
+  std::printf("PSNR --mip-bias -8 vs off: %.2f dB\n", p);
+  EXPECT_LT(p, kMinPsnr);
+  EXPECT_GT(p, 20.0) << "still the same scene";
+}
+
+TEST(CacheRender, HitMapIsZeroOnTheBackgroundAndPositiveOnTheTeapot) {
+  const Render& on = brick_on();
+  ASSERT_FALSE(on.hits.pixels.empty());
+  ASSERT_EQ(on.hits.width, on.image.width);
+  ASSERT_EQ(on.hits.height, on.image.height);
+  ASSERT_EQ(on.hits.channels, 1);
+  size_t bg = 0, fg = 0, fg_hit = 0;
+  for (size_t i = 0; i < on.hits.pixels.size(); ++i) {
+    float h = on.hits.pixels[i];
+    ASSERT_TRUE(std::isfinite(h) && h >= 0.0f) << i;
+    if (background(on.image, i)) {
+      ++bg;
+      ASSERT_EQ(h, 0.0f) << "background pixel " << i % size_t(on.hits.width) << "," << i / size_t(on.hits.width);
+    } else {
+      ++fg;
+      fg_hit += h > 0.0f;
+    }
+  }
+  ASSERT_GT(bg, 100u) << "the background must be visible";
+  ASSERT_GT(fg, 5000u) << "and the teapot too";
+  // A few silhouette pixels get only a sample or two on the teapot.
+  std::printf("hit map: %zu of %zu teapot pixels have hits, %zu background pixels\n", fg_hit, fg, bg);
+  EXPECT_GE(double(fg_hit), 0.98 * double(fg)) << fg_hit << " of " << fg << " teapot pixels have hits";
+}
+
+TEST(CacheRender, PositionDrivenMarbleHasNoHitsAnywhere) {
+  const Render& m = render("marble", marble() + kView + " --width 96 --height 72 --spp 4 --seed 3 --cache on");
+  ASSERT_FALSE(m.hits.pixels.empty());
+  size_t fg = 0;
+  for (size_t i = 0; i < m.hits.pixels.size(); ++i) {
+    ASSERT_EQ(m.hits.pixels[i], 0.0f) << "pixel " << i;
+    fg += !background(m.image, i);
+  }
+  EXPECT_GT(fg, 1000u) << "the teapot is visible";
+  EXPECT_EQ(m.stats["cache"]["lookups"].get<uint64_t>(), 0u);
+  EXPECT_EQ(m.stats["cache"]["hits"].get<uint64_t>(), 0u);
+}
+
+TEST(CacheRender, StatsReportTheCache) {
+  const Render& on = brick_on();
+  ASSERT_TRUE(on.stats.contains("cache")) << on.stats.dump();
+  const nlohmann::json& c = on.stats["cache"];
+  for (const char* key : {"lookups", "hits", "inserts", "dropped_full", "occupancy", "memory_bytes", "cells", "entries"})
+    ASSERT_TRUE(c.contains(key)) << key << " in " << c.dump();
+  uint64_t lookups = c["lookups"], hits = c["hits"], inserts = c["inserts"], cells = c["cells"],
+           entries = c["entries"], memory = c["memory_bytes"];
+  EXPECT_GT(lookups, 0u);
+  EXPECT_LE(hits, lookups);
+  EXPECT_GT(inserts, 0u);
+  EXPECT_LE(inserts, lookups - hits) << "only misses insert";
+  EXPECT_LE(inserts, cells * entries);
+  EXPECT_EQ(memory, cells * entries * 8u);
+  double occ = c["occupancy"];
+  EXPECT_GT(occ, 0.0);
+  EXPECT_LE(occ, 1.0);
+  EXPECT_NEAR(occ, double(inserts) / double(cells * entries), 1e-9) << "each insert fills one entry";
+}
+
+TEST(CacheRender, OneCellOfOneEntryDropsButRenders) {
+  const Render& t = render("tiny_table", brick() + kView +
+                                             " --width 64 --height 48 --spp 4 --seed 3 --cache on"
+                                             " --cache-cells 1 --cache-entries 1");
+  ASSERT_FALSE(t.image.pixels.empty()) << t.log;
+  const nlohmann::json& c = t.stats["cache"];
+  EXPECT_EQ(c["cells"].get<uint64_t>(), 1u);
+  EXPECT_EQ(c["entries"].get<uint64_t>(), 1u);
+  EXPECT_EQ(c["memory_bytes"].get<uint64_t>(), 8u);
+  EXPECT_GT(c["dropped_full"].get<uint64_t>(), 0u);
+  EXPECT_EQ(c["inserts"].get<uint64_t>(), 1u) << "one entry: one insert wins, the rest are dropped";
+  EXPECT_LE(c["hits"].get<uint64_t>(), c["lookups"].get<uint64_t>());
+  EXPECT_EQ(t.stats["nan_pixels"].get<uint64_t>(), 0u);
+  EXPECT_EQ(test::non_finite(t.image), 0u);
+}
+
+TEST(CacheRender, CacheOffReportsNoLookupsAndNoMemory) {
+  const Render& off = brick_off();
+  const nlohmann::json& c = off.stats["cache"];
+  EXPECT_FALSE(c["enabled"].get<bool>());
+  EXPECT_EQ(c["lookups"].get<uint64_t>(), 0u);
+  EXPECT_EQ(c["hits"].get<uint64_t>(), 0u);
+  EXPECT_EQ(c["inserts"].get<uint64_t>(), 0u);
+  EXPECT_EQ(c["memory_bytes"].get<uint64_t>(), 0u);
+  for (float h : off.hits.pixels) ASSERT_EQ(h, 0.0f);
+}
+
+// In --cache-eval center a texel's value must not depend on which sample got
+// there first: a miss uses decode(encode(v)) like a later hit, and the block
+// samples textures at the texel's width, not the hit's ray-cone footprint.
+TEST(CacheRender, CenterEvalIsBitIdenticalWithOneAndTwoThreads) {
+  const std::string args =
+      brick() + kView + " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center";
+  const Render& a = render("center_t1", args + " --threads 1");
+  const Render& b = render("center_t2", args + " --threads 2");
+  ASSERT_FALSE(a.image.pixels.empty());
+  ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
+  ASSERT_GT(a.stats["cache"]["hits"].get<uint64_t>(), 0u) << "the cache is in use";
+  size_t differ = 0;
+  for (size_t i = 0; i < a.image.pixels.size(); ++i) differ += a.image.pixels[i] != b.image.pixels[i];
+  EXPECT_EQ(differ, 0u) << "floats differing between --threads 1 and --threads 2";
+  EXPECT_EQ(0, std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(float)));
+}
+
+}  // namespace
+}  // namespace pmc
