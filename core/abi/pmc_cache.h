@@ -13,10 +13,15 @@
  *
  * Encodings (32 bits): float as raw bits (exact); colour3/vector3 with
  * non-negative components as RGB9E5 (shared 5-bit exponent, 9-bit mantissas:
- * every channel's error is at most 2^-9 times the largest channel, i.e. a
- * relative error of at most 0.2% on the largest channel); vector2 as two
- * IEEE halves (relative error at most 2^-11). Values that cannot be encoded
- * (negative colours, NaN, Inf, beyond the format's range) are not inserted.
+ * with M the largest channel, every channel's error is at most
+ * max(M / 511.5, 2^-25): the largest channel is within 2^-9 M (0.2%) for
+ * M >= 2^-16, the others within 2^-9 M * 1024/1023 (slightly more than
+ * 2^-9 M when M rounds up to the next exponent); below 2^-16 the smallest
+ * step 2^-24 bounds the error absolutely, and M < 2^-25 becomes black;
+ * tests/core/cache_encoding_test.cpp derives this); vector2 as two IEEE
+ * halves (relative error at most 2^-11 in the normal range, absolute
+ * 2^-25 for subnormals). Values that cannot be encoded (negative colours,
+ * NaN, Inf, beyond the format's range) are not inserted.
  */
 #ifndef PMC_CACHE_H
 #define PMC_CACHE_H
@@ -55,20 +60,34 @@ PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
   return (int)floor(lambda);
 }
 
-/* floor(u * 2^lambda) as a 64-bit integer without overflow or UB: the product
- * is clamped to +-2^62 (uv ~1e7 at level 40 is 1e19: clamped, still a valid
- * key), NaN maps to 0. */
+/* floor(u * 2^lambda) as a 64-bit integer without overflow or UB. Beyond
+ * +-2^62 (uv ~1e7 at level 40 is 1e19) the float is already an integer and
+ * the index is +-(2^62 + its bit pattern): still one key per distinct float
+ * (and ordered), never an in-range index, at most 2^62 + 2^31 in magnitude.
+ * NaN maps to 0. */
 PMC_FN long pmc_cache_texel(float u, int lambda) {
   float s = u * exp2((float)lambda);
   float f = floor(s);
   const float lim = 4.6116860184e18f; /* 2^62 */
-  if (!(f > -lim)) return f < 0.0f ? -(long)4611686018427387904L : 0L; /* -inf or NaN */
-  if (!(f < lim)) return (long)4611686018427387904L;
+  if (isnan(f)) return 0L;
+  if (!(f > -lim && f < lim)) {
+    long k = (long)4611686018427387904L + (long)(pmc_u32)as_int(fabs(f));
+    return f < 0.0f ? -k : k;
+  }
   return (long)f;
 }
 
-/* Centre of a texel, in uv (for --cache-eval center). */
+/* Centre of a texel, in uv (for --cache-eval center); always finite. Beyond
+ * +-2^62 the index holds the float itself (see above): give back that uv
+ * (the largest float for the texel of the infinite uvs). */
 PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
+  const long big = (long)4611686018427387904L; /* 2^62 */
+  if (texel >= big || texel <= -big) {
+    float f = as_float((int)(pmc_u32)((texel < 0 ? -texel : texel) - big));
+    float c = f * exp2((float)-lambda);
+    if (!isfinite(c)) c = 3.4028234664e38f;
+    return texel < 0 ? -c : c;
+  }
   return ((float)texel + 0.5f) * exp2((float)-lambda);
 }
 
@@ -106,14 +125,19 @@ PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, lon
 PMC_FN pmc_u32 pmc_float_bits(float f) { return (pmc_u32)as_int(f); }
 PMC_FN float pmc_bits_float(pmc_u32 u) { return as_float((int)u); }
 
-/* RGB9E5 (shared exponent, bias 15, 9-bit mantissas). Returns 0xffffffff when
- * the value cannot be encoded (negative, NaN, Inf, > 65408). */
+/* RGB9E5 (shared exponent, bias 15, 9-bit mantissas). Only non-negative
+ * finite values up to 65408 = (511/512) * 2^16 can be encoded (NaN fails). */
+PMC_FN int pmc_rgb9e5_encodable(float r, float g, float b) {
+  return r >= 0.0f && g >= 0.0f && b >= 0.0f && fmax(r, fmax(g, b)) <= 65408.0f;
+}
+/* Returns 0xffffffff when the value cannot be encoded; that word is ALSO the
+ * valid encoding of the brightest grey (all mantissas 511 at the top
+ * exponent, e.g. 65365..65408 in every channel), so callers must test
+ * pmc_rgb9e5_encodable(), not compare with PMC_RGB9E5_INVALID. */
 #define PMC_RGB9E5_INVALID 0xffffffffu
 PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
-  if (!(r >= 0.0f && g >= 0.0f && b >= 0.0f)) return PMC_RGB9E5_INVALID; /* also NaN */
-  const float max_value = 65408.0f; /* (511/512) * 2^16 */
+  if (!pmc_rgb9e5_encodable(r, g, b)) return PMC_RGB9E5_INVALID;
   float m = fmax(r, fmax(g, b));
-  if (!(m <= max_value)) return PMC_RGB9E5_INVALID;
   if (m < 1.52587890625e-05f * (1.0f / 512.0f)) return 0u; /* below the smallest step: zero */
   int e = (int)floor(log2(m)); /* m in [2^e, 2^(e+1)) */
   if (e < -16) e = -16;
@@ -179,9 +203,8 @@ PMC_FN int pmc_cache_encode(float4 v, pmc_u32 enc, pmc_u32* out) {
     return 1;
   }
   if (enc == PMC_ENC_RGB9E5) {
-    pmc_u32 e = pmc_encode_rgb9e5(v.x, v.y, v.z);
-    if (e == PMC_RGB9E5_INVALID) return 0;
-    *out = e;
+    if (!pmc_rgb9e5_encodable(v.x, v.y, v.z)) return 0;
+    *out = pmc_encode_rgb9e5(v.x, v.y, v.z);
     return 1;
   }
   if (!(isfinite(v.x) && isfinite(v.y)) || fabs(v.x) > 65504.0f || fabs(v.y) > 65504.0f) return 0;

@@ -227,7 +227,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
           pending_valid = 1;
           if (cache->center) {
             uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
-            footprint_now = exp2((float)-lambda);
+            footprint_now = 2.0f * exp2((float)-lambda); /* a diameter, like sp.footprint */
           }
         }
         pc += 3u;

@@ -7,17 +7,20 @@
 // (from the default framing the teapot covers a fifth of the image and even
 // a cache 8 levels too coarse stays above 40 dB: the check could not fail).
 //  * Cache on vs off at equal samples and seed: PSNR (peak 1, all pixels and
-//    channels) above kMinPsnr. Measured on PoCL, seeds 1, 2, 3, 5:
-//    49.8-50.1 dB (seed 3, --max-depth 4, as here: 49.80 dB). One virtual
-//    mip level coarser (--mip-bias -1): 44.9-45.1 dB; two levels coarser:
-//    38.8 dB; --mip-bias -8: 35.0 dB. kMinPsnr = 40 dB, the docs' goal:
-//    ~10 dB (10x MSE) below the measured value, so platform differences and
-//    a legitimate change of the texel-centre evaluation pass (making centre
-//    mode deterministic by giving cached image nodes a texel-sized footprint
-//    measured 43 dB), while a cache that returns values of the wrong texels
-//    (bad keys or levels, mixed words, wrong decoding) looks like a cache
-//    two or more levels too coarse, or worse, and fails. The wrong-level
-//    render shows the check can fail.
+//    channels) above kMinPsnr = 40 dB, the docs' goal. Measured on PoCL
+//    (seed 3, --max-depth 4 as here, seeds 1 and 2 within 0.3 dB):
+//      - centre values with the hit's texture footprint (not deterministic):
+//        49.8 dB; one virtual mip level coarser (--mip-bias -1) 45 dB, two
+//        levels 38.8 dB, --mip-bias -8 35 dB;
+//      - deterministic centre mode, cached image nodes sampled with a
+//        footprint of 2 * 2^-lambda (the texel's diameter, as the uncached
+//        sp.footprint = 2 max(|g1|, |g2|) is a diameter): 43.1 dB;
+//      - the same with a footprint of 2^-lambda (half that: finer texture
+//        mips than the uncached render uses): 38.7 dB — below the goal.
+//    A cache that returns values of the wrong texels (bad keys or levels,
+//    mixed words, wrong decoding) looks like a cache two or more levels too
+//    coarse, or worse, and fails; the wrong-level render shows the check can
+//    fail.
 //  * The hit map (raw EXR beside the PNG) is 0 on the background and > 0 on
 //    the teapot; a position-driven material (Marble_3D) has no cache points
 //    and shows zero hits everywhere.

@@ -1,0 +1,341 @@
+// cache_table_test.cpp — the material cache's hash table (core/abi/pmc_cache.h)
+// under contention on a real OpenCL device (PoCL on CI), and its semantics
+// single-threaded on the host (the same header compiled as C++).
+//
+// The race: 65536 work-items x 4 rounds insert colliding descriptors into a
+// table, with lookups of the same and of another key before and after. Work
+// takes its key from a global atomic clock (key = tick / W mod K), so the
+// device's threads, whatever work-groups they run, work on the same fresh
+// key at about the same time (a jittered delay between lookup and insert
+// stands in for the material evaluation); the value is the tick, so the
+// host knows which insert won. Tables: tiny ones where every or some cells overflow
+// (K = 32 keys in 12, 32 or 1 entries), and a large one with 65536 fresh
+// keys raced by W = 4 inserts each. Afterwards:
+//  * every 64-bit word in the table is {fingerprint of a key whose cell it is
+//    in, a value that a work-item inserting that key wrote}, and that
+//    work-item's insert returned 1 (it won); no torn or mixed words;
+//  * at most one entry per fingerprint per cell; entries fill from the front;
+//  * per key: exactly one winner (1), every other insert 0 — or, if the key
+//    is absent, its cell is full and every insert returned -1 (dropped);
+//  * every value a lookup read during the race is the key's final value
+//    (entries are immutable once published), and lookups after a successful
+//    insert hit;
+//  * a second run on the final table changes no bit and returns only 0 / -1.
+// (Replacing the CAS by a plain store in pmc_cache_insert makes this fail
+// when two inserts of a key coincide within a few nanoseconds: on PoCL with
+// 2 loaded cores in about one run in four; a GPU races far more.)
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "core/abi/pmc_cache.h"
+#include "gpu/program.h"
+#include "tests/test_support.h"
+
+namespace pmc {
+namespace {
+
+const char* kStressKernel = R"CL(
+#include "pmc_cache.h"
+
+/* Descriptor of key id k: distinct material/node/level/texels per key. */
+static PmcCacheKey stress_key(uint k) {
+  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), (int)(k % 7u) - 2, (long)k * 1000L - 7L,
+                       -(long)k * 3L);
+}
+
+__kernel void cache_stress(__global volatile ulong* entries, ulong cells, uint ways, uint nkeys, uint w,
+                           uint rounds, uint delay, __global volatile uint* clock, __global uint* tick, __global int* result,
+                           __global uint* before, __global uint* after, __global uint* other, uint n) {
+  uint gid = get_global_id(0);
+  if (gid >= n) return;
+  PmcCacheTable t;
+  t.entries = entries;
+  t.cells = cells;
+  t.ways = ways;
+  t.pad = 0u;
+  for (uint r = 0; r < rounds; ++r) {
+    uint o = r * n + gid;
+    uint now = atomic_inc(clock);
+    uint k = (now / w) % nkeys;
+    PmcCacheKey key = stress_key(k);
+    uint v = 0xffffffffu;
+    before[o] = pmc_cache_lookup(&t, key, &v) ? v : 0xffffffffu;
+    /* Widen the window between lookup and insert (a material evaluation
+     * sits there in the renderer) so that the other threads' inserts of
+     * the same key land in it. */
+    ulong spin = now;
+    uint d = delay + (uint)(pmc_mix64(now) % 64u); /* jitter: some inserts of a key coincide */
+    for (uint i = 0; i < d; ++i) spin = pmc_mix64(spin);
+    tick[o] = spin == 1ul ? 0xfffffffeu : now; /* keeps the loop */
+    result[o] = pmc_cache_insert(&t, key, now);
+    v = 0xffffffffu;
+    after[o] = pmc_cache_lookup(&t, key, &v) ? v : 0xffffffffu;
+    v = 0xffffffffu;
+    other[o] = pmc_cache_lookup(&t, stress_key((k + 1u) % nkeys), &v) ? v : 0xffffffffu;
+  }
+}
+)CL";
+
+// The same descriptors on the host.
+PmcCacheKey stress_key(uint32_t k) {
+  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), int(k % 7u) - 2, long(k) * 1000L - 7L, -long(k) * 3L);
+}
+
+constexpr uint32_t kWorkItems = 65536;
+constexpr uint32_t kRounds = 4;
+constexpr uint32_t kMiss = 0xffffffffu;
+constexpr uint32_t kDelay = 256;  // hash rounds between a lookup and its insert
+
+struct Shape {
+  uint64_t cells;
+  uint32_t ways, keys, w;
+};
+
+struct RaceOutput {
+  std::vector<uint64_t> table;
+  std::vector<int32_t> result;
+  std::vector<uint32_t> tick, before, after, other;
+};
+
+RaceOutput run_race(const ClContext& cl, ClProgram& prog, ClBuffer& entries, const Shape& s) {
+  const size_t n = size_t(kWorkItems) * kRounds;
+  uint32_t zero = 0;
+  ClBuffer clock = cl.buffer(4, &zero), tick = cl.buffer(n * 4), result = cl.buffer(n * 4),
+           before = cl.buffer(n * 4), after = cl.buffer(n * 4), other = cl.buffer(n * 4);
+  cl_kernel k = prog.kernel("cache_stress");
+  set_kernel_args(k, entries, cl_ulong(s.cells), cl_uint(s.ways), cl_uint(s.keys), cl_uint(s.w), cl_uint(kRounds),
+                  cl_uint(kDelay), clock, tick, result, before, after, other, cl_uint(kWorkItems));
+  enqueue_1d(cl.queue(), k, 0, kWorkItems);
+  cl.finish();
+  RaceOutput out;
+  out.table.resize(size_t(s.cells) * s.ways);
+  for (auto* v : {&out.tick, &out.before, &out.after, &out.other}) v->resize(n);
+  out.result.resize(n);
+  cl.read(entries, 0, out.table.size() * 8, out.table.data());
+  cl.read(tick, 0, n * 4, out.tick.data());
+  cl.read(result, 0, n * 4, out.result.data());
+  cl.read(before, 0, n * 4, out.before.data());
+  cl.read(after, 0, n * 4, out.after.data());
+  cl.read(other, 0, n * 4, out.other.data());
+  return out;
+}
+
+// Checks the table and every recorded outcome. `second`: the table was already
+// final before this run, so nobody may win. Returns the lost races seen (a
+// lookup missed, then the insert found the key: someone got in between).
+size_t check_race(const RaceOutput& o, const Shape& s, bool second) {
+  const size_t n = o.result.size();
+  auto cell_of = [&](uint32_t k) { return stress_key(k).h1 % s.cells; };
+  auto key_of_tick = [&](uint32_t t) { return (t / s.w) % s.keys; };
+  // Keys by (cell, fingerprint): the identity the table itself uses.
+  std::map<std::pair<uint64_t, uint32_t>, uint32_t> key_by_slot;
+  for (uint32_t k = 0; k < s.keys; ++k) {
+    PmcCacheKey key = stress_key(k);
+    EXPECT_NE(key.fingerprint, 0u);
+    EXPECT_TRUE(key_by_slot.emplace(std::make_pair(cell_of(k), key.fingerprint), k).second)
+        << "test keys must differ in cell or fingerprint";
+  }
+  // Ticks are a permutation of 0..n-1: tick -> outcome index.
+  std::vector<uint32_t> at_tick(n, kMiss);
+  for (size_t i = 0; i < n; ++i) {
+    EXPECT_LT(o.tick[i], n);
+    if (o.tick[i] < n) at_tick[o.tick[i]] = uint32_t(i);
+  }
+  if (::testing::Test::HasFailure()) return 0;
+
+  // The table, word by word.
+  std::map<uint32_t, uint32_t> stored;  // key id -> value
+  std::vector<uint32_t> used(s.cells, 0);
+  for (uint64_t c = 0; c < s.cells; ++c) {
+    bool empty_seen = false;
+    std::set<uint32_t> fps;
+    for (uint32_t i = 0; i < s.ways; ++i) {
+      uint64_t w = o.table[size_t(c * s.ways + i)];
+      if (w == 0) {
+        empty_seen = true;
+        continue;
+      }
+      EXPECT_FALSE(empty_seen) << "cell " << c << ": entries fill from the front";
+      ++used[c];
+      uint32_t fp = uint32_t(w >> 32), value = uint32_t(w);
+      auto it = key_by_slot.find({c, fp});
+      if (it == key_by_slot.end()) {
+        ADD_FAILURE() << "cell " << c << " entry " << i << ": torn or foreign word " << std::hex << w;
+        return 0;
+      }
+      uint32_t k = it->second;
+      EXPECT_TRUE(fps.insert(fp).second) << "cell " << c << ": two entries for key " << k;
+      if (value >= n || key_of_tick(value) != k) {
+        ADD_FAILURE() << "cell " << c << ": value " << value << " was never inserted under key " << k
+                      << " (mixed word " << std::hex << w << ")";
+        return 0;
+      }
+      if (!second) EXPECT_EQ(o.result[at_tick[value]], 1) << "the work-item whose value is stored won";
+      stored[k] = value;
+    }
+  }
+
+  // Every outcome against the final table.
+  std::vector<uint32_t> winners(s.keys, 0), drops(s.keys, 0);
+  size_t lost_races = 0, bad = 0;
+  for (size_t i = 0; i < n && bad < 10; ++i) {
+    uint32_t k = key_of_tick(o.tick[i]);
+    int res = o.result[i];
+    auto it = stored.find(k);
+    if (it == stored.end()) {
+      bad += res != -1 || o.before[i] != kMiss || o.after[i] != kMiss;
+      EXPECT_EQ(res, -1) << "key " << k << " is absent, so its insert must have been dropped";
+      EXPECT_EQ(o.before[i], kMiss);
+      EXPECT_EQ(o.after[i], kMiss);
+      ++drops[k];
+    } else {
+      bool ok = (res == 0 || res == 1) && (o.before[i] == kMiss || o.before[i] == it->second) &&
+                o.after[i] == it->second;
+      bad += !ok;
+      EXPECT_TRUE(res == 0 || res == 1) << "key " << k << " is stored; insert returned " << res;
+      winners[k] += res == 1;
+      lost_races += res == 0 && o.before[i] == kMiss;
+      EXPECT_TRUE(o.before[i] == kMiss || o.before[i] == it->second)
+          << "lookup during the race read " << o.before[i] << ", final " << it->second;
+      EXPECT_EQ(o.after[i], it->second) << "a lookup after a successful insert hits the first value";
+    }
+    uint32_t k2 = (k + 1u) % s.keys;
+    if (o.other[i] != kMiss) {
+      auto it2 = stored.find(k2);
+      bad += it2 == stored.end() || o.other[i] != it2->second;
+      EXPECT_TRUE(it2 != stored.end() && o.other[i] == it2->second)
+          << "lookup of key " << k2 << " read " << o.other[i] << ", a value not stored under it";
+    }
+  }
+  for (uint32_t k = 0; k < s.keys && !::testing::Test::HasFailure(); ++k) {
+    if (stored.count(k)) {
+      EXPECT_EQ(winners[k], second ? 0u : 1u) << "key " << k << ": exactly one insert wins";
+    } else {
+      EXPECT_EQ(used[cell_of(k)], s.ways) << "key " << k << " was dropped, so its cell must be full";
+      EXPECT_GT(drops[k], 0u);
+    }
+  }
+  return lost_races;
+}
+
+TEST(CacheTable, ConcurrentCollidingInsertsNeverTearAndKeepTheFirstValue) {
+  const ClContext& cl = test::cl();
+  ClProgram prog = ClProgram::from_text(cl, "cache_table_test.cl", kStressKernel);
+  // 32 keys in 12 entries (every cell overflows), in 32 entries of 16 cells
+  // (some overflow, some stay partly empty), in a single entry; 65536 fresh
+  // keys, 4 inserts each, in 2^16 cells of 4 entries.
+  for (Shape s : {Shape{3, 4, 32, 1}, Shape{16, 2, 32, 1}, Shape{1, 1, 32, 1}, Shape{65536, 4, 65536, 4}}) {
+    SCOPED_TRACE("cells " + std::to_string(s.cells) + " x " + std::to_string(s.ways) + " entries, " +
+                 std::to_string(s.keys) + " keys");
+    // Fresh keys raced by 4 inserts: with more than one compute unit some
+    // lookups must miss a key another thread then inserts first (PoCL on 2
+    // busy cores: from ~10 to ~20000 of 65536 keys), or the test is not
+    // testing a race; a loaded machine may need another try.
+    const bool want_race = s.keys == 65536 && cl.info().compute_units > 1;
+    size_t lost = 0;
+    for (int attempt = 0; attempt < (want_race ? 4 : 1) && !(want_race && lost > 0); ++attempt) {
+      std::vector<uint64_t> zeros(size_t(s.cells) * s.ways, 0);
+      ClBuffer entries = cl.buffer(zeros.size() * 8, zeros.data());
+      RaceOutput first = run_race(cl, prog, entries, s);
+      lost = check_race(first, s, false);
+      if (HasFailure()) return;
+      size_t dropped = 0, inserted = 0;
+      for (int r : first.result) dropped += r < 0, inserted += r > 0;
+      std::printf("cache race: %llu cells x %u: %zu inserted, %zu dropped, %zu lost races\n",
+                  (unsigned long long)s.cells, s.ways, inserted, dropped, lost);
+      EXPECT_GT(inserted, 0u);
+      if (s.keys > s.cells * s.ways) EXPECT_GT(dropped, 0u) << "more keys than entries: some must be dropped";
+      // On the final table nothing changes: a second run finds or drops everything.
+      RaceOutput again = run_race(cl, prog, entries, s);
+      EXPECT_EQ(again.table, first.table) << "a final table must not change";
+      check_race(again, s, true);
+      for (int r : again.result) ASSERT_LE(r, 0) << "nothing can be inserted twice";
+    }
+    if (want_race) EXPECT_GT(lost, 0u) << "no concurrent inserts of one key observed";
+  }
+}
+
+// ---- host, single thread -------------------------------------------------------
+
+// Descriptors whose keys fall into cell `cell` of a `cells`-cell table.
+std::vector<PmcCacheKey> keys_in_cell(uint64_t cells, uint64_t cell, size_t count) {
+  std::vector<PmcCacheKey> out;
+  for (long tx = 0; out.size() < count; ++tx) {
+    PmcCacheKey k = pmc_cache_key(7u, 11u, 5, tx, 2);
+    if (k.h1 % cells == cell) out.push_back(k);
+  }
+  return out;
+}
+
+TEST(CacheTable, HostLookupAndInsertSemantics) {
+  const uint64_t cells = 4;
+  const uint32_t ways = 3;
+  std::vector<uint64_t> words(cells * ways, 0);
+  PmcCacheTable t{words.data(), cells, ways, 0};
+  std::vector<PmcCacheKey> same = keys_in_cell(cells, 1, ways + 2);
+  PmcCacheKey elsewhere = keys_in_cell(cells, 2, 1)[0];
+  pmc_u32 v = 0;
+
+  EXPECT_EQ(pmc_cache_lookup(&t, same[0], &v), 0) << "empty table: miss";
+  // A value of 0 (black in RGB9E5, 0.0f as float) is a real entry: the
+  // fingerprint keeps the word non-zero.
+  EXPECT_EQ(pmc_cache_insert(&t, same[0], 0u), 1);
+  v = 123u;
+  ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
+  EXPECT_EQ(v, 0u);
+  EXPECT_EQ(words[1 * ways + 0], uint64_t(same[0].fingerprint) << 32);
+  // First value stays.
+  EXPECT_EQ(pmc_cache_insert(&t, same[0], 77u), 0);
+  ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
+  EXPECT_EQ(v, 0u);
+  // Fill the cell; the next distinct key is dropped, the others still work.
+  for (uint32_t i = 1; i < ways; ++i) EXPECT_EQ(pmc_cache_insert(&t, same[i], 100u + i), 1);
+  EXPECT_EQ(pmc_cache_insert(&t, same[ways], 999u), -1) << "full cell: dropped";
+  EXPECT_EQ(pmc_cache_lookup(&t, same[ways], &v), 0) << "a dropped key stays a miss";
+  EXPECT_EQ(pmc_cache_insert(&t, same[ways + 1], 998u), -1);
+  for (uint32_t i = 1; i < ways; ++i) {
+    ASSERT_EQ(pmc_cache_lookup(&t, same[i], &v), 1);
+    EXPECT_EQ(v, 100u + i);
+    EXPECT_EQ(pmc_cache_insert(&t, same[i], 5u), 0) << "present keys report 0 even in a full cell";
+  }
+  // Other cells are unaffected.
+  EXPECT_EQ(pmc_cache_insert(&t, elsewhere, 42u), 1);
+  ASSERT_EQ(pmc_cache_lookup(&t, elsewhere, &v), 1);
+  EXPECT_EQ(v, 42u);
+  // No word has a zero fingerprint, no cell holds a fingerprint twice.
+  for (uint64_t c = 0; c < cells; ++c) {
+    std::set<uint32_t> fps;
+    for (uint32_t i = 0; i < ways; ++i) {
+      uint64_t w = words[c * ways + i];
+      if (!w) continue;
+      EXPECT_NE(uint32_t(w >> 32), 0u);
+      EXPECT_TRUE(fps.insert(uint32_t(w >> 32)).second);
+    }
+  }
+  // Same fingerprint in another cell is a different entry (cell + fingerprint is the key).
+  PmcCacheKey twin = same[0];
+  twin.h1 = elsewhere.h1;
+  EXPECT_EQ(pmc_cache_insert(&t, twin, 55u), 1);
+  ASSERT_EQ(pmc_cache_lookup(&t, twin, &v), 1);
+  EXPECT_EQ(v, 55u);
+  ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
+  EXPECT_EQ(v, 0u);
+}
+
+TEST(CacheTable, FingerprintIsNeverZero) {
+  // 2^-32 per descriptor: not reachable by search, so check the mapping on a
+  // large sample and that the key function never yields 0.
+  for (uint32_t m = 0; m < 8; ++m)
+    for (long tx = -20000; tx < 20000; ++tx) {
+      PmcCacheKey k = pmc_cache_key(m, uint32_t(tx & 15), int(((tx % 57) + 57) % 57) - 16, tx, -tx * 7);
+      ASSERT_NE(k.fingerprint, 0u);
+    }
+}
+
+}  // namespace
+}  // namespace pmc
