@@ -126,6 +126,10 @@ namespace pmc {
 void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool cache_on,
                 bool verbose) {
   s.cache.on = cache_on;
+  // Checked even when this scene will not use the cache: a bad value is bad input either way.
+  long long cells = p.get_int64("--cache-cells", 0), entries = p.get_int64("--cache-entries", 8);
+  if (p.has("--cache-cells") && cells <= 0) fail("--cache-cells: must be at least 1, got ", cells);
+  if (entries <= 0 || entries > 1024) fail("--cache-entries: must be in 1..1024, got ", entries);
   if (!s.cache.on) return;
   size_t points = 0, with_points = 0;
   for (const CompiledMaterial& m : materials.program.materials) {
@@ -138,9 +142,6 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
       std::fprintf(stderr, "pmc: cache: no cacheable nodes in this scene's materials; cache not used\n");
     return;
   }
-  long long cells = p.get_int64("--cache-cells", 0), entries = p.get_int64("--cache-entries", 8);
-  if (p.has("--cache-cells") && cells <= 0) fail("--cache-cells: must be at least 1, got ", cells);
-  if (entries <= 0 || entries > 1024) fail("--cache-entries: must be in 1..1024, got ", entries);
   uint64_t avail = available_memory_bytes();
   if (p.has("--cache-cells")) {
     s.cache.cells = uint64_t(cells);

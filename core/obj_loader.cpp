@@ -92,6 +92,8 @@ std::string normalize_texture_path(const std::string& raw) {
 
 Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   {
+    std::error_code ec;
+    if (std::filesystem::is_directory(path, ec)) fail(path, ": cannot open OBJ file (it is a directory)");
     std::ifstream probe(path);
     if (!probe) fail(path, ": cannot open OBJ file");
   }
@@ -113,6 +115,9 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   // tinyobj drops a quad with an out-of-range vertex index with only this warning.
   std::string bad_quad = warning_line(warnings, "Face with invalid vertex index");
   if (!bad_quad.empty()) fail(path, ": a quad uses a vertex index out of range (", bad_quad, ")");
+  // tinyobj drops a face with fewer than 3 corners (a file cut mid-line) with only this warning.
+  if (!warning_line(warnings, "Degenerated face found").empty())
+    fail(path, ": a face has fewer than 3 corners (is the file truncated?)");
   std::string unknown = warning_line(warnings, "not found in .mtl");
   if (!unknown.empty()) warn(path + ": " + unknown + "; those faces use the default material");
 

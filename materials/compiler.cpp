@@ -192,10 +192,11 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
     return true;
   }
   if (c == "extract") {
-    int index = int(n.input("index")->value.f[0]);
+    const float fi = n.input("index")->value.f[0];
     int iw = type_width(n.input("in")->type);
-    if (index < 0 || index >= iw)
-      fail(n.origin, ": extract index ", index, " is out of range for ", type_name(n.input("in")->type));
+    if (!(fi >= 0.0f && fi < float(iw)))  // before the cast: float-to-int of inf/NaN/1e30 is undefined
+      fail(n.origin, ": extract index ", fi, " is out of range for ", type_name(n.input("in")->type));
+    int index = int(fi);
     cx.em.instr(PMC_OP_SWIZZLE, 1, uint32_t(index), dst, {op("in")});
     return true;
   }

@@ -141,6 +141,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   float3 p2 = pmc_vertex(positions, tri.v[2]);
   float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
   float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
+  float hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
   float3 ng = cross(p1 - p0, p2 - p0);
   float area2 = length(ng);
   ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
@@ -253,7 +254,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     float3 q = q0 * bc.x + q1 * bc.y + q2 * (1.0f - bc.x - bc.y);
     float3 lng = cross(q1 - q0, q2 - q0);
     float larea = 0.5f * length(lng);
-    float3 origin = pmc_offset_ray(pos, ng);
+    float3 origin = pmc_offset_ray(pos, ng, hit_scale);
     float3 d = q - origin;
     float dist2 = dot(d, d);
     float dist = sqrt(dist2);
@@ -301,7 +302,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     if (alive && isfinite(pmc_max3(throughput))) {
       float3 wi_world = pmc_to_world(wi, t, b, ns);
       float side = dot(wi_world, ng) >= 0.0f ? 1.0f : -1.0f;
-      float3 origin = pmc_offset_ray(pos, ng * side);
+      float3 origin = pmc_offset_ray(pos, ng * side, hit_scale);
       uint slot = atomic_inc(&counters->next_rays);
       pmc_append_ray(next_rays, slot, origin, wi_world, INFINITY, pid);
       path->bsdf_pdf = pdf;

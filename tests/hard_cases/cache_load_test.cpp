@@ -1,0 +1,130 @@
+// cache_load_test.cpp — the progressive material cache under load.
+//
+// The brick teapot (../shared/scenes/materialx: procedural brick material,
+// several cache points, nested) rendered with thousands of samples per pixel
+// on a tiny image, three times with the same seed:
+//   * cacheless (the reference),
+//   * with a deliberately tiny table (1 cell x 1 entry: every insert but the
+//     first finds its cell full),
+//   * with a huge table (nothing is ever dropped).
+// Required: no crash, no NaN/Inf, and consistent counters:
+//   hits <= lookups;
+//   inserts + dropped_full + not_encodable <= lookups - hits (each miss runs
+//     its block and then at most one of: inserted, already present, cell
+//     full, not encodable);
+//   occupied == inserts (an entry is written only by a successful insert and
+//     never removed);
+//   tiny table: exactly one insert, dropped_full > 0;
+//   huge table: dropped_full == 0, hits > 0.
+// Image quality vs the cacheless render (PSNR, linear values clamped to
+// [0, 1], peak 1 — core/image_metrics.h): the tiny table stores one value,
+// so its image must be essentially the reference (>= 60 dB: one texel's
+// value at one level, reused only by lookups of that same descriptor); the
+// huge table approximates every cache point by its virtual-texel value
+// (RGB9E5 / half / float encodings, uv snapped to texel centres with
+// --cache-eval center), which must stay >= 40 dB: an average error below
+// 1% of the display range, invisible, and far enough below what we measure
+// (~75 dB, recorded as properties) that a small change of the level
+// heuristics does not trip it, while a wrong level, a wrong encoding or a
+// value stored under the wrong key (which show as blocks of wrong colour)
+// falls far below it.
+#include <gtest/gtest.h>
+
+#include <chrono>
+
+#include "core/camera.h"
+#include "core/image_metrics.h"
+#include "tests/hard_cases/hard_support.h"
+
+namespace pmc {
+namespace {
+
+struct LoadRun {
+  RenderOutput out;
+  double seconds = 0;
+};
+
+TEST(CacheLoad, TinyAndHugeTablesOverThousandsOfSamples) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string obj = test::shared_scene("materialx/geometry/teapot.obj");
+  const std::string mtlx = test::shared_scene("materialx/standard_surface_brick_procedural.mtlx");
+  ObjLoadOptions load;
+  load.load_textures = false;
+  const Scene base = load_obj(obj, load);
+  const EmbreeTracer tracer(base);
+
+  RenderSettings s;
+  s.width = 16;
+  s.height = 16;
+  s.spp = 2000;
+  s.max_depth = 3;
+  s.seed = 5;
+  s.env[0] = s.env[1] = s.env[2] = 1.0f;
+  s.camera = frame_bounds(base.bounds, 30.0f, 1.0f);  // the teapot fills the frame
+  s.cache.center = true;                               // pmc's default --cache-eval
+
+  auto run = [&](bool cache, uint64_t cells, uint32_t ways) {
+    Scene scene = base;
+    MaterialOptions mo{{mtlx}, "M_BrickPattern"};
+    mo.compile.cache = cache;
+    MaterialSet set = build_material_set(scene, mo);
+    size_t points = 0;
+    for (const CompiledMaterial& m : set.program.materials) points += m.cache_plan.points.size();
+    if (cache) EXPECT_GE(points, 2u) << "the brick material should have several cache points";
+    RenderSettings rs = s;
+    rs.cache.on = cache;
+    rs.cache.cells = cells;
+    rs.cache.ways = ways;
+    WavefrontRenderer renderer(test::cl(), scene, set, tracer);
+    LoadRun r;
+    auto start = std::chrono::steady_clock::now();
+    r.out = renderer.render(rs);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+  };
+
+  LoadRun ref = run(false, 0, 0);
+  LoadRun tiny = run(true, 1, 1);
+  LoadRun huge = run(true, uint64_t(1) << 21, 16);  // 2^25 entries, 256 MiB
+
+  hard::expect_clean(ref.out, "cacheless");
+  hard::expect_clean(tiny.out, "tiny table");
+  hard::expect_clean(huge.out, "huge table");
+
+  auto check_counters = [](const CacheStats& c, const char* what) {
+    SCOPED_TRACE(what);
+    EXPECT_GT(c.lookups, 0u);
+    EXPECT_LE(c.hits, c.lookups);
+    EXPECT_LE(c.inserts + c.dropped_full + c.not_encodable, c.lookups - c.hits);
+    EXPECT_EQ(c.occupied, c.inserts) << "an entry is written only by a successful insert";
+    EXPECT_LE(c.occupied, c.cells * c.ways);
+  };
+  check_counters(tiny.out.stats.cache, "tiny");
+  check_counters(huge.out.stats.cache, "huge");
+  const CacheStats& t = tiny.out.stats.cache;
+  const CacheStats& h = huge.out.stats.cache;
+  EXPECT_EQ(t.cells, 1u);
+  EXPECT_EQ(t.ways, 1u);
+  EXPECT_EQ(t.inserts, 1u) << "one entry: only the first insert can win";
+  EXPECT_GT(t.dropped_full, 0u);
+  EXPECT_GT(t.dropped_full, t.lookups / 2) << "nearly every miss finds the one cell full";
+  EXPECT_EQ(h.dropped_full, 0u);
+  EXPECT_GT(h.hits, h.lookups / 2) << "thousands of samples over 256 pixels revisit the same texels";
+  EXPECT_GT(h.inserts, 100u);
+
+  const ImageError et = compare_images(tiny.out.image, ref.out.image);
+  const ImageError eh = compare_images(huge.out.image, ref.out.image);
+  EXPECT_GE(et.psnr, 60.0) << "tiny table vs cacheless";
+  EXPECT_GE(eh.psnr, 40.0) << "huge table vs cacheless";
+  RecordProperty("psnr_tiny", hard::num(et.psnr));
+  RecordProperty("psnr_huge", hard::num(eh.psnr));
+  RecordProperty("hit_rate_huge", hard::num(double(h.hits) / double(h.lookups)));
+  RecordProperty("dropped_tiny", std::to_string(t.dropped_full));
+  RecordProperty("seconds_ref_tiny_huge",
+                 hard::num(ref.seconds) + " " + hard::num(tiny.seconds) + " " + hard::num(huge.seconds));
+  const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  RecordProperty("seconds_total", hard::num(total));
+}
+
+}  // namespace
+}  // namespace pmc
