@@ -20,7 +20,7 @@ class Error : public std::runtime_error {
 
 // Builds a message from streamable parts: fail("file.obj: line ", 3, ": bad index").
 template <typename... Parts>
-[[noreturn]] void fail(const Parts&... parts) {
+[[noreturn]] __attribute__((noinline, cold)) void fail(const Parts&... parts) {
   std::ostringstream os;
   (os << ... << parts);
   throw Error(os.str());

@@ -17,17 +17,15 @@
 //   tiny table: exactly one insert, dropped_full > 0;
 //   huge table: dropped_full == 0, hits > 0.
 // Image quality vs the cacheless render (PSNR, linear values clamped to
-// [0, 1], peak 1 — core/image_metrics.h): the tiny table stores one value,
-// so its image must be essentially the reference (>= 60 dB: one texel's
-// value at one level, reused only by lookups of that same descriptor); the
-// huge table approximates every cache point by its virtual-texel value
-// (RGB9E5 / half / float encodings, uv snapped to texel centres with
-// --cache-eval center), which must stay >= 40 dB: an average error below
-// 1% of the display range, invisible, and far enough below what we measure
-// (~75 dB, recorded as properties) that a small change of the level
-// heuristics does not trip it, while a wrong level, a wrong encoding or a
-// value stored under the wrong key (which show as blocks of wrong colour)
-// falls far below it.
+// [0, 1], peak 1 — core/image_metrics.h) must stay >= 40 dB for both tables:
+// an average error below 1% of the display range, invisible, and far below
+// what we measure (~60-67 dB depending on the kernel version, recorded as
+// properties), while a wrong level, a wrong encoding or a value stored under
+// the wrong key (blocks of wrong colour) falls far below it. And with
+// --cache-eval center (pmc's default) a miss is evaluated at the texel centre
+// and quantised like a stored value, so a hit and a miss give the same value:
+// the image must not depend on the table at all — the tiny and the huge
+// table give bit-identical images.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -114,8 +112,12 @@ TEST(CacheLoad, TinyAndHugeTablesOverThousandsOfSamples) {
 
   const ImageError et = compare_images(tiny.out.image, ref.out.image);
   const ImageError eh = compare_images(huge.out.image, ref.out.image);
-  EXPECT_GE(et.psnr, 60.0) << "tiny table vs cacheless";
+  EXPECT_GE(et.psnr, 40.0) << "tiny table vs cacheless";
   EXPECT_GE(eh.psnr, 40.0) << "huge table vs cacheless";
+  size_t differing = 0;
+  for (size_t i = 0; i < tiny.out.image.pixels.size(); ++i)
+    differing += tiny.out.image.pixels[i] != huge.out.image.pixels[i] ? 1 : 0;
+  EXPECT_EQ(differing, 0u) << "center mode: the table size must not change the image";
   RecordProperty("psnr_tiny", hard::num(et.psnr));
   RecordProperty("psnr_huge", hard::num(eh.psnr));
   RecordProperty("hit_rate_huge", hard::num(double(h.hits) / double(h.lookups)));
