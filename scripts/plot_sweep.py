@@ -189,7 +189,8 @@ def plot_mip_bias(plt, rows, out):
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(11, 4.2))
     print(f"mip_bias_error.png ({size[0]} cells x {size[1]} entries):")
     print("  eval    bias  time (s)  hit rate  relMSE vs ref  PSNR vs off (dB)")
-    for ev in sorted({r["cache_eval"] for r in sel}):
+    for k, ev in enumerate(sorted({r["cache_eval"] for r in sel})):
+        dy = 6 if k % 2 == 0 else -12  # labels of the second line below its points
         pts = sorted((r for r in sel if r["cache_eval"] == ev), key=lambda r: r["mip_bias"])
         for r in pts:
             rel = r["relmse_vs_reference"]
@@ -199,19 +200,19 @@ def plot_mip_bias(plt, rows, out):
                   f"{psnr if psnr is not None else float('nan'):8.2f}")
         if have_ref:
             p = [r for r in pts if r["relmse_vs_reference"]]
-            ax.plot([r["time_seconds"] for r in p], [r["relmse_vs_reference"] for r in p], "o-",
-                    label=f"cache on, --cache-eval {ev}")
+            line = ax.plot([r["time_seconds"] for r in p], [r["relmse_vs_reference"] for r in p], "o-",
+                           label=f"cache on, --cache-eval {ev}")
             for r in p:
-                ax.annotate(f"bias {fmt_bias(r['mip_bias'])}\n{100 * (r['hit_rate'] or 0):.0f}% hits",
-                            (r["time_seconds"], r["relmse_vs_reference"]), textcoords="offset points",
-                            xytext=(5, 2), fontsize=7)
+                ax.annotate(fmt_bias(r["mip_bias"]), (r["time_seconds"], r["relmse_vs_reference"]),
+                            textcoords="offset points", xytext=(3, dy), fontsize=7, color=line[0].get_color())
         if have_psnr:
             p = [r for r in pts if r["psnr_vs_cacheless"] is not None]
             ax2.plot([r["time_seconds"] for r in p], [min(r["psnr_vs_cacheless"], 99) for r in p], "o-",
                      label=f"cache on, --cache-eval {ev}")
             for r in p:
-                ax2.annotate(f"bias {fmt_bias(r['mip_bias'])}", (r["time_seconds"], min(r["psnr_vs_cacheless"], 99)),
-                             textcoords="offset points", xytext=(5, 2), fontsize=7)
+                ax2.annotate(f"bias {fmt_bias(r['mip_bias'])}, {100 * (r['hit_rate'] or 0):.0f}% hits",
+                             (r["time_seconds"], min(r["psnr_vs_cacheless"], 99)), textcoords="offset points",
+                             xytext=(5, dy), fontsize=7)
     if cacheless:
         c = cacheless[0]
         print(f"  cache off     {c['time_seconds']:8.3f}            {c['relmse_vs_reference'] or float('nan'):13.5f}")
@@ -235,7 +236,7 @@ def plot_mip_bias(plt, rows, out):
                     fontsize=8, color="dimgrey")
         ax.set_xlabel("render time (s)")
         ax.set_ylabel("relMSE vs reference (lower is better)")
-        ax.set_title(f"Error vs time per mip bias ({spp} spp, {size[0]}x{size[1]} cache)", fontsize=10)
+        ax.set_title(f"Error vs time per mip bias (labels; {spp} spp, {size[0]}x{size[1]} cache)", fontsize=10)
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8, loc="lower right")
     else:
