@@ -232,6 +232,7 @@ PMC_FN pmc_u64 pmc_cas64(PMC_CACHE_PTR p, pmc_u64 expected, pmc_u64 desired) {
 PMC_FN void pmc_stat_add(__global volatile ulong* stats, int which) {
   if (stats) atom_inc(&stats[which]);
 }
+PMC_FN pmc_u64 pmc_load64(PMC_CACHE_PTR p) { return *p; }
 #else
 #define PMC_CACHE_PTR pmc_u64*
 PMC_FN pmc_u64 pmc_cas64(pmc_u64* p, pmc_u64 expected, pmc_u64 desired) {
@@ -241,6 +242,9 @@ PMC_FN pmc_u64 pmc_cas64(pmc_u64* p, pmc_u64 expected, pmc_u64 desired) {
 PMC_FN void pmc_stat_add(pmc_u64* stats, int which) {
   if (stats) __atomic_fetch_add(&stats[which], 1ull, __ATOMIC_RELAXED);
 }
+/* Entries are read while other threads may CAS them: an atomic load on the
+ * host (a plain read racing with the CAS is a data race in C++). */
+PMC_FN pmc_u64 pmc_load64(pmc_u64* p) { return __atomic_load_n(p, __ATOMIC_ACQUIRE); }
 #endif
 
 typedef struct PmcCacheTable {
@@ -260,7 +264,7 @@ PMC_FN pmc_u64 pmc_cache_cell(const PmcCacheTable* t, pmc_u64 h1) {
 PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   for (pmc_u32 i = 0; i < t->ways; ++i) {
-    pmc_u64 e = t->entries[base + i];
+    pmc_u64 e = pmc_load64(&t->entries[base + i]);
     if (e == 0ul) return 0;
     if ((pmc_u32)(e >> 32) == k.fingerprint) {
       *value = (pmc_u32)e;
@@ -277,7 +281,7 @@ PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u64 word = ((pmc_u64)k.fingerprint << 32) | (pmc_u64)value;
   for (pmc_u32 i = 0; i < t->ways; ++i) {
-    pmc_u64 e = t->entries[base + i];
+    pmc_u64 e = pmc_load64(&t->entries[base + i]);
     if (e == 0ul) {
       pmc_u64 prev = pmc_cas64(&t->entries[base + i], 0ul, word);
       if (prev == 0ul) return 1;
