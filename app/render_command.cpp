@@ -21,6 +21,7 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
   j["scene"] = scene;
   j["render_seconds"] = st.render_seconds;
   j["kernel_build_seconds"] = st.kernel_build_seconds;
+  j["kernel_warmup_seconds"] = st.kernel_warmup_seconds;
   j["width"] = s.width;
   j["height"] = s.height;
   j["spp"] = s.spp;

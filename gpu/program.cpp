@@ -145,11 +145,11 @@ void check_kernel_arg_count(cl_kernel k, cl_uint given) {
   }
 }
 
-void enqueue_1d(cl_command_queue q, cl_kernel k, size_t offset, size_t count, cl_event* event) {
+void enqueue_1d(cl_command_queue q, cl_kernel k, size_t count, cl_event* event) {
   if (count == 0) return;
   const size_t local = 64;
   size_t global = (count + local - 1) / local * local;
-  cl_check(clEnqueueNDRangeKernel(q, k, 1, &offset, &global, &local, 0, nullptr, event),
+  cl_check(clEnqueueNDRangeKernel(q, k, 1, nullptr, &global, &local, 0, nullptr, event),
            "clEnqueueNDRangeKernel");
 }
 

@@ -64,8 +64,9 @@ void set_kernel_args(cl_kernel k, const Args&... args) {
   (set_kernel_arg(k, i++, args), ...);
 }
 
-// Enqueue a 1-D range [offset, offset + count) rounded up to the local size;
+// Enqueue a 1-D range [0, count) rounded up to the local size, with no global
+// offset (PoCL compiles a separate work-group function for offsets);
 // kernels bound-check their index. Returns the event (caller releases) if asked.
-void enqueue_1d(cl_command_queue q, cl_kernel k, size_t offset, size_t count, cl_event* event = nullptr);
+void enqueue_1d(cl_command_queue q, cl_kernel k, size_t count, cl_event* event = nullptr);
 
 }  // namespace pmc

@@ -59,8 +59,9 @@ struct StageSeconds {
 };
 
 struct RenderStats {
-  double render_seconds = 0;
-  double kernel_build_seconds = 0;
+  double render_seconds = 0;         // excludes the kernel build and warm-up below
+  double kernel_build_seconds = 0;   // clBuildProgram
+  double kernel_warmup_seconds = 0;  // first (empty) launches: PoCL compiles work-group code there
   uint64_t paths = 0;
   uint64_t rays = 0;  // camera + continuation + shadow rays traced
   uint64_t shadow_rays = 0;

@@ -114,8 +114,10 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
                         __global PmcRay* next_rays, __global PmcRay* shadow_rays,
                         __global PmcShadowLoad* shadow_loads, __global PmcCounters* counters,
                         __global volatile ulong* cache_entries, __global volatile ulong* cache_stats,
-                        uint ray_count) {
-  uint i = get_global_id(0);
+                        uint first, uint ray_count) {
+  /* Chunks start at `first` (an argument, not a global offset: PoCL would
+   * compile a second work-group function for non-zero offsets). */
+  uint i = first + (uint)get_global_id(0);
   if (i >= ray_count) return;
   PmcRay ray = rays[i];
   PmcHit hit = hits[i];
@@ -321,8 +323,8 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
 
 __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads,
                                   __global const uchar* occluded, __global PmcPathState* paths,
-                                  uint count) {
-  uint i = get_global_id(0);
+                                  uint first, uint count) {
+  uint i = first + (uint)get_global_id(0);
   if (i >= count || occluded[i]) return;
   __global PmcPathState* p = &paths[loads[i].path];
   p->radiance[0] += loads[i].rgb[0];

@@ -214,7 +214,8 @@ TEST(NodeMath, PerlinIsContinuous) {
       float4 a = pmc_op_noise2d(make_float2(x, y), w), b = pmc_op_noise2d(make_float2(x + dx, y + dy), w);
       float4 c = pmc_op_noise3d(make_float3(x, y, z), w);
       float4 d = pmc_op_noise3d(make_float3(x + dx, y + dy, z - dx), w);
-      for (float diff : {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w, c.x - d.x, c.y - d.y, c.z - d.z, c.w - d.w})
+      for (float diff :
+           {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w, c.x - d.x, c.y - d.y, c.z - d.z, c.w - d.w})
         worst = std::max(worst, std::fabs(diff));
     }
   }
@@ -294,8 +295,8 @@ TEST(NodeMath, FractalSumsOctaves) {
     }
     // Two octaves: n(p) + diminish * n(lacunarity * p).
     float two = pmc_op_fractal3d(q, 2, lac, dim, 1u).x;
-    float expect = pmc_op_noise3d(q, 1u).x +
-                   dim * pmc_op_noise3d(make_float3(q.x * lac, q.y * lac, q.z * lac), 1u).x;
+    float expect =
+        pmc_op_noise3d(q, 1u).x + dim * pmc_op_noise3d(make_float3(q.x * lac, q.y * lac, q.z * lac), 1u).x;
     EXPECT_NEAR(two, expect, 1e-6f);
     // vector2 fractal = (F(p), F(p + (19, 193))), unlike the vector2 noise.
     float4 f2 = pmc_op_fractal2d(p, 3, lac, dim, 2u);
@@ -371,7 +372,8 @@ TEST(NodeMath, WorleyOrderingAndBounds) {
   float best = 1.0f;
   for (int i = 0; i < 200; ++i)
     for (int j = 0; j < 200; ++j)
-      best = std::min(best, pmc_op_worley2d(make_float2(5.0f + i / 200.0f, 2.0f + j / 200.0f), 1.0f, 0, 1u).x);
+      best =
+          std::min(best, pmc_op_worley2d(make_float2(5.0f + i / 200.0f, 2.0f + j / 200.0f), 1.0f, 0, 1u).x);
   EXPECT_LT(best, 0.005f);
 }
 
@@ -381,8 +383,7 @@ TEST(NodeMath, WorleySolidIsCellValueOfNearestFeature) {
     float x = rng.uni(-50.0f, 50.0f), y = rng.uni(-50.0f, 50.0f), z = rng.uni(-50.0f, 50.0f);
     // Without jitter the nearest feature is the own cell's centre.
     EXPECT_EQ(pmc_op_worley2d(make_float2(x, y), 0.0f, 1, 1u).x, pmc_op_cellnoise2d(make_float2(x, y)));
-    EXPECT_EQ(pmc_op_worley3d(make_float3(x, y, z), 0.0f, 1, 1u).x,
-              pmc_op_cellnoise3d(make_float3(x, y, z)));
+    EXPECT_EQ(pmc_op_worley3d(make_float3(x, y, z), 0.0f, 1, 1u).x, pmc_op_cellnoise3d(make_float3(x, y, z)));
     float4 s = pmc_op_worley2d(make_float2(x, y), 1.0f, 1, 3u);
     EXPECT_GE(s.x, 0.0f);
     EXPECT_LT(s.x, 1.0f);
@@ -402,11 +403,13 @@ TEST(NodeMath, WorleySolidIsCellValueOfNearestFeature) {
 // Tiled shapes and line patterns.
 
 float shape(float u, float v, float size, bool staggered, pmc_u32 kind, float tile = 1.0f, float off = 0.0f) {
-  return pmc_op_tiledshape(make_float2(u, v), make_float2(tile, tile), make_float2(off, off), size, staggered, kind).x;
+  return pmc_op_tiledshape(make_float2(u, v), make_float2(tile, tile), make_float2(off, off), size, staggered,
+                           kind)
+      .x;
 }
 float lines(float u, float v, float thick, bool staggered, pmc_u32 kind) {
-  return pmc_op_linepattern(make_float2(u, v), make_float2(1.0f, 1.0f), make_float2(0.0f, 0.0f), thick, staggered,
-                            kind)
+  return pmc_op_linepattern(make_float2(u, v), make_float2(1.0f, 1.0f), make_float2(0.0f, 0.0f), thick,
+                            staggered, kind)
       .x;
 }
 
@@ -417,7 +420,8 @@ double coverage(F&& f, float w, float h, int n = 600) {
   Rng rng(1);
   int hits = 0;
   for (int i = 0; i < n; ++i)
-    for (int j = 0; j < n; ++j) hits += f(w * (i + rng.uni(0.0f, 1.0f)) / n, h * (j + rng.uni(0.0f, 1.0f)) / n) > 0.5f;
+    for (int j = 0; j < n; ++j)
+      hits += f(w * (i + rng.uni(0.0f, 1.0f)) / n, h * (j + rng.uni(0.0f, 1.0f)) / n) > 0.5f;
   return hits / double(n) / n;
 }
 
@@ -459,7 +463,9 @@ TEST(NodeMath, TiledShapesAtKnownPoints) {
 
   // Cloverleaf (regular, radius r = size): four discs of radius r/2 around (+-r/2, 0), (0, +-r/2):
   // reaches r along the axes and r/sqrt(2) along the diagonals.
-  auto clover = [](float x, float y) { return shape(0.5f + 0.5f * x, 0.5f + 0.5f * y, 0.8f, false, PMC_SHAPE_CLOVERLEAFS); };
+  auto clover = [](float x, float y) {
+    return shape(0.5f + 0.5f * x, 0.5f + 0.5f * y, 0.8f, false, PMC_SHAPE_CLOVERLEAFS);
+  };
   EXPECT_EQ(clover(0.0f, 0.0f), 1.0f);
   EXPECT_EQ(clover(0.79f, 0.0f), 1.0f);
   EXPECT_EQ(clover(0.0f, -0.79f), 1.0f);
@@ -469,18 +475,22 @@ TEST(NodeMath, TiledShapesAtKnownPoints) {
   // Union of four discs of radius a = 0.4 centred at distance a from the
   // origin: 4 pi a^2 minus four lenses of adjacent discs (centre distance
   // a sqrt 2, lens area a^2 (pi/2 - 1)) = (2 pi + 4) a^2.
-  EXPECT_NEAR(coverage([&](float x, float y) { return clover(2.0f * x - 1.0f, 2.0f * y - 1.0f); }, 1.0f, 1.0f) * 4.0,
-              (2.0f * kPi + 4.0f) * 0.4f * 0.4f, 0.01);
+  EXPECT_NEAR(
+      coverage([&](float x, float y) { return clover(2.0f * x - 1.0f, 2.0f * y - 1.0f); }, 1.0f, 1.0f) * 4.0,
+      (2.0f * kPi + 4.0f) * 0.4f * 0.4f, 0.01);
 
   // Hexagon graph: a regular hexagon of apothem r = size (flat sides facing
   // +-x, corners at +-y at r / cos 30deg), area 2 sqrt(3) r^2.
-  auto hexa = [](float x, float y) { return shape(0.5f + 0.5f * x, 0.5f + 0.5f * y, 0.6f, false, PMC_SHAPE_HEXAGONS); };
+  auto hexa = [](float x, float y) {
+    return shape(0.5f + 0.5f * x, 0.5f + 0.5f * y, 0.6f, false, PMC_SHAPE_HEXAGONS);
+  };
   EXPECT_EQ(hexa(0.59f, 0.0f), 1.0f);
   EXPECT_EQ(hexa(0.61f, 0.0f), 0.0f);
   EXPECT_EQ(hexa(0.0f, 0.68f), 1.0f);
   EXPECT_EQ(hexa(0.0f, 0.70f), 0.0f);
-  EXPECT_NEAR(coverage([&](float x, float y) { return hexa(2.0f * x - 1.0f, 2.0f * y - 1.0f); }, 1.0f, 1.0f) * 4.0,
-              2.0 * std::sqrt(3.0) * 0.36, 0.01);
+  EXPECT_NEAR(
+      coverage([&](float x, float y) { return hexa(2.0f * x - 1.0f, 2.0f * y - 1.0f); }, 1.0f, 1.0f) * 4.0,
+      2.0 * std::sqrt(3.0) * 0.36, 0.01);
   EXPECT_EQ(shape(0.5f, 0.5f, 0.5f, true, PMC_SHAPE_HEXAGONS), 0.0f);  // between staggered hexagons
   EXPECT_EQ(shape(0.0f, 0.0f, 0.5f, true, PMC_SHAPE_HEXAGONS), 1.0f);
   EXPECT_EQ(shape(0.0f, 0.0f, 0.5f, true, PMC_SHAPE_CLOVERLEAFS), 1.0f);
@@ -529,8 +539,8 @@ TEST(NodeMath, GridAndCrosshatch) {
 // Robustness.
 
 TEST(NodeMath, HugeNegativeAndNonFiniteInputsStayFinite) {
-  const float vals[] = {0.0f, -0.0f, -0.5f, 1e7f + 0.5f, -1e7f, 16777217.0f, 3e9f, -3e9f, 1e20f, -1e30f,
-                        3.4e38f, -3.4e38f, 1e-40f, kInf, -kInf, kNaN};
+  const float vals[] = {0.0f,  -0.0f,  -0.5f,   1e7f + 0.5f, -1e7f,  16777217.0f, 3e9f,  -3e9f,
+                        1e20f, -1e30f, 3.4e38f, -3.4e38f,    1e-40f, kInf,        -kInf, kNaN};
   const float params[] = {0.0f, 0.5f, 1.0f, 2.0f, -3.0f, 1e30f, -1e30f, 3.4e38f, kInf, kNaN};
   for (float x : vals)
     for (float y : vals) {
@@ -577,7 +587,8 @@ TEST(NodeMath, HugeNegativeAndNonFiniteInputsStayFinite) {
         }
     }
   // Just below 2^24 the noise still varies along a huge axis (fractions exist up to 2^23).
-  EXPECT_NE(pmc_op_noise2d(make_float2(4194304.25f, 0.5f), 1u).x, pmc_op_noise2d(make_float2(4194304.75f, 0.5f), 1u).x);
+  EXPECT_NE(pmc_op_noise2d(make_float2(4194304.25f, 0.5f), 1u).x,
+            pmc_op_noise2d(make_float2(4194304.75f, 0.5f), 1u).x);
 }
 
 // ---------------------------------------------------------------------------
@@ -610,7 +621,8 @@ void eval_all(const float* a, int item, float4* r) {
   r[10] = pmc_op_worley2d(p2, a[3], 1, 3u);
   r[11] = pmc_op_worley3d(p3, a[3], 0, 3u);
   r[12] = pmc_op_worley3d(p3, a[3], 1, 1u);
-  float2 uv = make_float2(a[7], a[8]), tiling = make_float2(a[9], a[9] * 0.75f), off = make_float2(a[10], -a[10]);
+  float2 uv = make_float2(a[7], a[8]), tiling = make_float2(a[9], a[9] * 0.75f),
+         off = make_float2(a[10], -a[10]);
   r[13] = pmc_op_tiledshape(uv, tiling, off, a[11], item & 1, pmc_u32(item % 3));
   r[14] = pmc_op_linepattern(uv, tiling, off, a[11] * 0.3f, (item >> 1) & 1, pmc_u32(item % 2));
 }
@@ -689,7 +701,7 @@ TEST(NodeMath, HeadersCompileAsOpenCL) {
   pmc::ClBuffer out_buf = cl.buffer(size_t(n) * kCalls * 4 * sizeof(float));
   cl_kernel k = program.kernel("node_math");
   pmc::set_kernel_args(k, in_buf, out_buf, cl_uint(n));
-  pmc::enqueue_1d(cl.queue(), k, 0, size_t(n));
+  pmc::enqueue_1d(cl.queue(), k, size_t(n));
   std::vector<float> dev(size_t(n) * kCalls * 4);
   cl.read(out_buf, 0, dev.size() * sizeof(float), dev.data());
 
@@ -714,8 +726,8 @@ TEST(NodeMath, HeadersCompileAsOpenCL) {
         ++mismatches[c];
         if (!kDiscontinuous[c] || mismatches[c] > 3)
           ADD_FAILURE() << "item " << i << " call " << c << ": device (" << d[0] << ", " << d[1] << ", "
-                        << d[2] << ", " << d[3] << ") host (" << h[0] << ", " << h[1] << ", " << h[2]
-                        << ", " << h[3] << ")";
+                        << d[2] << ", " << d[3] << ") host (" << h[0] << ", " << h[1] << ", " << h[2] << ", "
+                        << h[3] << ")";
       }
     }
   }

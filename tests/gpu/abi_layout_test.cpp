@@ -47,7 +47,7 @@ __kernel void layout(__global uint* out) {
   ClBuffer out = cl.buffer(host.size() * sizeof(unsigned));
   cl_kernel k = program.kernel("layout");
   set_kernel_args(k, out);
-  enqueue_1d(cl.queue(), k, 0, 1);
+  enqueue_1d(cl.queue(), k, 1);
   std::vector<unsigned> device(host.size());
   cl.read(out, 0, device.size() * sizeof(unsigned), device.data());
   ASSERT_GT(host.size(), 50u);

@@ -83,7 +83,8 @@ __kernel void cache_stress(__global volatile ulong* entries, ulong cells, uint w
 
 // The same descriptors on the host.
 PmcCacheKey stress_key(uint32_t k) {
-  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), int(k % 7u) - 2, long(k) * 1000L - 7L, -long(k) * 3L);
+  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), int(k % 7u) - 2, long(k) * 1000L - 7L,
+                       -long(k) * 3L);
 }
 
 constexpr uint32_t kWorkItems = 65536;
@@ -108,9 +109,10 @@ RaceOutput run_race(const ClContext& cl, ClProgram& prog, ClBuffer& entries, con
   ClBuffer clock = cl.buffer(4, &zero), tick = cl.buffer(n * 4), result = cl.buffer(n * 4),
            before = cl.buffer(n * 4), after = cl.buffer(n * 4), other = cl.buffer(n * 4);
   cl_kernel k = prog.kernel("cache_stress");
-  set_kernel_args(k, entries, cl_ulong(s.cells), cl_uint(s.ways), cl_uint(s.keys), cl_uint(s.w), cl_uint(kRounds),
-                  cl_uint(kDelay), clock, tick, result, before, after, other, cl_uint(kWorkItems));
-  enqueue_1d(cl.queue(), k, 0, kWorkItems);
+  set_kernel_args(k, entries, cl_ulong(s.cells), cl_uint(s.ways), cl_uint(s.keys), cl_uint(s.w),
+                  cl_uint(kRounds), cl_uint(kDelay), clock, tick, result, before, after, other,
+                  cl_uint(kWorkItems));
+  enqueue_1d(cl.queue(), k, kWorkItems);
   cl.finish();
   RaceOutput out;
   out.table.resize(size_t(s.cells) * s.ways);
@@ -245,7 +247,7 @@ TEST(CacheTable, ConcurrentCollidingInsertsNeverTearAndKeepTheFirstValue) {
       lost = check_race(first, s, false);
       if (HasFailure()) return;
       size_t dropped = 0, inserted = 0;
-      for (int r : first.result) dropped += r < 0, inserted += r > 0;
+      for (int r : first.result) dropped += r<0, inserted += r> 0;
       std::printf("cache race: %llu cells x %u: %zu inserted, %zu dropped, %zu lost races\n",
                   (unsigned long long)s.cells, s.ways, inserted, dropped, lost);
       EXPECT_GT(inserted, 0u);

@@ -603,7 +603,7 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
   cl_kernel k = program.kernel("interp_parity");
   set_kernel_args(k, code_buf, entry_buf, data_buf, tex_buf, texel_buf, lut_buf, cl_uint(tex.pool.size()),
                   out_buf, cl_uint(n));
-  enqueue_1d(cl.queue(), k, 0, n);
+  enqueue_1d(cl.queue(), k, n);
   std::vector<float> dev(n * 8);
   cl.read(out_buf, 0, dev.size() * sizeof(float), dev.data());
 
