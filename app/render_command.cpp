@@ -40,6 +40,7 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
   nlohmann::json c;
   c["enabled"] = s.cache.on;
   c["eval"] = s.cache.center ? "center" : "hit";
+  c["filter"] = s.cache.bilinear ? "bilinear" : "nearest";
   c["mip_bias"] = s.cache.mip_bias;
   c["lookups"] = st.cache.lookups;
   c["hits"] = st.cache.hits;

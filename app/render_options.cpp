@@ -26,6 +26,10 @@ void declare_render_options(ArgParser& p) {
   p.option("--mip-bias", "B", "added to the cache's virtual mip level (higher: finer, more accurate)", "0");
   p.option("--cache-eval", "hit|center",
            "values stored for a texel: at the inserting hit, or at the texel centre", "center");
+  p.option("--cache-filter", "nearest|bilinear",
+           "texel a lookup reads: the one under the hit, or a neighbour picked at random with its "
+           "bilinear weight (center mode only)",
+           "bilinear with center, nearest with hit");
   p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point",
            std::to_string(kDefaultCacheMinNodes));
   p.option("--width", "W", "image width in pixels", "640");
@@ -100,6 +104,14 @@ RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, cons
   std::string eval = p.get("--cache-eval", "center");
   if (eval != "hit" && eval != "center") fail("--cache-eval: expected hit or center, got '", eval, "'");
   s.cache.center = eval == "center";
+  std::string filter = p.get("--cache-filter", s.cache.center ? "bilinear" : "nearest");
+  if (filter != "nearest" && filter != "bilinear")
+    fail("--cache-filter: expected nearest or bilinear, got '", filter, "'");
+  if (filter == "bilinear" && !s.cache.center)
+    fail(
+        "--cache-filter bilinear needs --cache-eval center (a hit-mode texel holds the value at one "
+        "sample's uv, not at its centre, so there is nothing to interpolate)");
+  s.cache.bilinear = filter == "bilinear";
   float aspect = float(s.width) / float(s.height);
   float fov = p.get_float("--fov", 45.0f);
   if (!(fov > 0.0f && fov < 180.0f)) fail("--fov: must be in (0, 180) degrees, got ", fov);
@@ -130,6 +142,13 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
   long long cells = p.get_int64("--cache-cells", 0), entries = p.get_int64("--cache-entries", 8);
   if (p.has("--cache-cells") && cells <= 0) fail("--cache-cells: must be at least 1, got ", cells);
   if (entries <= 0 || entries > 1024) fail("--cache-entries: must be in 1..1024, got ", entries);
+  const uint64_t avail = available_memory_bytes();
+  if (p.has("--cache-cells")) {
+    double bytes = double(cells) * double(entries) * 8.0;
+    if (bytes > double(avail) * 0.8)
+      fail("--cache-cells/--cache-entries: a table of ", bytes / double(1 << 20), " MiB does not fit in the ",
+           double(avail) / double(1 << 20), " MiB of free memory");
+  }
   if (!s.cache.on) return;
   size_t points = 0, with_points = 0;
   for (const CompiledMaterial& m : materials.program.materials) {
@@ -142,14 +161,9 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
       std::fprintf(stderr, "pmc: cache: no cacheable nodes in this scene's materials; cache not used\n");
     return;
   }
-  uint64_t avail = available_memory_bytes();
   if (p.has("--cache-cells")) {
     s.cache.cells = uint64_t(cells);
     s.cache.ways = uint32_t(entries);
-    double bytes = double(cells) * double(entries) * 8.0;
-    if (bytes > double(avail) * 0.8)
-      fail("--cache-cells/--cache-entries: a table of ", bytes / double(1 << 20), " MiB does not fit in the ",
-           double(avail) / double(1 << 20), " MiB of free memory");
     s.cache.reason = "set by --cache-cells/--cache-entries";
   } else {
     double per_material = double(points) / double(std::max<size_t>(1, with_points));

@@ -50,9 +50,10 @@ std::vector<T> parse_list(const std::string& s, const std::string& option) {
 }  // namespace
 
 int run_sweep(const std::vector<std::string>& args) {
-  ArgParser p("pmc sweep SCENE.obj --out-dir DIR [--cells LIST] [--entries LIST] [--mip-biases LIST] [options]",
-              "Renders SCENE with every combination of cache settings and writes sweep.csv (time, hit rate,\n"
-              "memory, error vs cacheless and vs a reference). scripts/plot_sweep.py turns it into plots.");
+  ArgParser p(
+      "pmc sweep SCENE.obj --out-dir DIR [--cells LIST] [--entries LIST] [--mip-biases LIST] [options]",
+      "Renders SCENE with every combination of cache settings and writes sweep.csv (time, hit rate,\n"
+      "memory, error vs cacheless and vs a reference). scripts/plot_sweep.py turns it into plots.");
   p.option("--out-dir", "DIR", "where sweep.csv goes");
   p.option("--cells", "LIST", "cache cell counts, e.g. 4096,65536,1048576", "the scene's automatic size");
   p.option("--entries", "LIST", "entries per cell, e.g. 1,4,8", "8");

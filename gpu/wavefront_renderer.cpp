@@ -144,6 +144,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   frame.cache_cells_lo = uint32_t(cs.cells & 0xffffffffu);
   frame.cache_cells_hi = uint32_t(cs.cells >> 32);
   frame.mip_bias = cs.mip_bias;
+  frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
 
   cl_kernel k_camera = m.program.kernel("pmc_camera_rays");
   cl_kernel k_shade = m.program.kernel("pmc_shade");

@@ -30,8 +30,9 @@ struct CacheSettings {
   uint64_t cells = 0;
   uint32_t ways = 0;  // entries per cell
   float mip_bias = 0.0f;
-  bool center = false;  // --cache-eval center
-  std::string reason;   // why this size (printed, and written to stats)
+  bool center = false;    // --cache-eval center
+  bool bilinear = false;  // --cache-filter bilinear (center mode)
+  std::string reason;     // why this size (printed, and written to stats)
 };
 
 struct CacheStats {

@@ -30,8 +30,12 @@ struct CachePlan {
   std::vector<std::pair<int, std::string>> not_cached;  // node, reason
 };
 
-// The sub-graph size threshold found by measurement (docs/BENCHMARKS.md).
-constexpr int kDefaultCacheMinNodes = 4;
+// The sub-graph size threshold found by measurement (scripts/bench-cache,
+// "cache point threshold" in docs/BENCHMARKS.md): on PoCL a 3-node point
+// costs the default scene a fifth of its speed-up, points of 4-16 nodes are
+// within noise of each other, and dropping the 25-31-node points loses a
+// quarter of it. 8 keeps clear of the losing end.
+constexpr int kDefaultCacheMinNodes = 8;
 
 CachePlan plan_cache(const Graph& g, int min_nodes);
 // Nodes of the sub-graph under `node` (itself included), inputs first.

@@ -60,13 +60,18 @@ PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
   return (int)floor(lambda);
 }
 
-/* floor(u * 2^lambda) as a 64-bit integer without overflow or UB. Beyond
+/* floor(u * 2^lambda + offset) as a 64-bit integer without overflow or UB.
+ * The offset is in [-0.5, 0.5): 0 gives the texel under u; a uniform random
+ * offset gives stochastic bilinear selection (between the two texels whose
+ * centres bracket u, the farther one is picked with probability equal to its
+ * bilinear weight, so the mean over samples is the bilinear interpolation of
+ * the texel values). Beyond
  * +-2^62 (uv ~1e7 at level 40 is 1e19) the float is already an integer and
  * the index is +-(2^62 + its bit pattern): still one key per distinct float
  * (and ordered), never an in-range index, at most 2^62 + 2^31 in magnitude.
  * NaN maps to 0. */
-PMC_FN long pmc_cache_texel(float u, int lambda) {
-  float s = u * exp2((float)lambda);
+PMC_FN long pmc_cache_texel_jittered(float u, int lambda, float offset) {
+  float s = u * exp2((float)lambda) + offset;
   float f = floor(s);
   const float lim = 4.6116860184e18f; /* 2^62 */
   if (isnan(f)) return 0L;
@@ -76,6 +81,8 @@ PMC_FN long pmc_cache_texel(float u, int lambda) {
   }
   return (long)f;
 }
+
+PMC_FN long pmc_cache_texel(float u, int lambda) { return pmc_cache_texel_jittered(u, lambda, 0.0f); }
 
 /* Centre of a texel, in uv (for --cache-eval center); always finite. Beyond
  * +-2^62 the index holds the float itself (see above): give back that uv
@@ -89,6 +96,17 @@ PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
     return texel < 0 ? -c : c;
   }
   return ((float)texel + 0.5f) * exp2((float)-lambda);
+}
+
+/* Texture footprint (uv diameter) for a --cache-eval center miss: what the
+ * ray cone gives at this level without the mip bias, 2 * 2^-(lambda - bias).
+ * It depends on the level alone, so the stored value does not depend on the
+ * inserting hit, and a positive bias refines the texel grid (position error)
+ * without sharpening textures beyond what the cacheless render filters. */
+PMC_FN float pmc_cache_texel_footprint(int lambda, float bias) {
+  float b = isfinite(bias) ? bias : 0.0f;
+  float f = 2.0f * exp2(-((float)lambda - b));
+  return isfinite(f) ? f : 0.0f;
 }
 
 /* ---- hashing --------------------------------------------------------------- */
@@ -139,7 +157,7 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
   if (!pmc_rgb9e5_encodable(r, g, b)) return PMC_RGB9E5_INVALID;
   float m = fmax(r, fmax(g, b));
   if (m < 1.52587890625e-05f * (1.0f / 512.0f)) return 0u; /* below the smallest step: zero */
-  int e = (int)floor(log2(m)); /* m in [2^e, 2^(e+1)) */
+  int e = (int)floor(log2(m));                             /* m in [2^e, 2^(e+1)) */
   if (e < -16) e = -16;
   int exp_shared = e + 1; /* mantissas < 512 */
   float scale = exp2((float)(9 - exp_shared));
@@ -159,8 +177,8 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
 PMC_FN float4 pmc_decode_rgb9e5(pmc_u32 v) {
   int e = (int)(v >> 27) - 15;
   float scale = exp2((float)(e - 9));
-  return make_float4((float)(v & 511u) * scale, (float)((v >> 9) & 511u) * scale, (float)((v >> 18) & 511u) * scale,
-                     0.0f);
+  return make_float4((float)(v & 511u) * scale, (float)((v >> 9) & 511u) * scale,
+                     (float)((v >> 18) & 511u) * scale, 0.0f);
 }
 
 /* IEEE half from float (round to nearest even), and back; no NaN/Inf inputs. */

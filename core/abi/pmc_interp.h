@@ -36,6 +36,9 @@ typedef struct PmcCacheContext {
   PMC_CACHE_PTR stats; /* PMC_CSTAT_* counters */
   float2 g1, g2;       /* ray-cone uv gradients at the hit */
   float bias;          /* --mip-bias */
+  float2 jitter;       /* added to uv * 2^lambda before flooring, in [-0.5, 0.5):
+                        * 0 is the nearest texel; uniform random offsets pick a
+                        * neighbour with its bilinear weight (--cache-filter) */
   pmc_u32 material;
   pmc_u32 center; /* --cache-eval center: evaluate misses at the texel centre */
   pmc_u32 hits;   /* out: cache points found in this evaluation */
@@ -114,17 +117,24 @@ PMC_FN float4 pmc_hsv_to_rgb(float4 c) {
   float f = h - (float)i;
   float p = v * (1.0f - s), q = v * (1.0f - s * f), t = v * (1.0f - s * (1.0f - f));
   float r, g, b;
-  if (i == 0) r = v, g = t, b = p;
-  else if (i == 1) r = q, g = v, b = p;
-  else if (i == 2) r = p, g = v, b = t;
-  else if (i == 3) r = p, g = q, b = v;
-  else if (i == 4) r = t, g = p, b = v;
-  else r = v, g = p, b = q;
+  if (i == 0)
+    r = v, g = t, b = p;
+  else if (i == 1)
+    r = q, g = v, b = p;
+  else if (i == 2)
+    r = p, g = v, b = t;
+  else if (i == 3)
+    r = p, g = q, b = v;
+  else if (i == 4)
+    r = t, g = p, b = v;
+  else
+    r = v, g = p, b = q;
   return make_float4(r, g, b, c.w);
 }
 
 /* MaterialX place2d: SRT (order 0) or TRS (order 1) about a pivot. */
-PMC_FN float4 pmc_place2d(float4 uv, float4 pivot, float4 scale, float rotate_degrees, float4 offset, int order) {
+PMC_FN float4 pmc_place2d(float4 uv, float4 pivot, float4 scale, float rotate_degrees, float4 offset,
+                          int order) {
   float a = -rotate_degrees * (PMC_PI / 180.0f);
   float ca = cos(a), sa = sin(a);
   float x = uv.x - pivot.x, y = uv.y - pivot.y;
@@ -185,7 +195,9 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         pc += 2u + nargs;
         continue;
       }
-      case PMC_OP_MOVE: r = PMC_ARG(0); break;
+      case PMC_OP_MOVE:
+        r = PMC_ARG(0);
+        break;
       case PMC_OP_SWIZZLE: {
         float4 a = PMC_ARG(0);
         float v[4];
@@ -202,14 +214,17 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         r = make_float4(v[0], v[1], v[2], v[3]);
         break;
       }
-      case PMC_OP_TEXCOORD: r = make_float4(uv_now.x, uv_now.y, 0.0f, 0.0f); break;
+      case PMC_OP_TEXCOORD:
+        r = make_float4(uv_now.x, uv_now.y, 0.0f, 0.0f);
+        break;
       case PMC_OP_CACHE_LOOKUP: {
         /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
          * the number of words to skip past the matching CACHE_STORE on a hit. */
         pending_valid = 0;
         if (cache) {
           int lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
-          long tx = pmc_cache_texel(in->uv.x, lambda), ty = pmc_cache_texel(in->uv.y, lambda);
+          long tx = pmc_cache_texel_jittered(in->uv.x, lambda, cache->jitter.x);
+          long ty = pmc_cache_texel_jittered(in->uv.y, lambda, cache->jitter.y);
           PmcCacheKey key = pmc_cache_key(cache->material, imm & 0x3fffu, lambda, tx, ty);
           pmc_u32 bits;
           pmc_stat_add(cache->stats, PMC_CSTAT_LOOKUPS);
@@ -227,7 +242,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
           pending_valid = 1;
           if (cache->center) {
             uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
-            footprint_now = 2.0f * exp2((float)-lambda); /* a diameter, like sp.footprint */
+            footprint_now = pmc_cache_texel_footprint(lambda, cache->bias);
           }
         }
         pc += 3u;
@@ -260,22 +275,44 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         pc += 2u + nargs;
         continue;
       }
-      case PMC_OP_POSITION: r = make_float4(in->position.x, in->position.y, in->position.z, 0.0f); break;
-      case PMC_OP_NORMAL: r = make_float4(in->normal.x, in->normal.y, in->normal.z, 0.0f); break;
-      case PMC_OP_TANGENT: r = make_float4(in->tangent.x, in->tangent.y, in->tangent.z, 0.0f); break;
-      case PMC_OP_BITANGENT: r = make_float4(in->bitangent.x, in->bitangent.y, in->bitangent.z, 0.0f); break;
-      case PMC_OP_ADD: r = PMC_ARG(0) + PMC_ARG(1); break;
-      case PMC_OP_SUB: r = PMC_ARG(0) - PMC_ARG(1); break;
-      case PMC_OP_MUL: r = PMC_ARG(0) * PMC_ARG(1); break;
-      case PMC_OP_DIV: r = PMC_ARG(0) / PMC_ARG(1); break;
+      case PMC_OP_POSITION:
+        r = make_float4(in->position.x, in->position.y, in->position.z, 0.0f);
+        break;
+      case PMC_OP_NORMAL:
+        r = make_float4(in->normal.x, in->normal.y, in->normal.z, 0.0f);
+        break;
+      case PMC_OP_TANGENT:
+        r = make_float4(in->tangent.x, in->tangent.y, in->tangent.z, 0.0f);
+        break;
+      case PMC_OP_BITANGENT:
+        r = make_float4(in->bitangent.x, in->bitangent.y, in->bitangent.z, 0.0f);
+        break;
+      case PMC_OP_ADD:
+        r = PMC_ARG(0) + PMC_ARG(1);
+        break;
+      case PMC_OP_SUB:
+        r = PMC_ARG(0) - PMC_ARG(1);
+        break;
+      case PMC_OP_MUL:
+        r = PMC_ARG(0) * PMC_ARG(1);
+        break;
+      case PMC_OP_DIV:
+        r = PMC_ARG(0) / PMC_ARG(1);
+        break;
       case PMC_OP_MOD: {
         float4 a = PMC_ARG(0), b = PMC_ARG(1);
         r = a - b * floor(a / b);
         break;
       }
-      case PMC_OP_POW: r = pow(PMC_ARG(0), PMC_ARG(1)); break;
-      case PMC_OP_MIN: r = fmin(PMC_ARG(0), PMC_ARG(1)); break;
-      case PMC_OP_MAX: r = fmax(PMC_ARG(0), PMC_ARG(1)); break;
+      case PMC_OP_POW:
+        r = pow(PMC_ARG(0), PMC_ARG(1));
+        break;
+      case PMC_OP_MIN:
+        r = fmin(PMC_ARG(0), PMC_ARG(1));
+        break;
+      case PMC_OP_MAX:
+        r = fmax(PMC_ARG(0), PMC_ARG(1));
+        break;
       case PMC_OP_DOT: {
         float4 a = PMC_ARG(0), b = PMC_ARG(1);
         pmc_u32 n = imm == 0u ? 3u : imm; /* imm = operand width */
@@ -286,12 +323,24 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         r = pmc_broadcast(d);
         break;
       }
-      case PMC_OP_ABS: r = fabs(PMC_ARG(0)); break;
-      case PMC_OP_FLOOR: r = floor(PMC_ARG(0)); break;
-      case PMC_OP_CEIL: r = ceil(PMC_ARG(0)); break;
-      case PMC_OP_SIN: r = sin(PMC_ARG(0)); break;
-      case PMC_OP_COS: r = cos(PMC_ARG(0)); break;
-      case PMC_OP_SQRT: r = sqrt(PMC_ARG(0)); break;
+      case PMC_OP_ABS:
+        r = fabs(PMC_ARG(0));
+        break;
+      case PMC_OP_FLOOR:
+        r = floor(PMC_ARG(0));
+        break;
+      case PMC_OP_CEIL:
+        r = ceil(PMC_ARG(0));
+        break;
+      case PMC_OP_SIN:
+        r = sin(PMC_ARG(0));
+        break;
+      case PMC_OP_COS:
+        r = cos(PMC_ARG(0));
+        break;
+      case PMC_OP_SQRT:
+        r = sqrt(PMC_ARG(0));
+        break;
       case PMC_OP_NORMALIZE: {
         float4 a = PMC_ARG(0);
         float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
@@ -299,7 +348,9 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         r = l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a;
         break;
       }
-      case PMC_OP_CLAMP: r = fmin(fmax(PMC_ARG(0), PMC_ARG(1)), PMC_ARG(2)); break;
+      case PMC_OP_CLAMP:
+        r = fmin(fmax(PMC_ARG(0), PMC_ARG(1)), PMC_ARG(2));
+        break;
       case PMC_OP_SMOOTHSTEP: {
         float4 a = PMC_ARG(0), lo = PMC_ARG(1), hi = PMC_ARG(2);
         r = make_float4(pmc_smoothstep1(a.x, lo.x, hi.x), pmc_smoothstep1(a.y, lo.y, hi.y),
@@ -316,16 +367,24 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         r = ol + (a - il) * (oh - ol) / (ih - il);
         break;
       }
-      case PMC_OP_IFGREATER: r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 0); break;
-      case PMC_OP_IFGREATEREQ: r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 1); break;
+      case PMC_OP_IFGREATER:
+        r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 0);
+        break;
+      case PMC_OP_IFGREATEREQ:
+        r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 1);
+        break;
       case PMC_OP_LUMINANCE: {
         float4 c = PMC_ARG(0), k = PMC_ARG(1);
         float l = c.x * k.x + c.y * k.y + c.z * k.z;
         r = make_float4(l, l, l, c.w);
         break;
       }
-      case PMC_OP_RGBTOHSV: r = pmc_rgb_to_hsv(PMC_ARG(0)); break;
-      case PMC_OP_HSVTORGB: r = pmc_hsv_to_rgb(PMC_ARG(0)); break;
+      case PMC_OP_RGBTOHSV:
+        r = pmc_rgb_to_hsv(PMC_ARG(0));
+        break;
+      case PMC_OP_HSVTORGB:
+        r = pmc_hsv_to_rgb(PMC_ARG(0));
+        break;
       case PMC_OP_IMAGE: {
         float4 uv = PMC_ARG(0), def = PMC_ARG(1), mode = PMC_ARG(2);
         pmc_u32 bits = (pmc_u32)pmc_to_int(mode.x);
@@ -336,7 +395,8 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         break;
       }
       case PMC_OP_PLACE2D:
-        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4), pmc_to_int(PMC_ARG(5).x));
+        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4),
+                        pmc_to_int(PMC_ARG(5).x));
         break;
       case PMC_OP_NOISE2D: {
         float4 p = PMC_ARG(0);
@@ -350,7 +410,8 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       }
       case PMC_OP_FRACTAL2D: {
         float4 p = PMC_ARG(0);
-        r = pmc_op_fractal2d(make_float2(p.x, p.y), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x, width) *
+        r = pmc_op_fractal2d(make_float2(p.x, p.y), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x,
+                             width) *
             PMC_ARG(1);
         break;
       }

@@ -99,23 +99,42 @@ PMC_FN pmc_u32 pmc_noise_rotl(pmc_u32 x, int k) { return (x << k) | (x >> (32 - 
 
 /* lookup3 mix(): reversible mixing of three words. */
 PMC_FN void pmc_noise_bjmix(pmc_u32* a, pmc_u32* b, pmc_u32* c) {
-  *a -= *c; *a ^= pmc_noise_rotl(*c, 4);  *c += *b;
-  *b -= *a; *b ^= pmc_noise_rotl(*a, 6);  *a += *c;
-  *c -= *b; *c ^= pmc_noise_rotl(*b, 8);  *b += *a;
-  *a -= *c; *a ^= pmc_noise_rotl(*c, 16); *c += *b;
-  *b -= *a; *b ^= pmc_noise_rotl(*a, 19); *a += *c;
-  *c -= *b; *c ^= pmc_noise_rotl(*b, 4);  *b += *a;
+  *a -= *c;
+  *a ^= pmc_noise_rotl(*c, 4);
+  *c += *b;
+  *b -= *a;
+  *b ^= pmc_noise_rotl(*a, 6);
+  *a += *c;
+  *c -= *b;
+  *c ^= pmc_noise_rotl(*b, 8);
+  *b += *a;
+  *a -= *c;
+  *a ^= pmc_noise_rotl(*c, 16);
+  *c += *b;
+  *b -= *a;
+  *b ^= pmc_noise_rotl(*a, 19);
+  *a += *c;
+  *c -= *b;
+  *c ^= pmc_noise_rotl(*b, 4);
+  *b += *a;
 }
 
 /* lookup3 final(): returns the finished c. */
 PMC_FN pmc_u32 pmc_noise_bjfinal(pmc_u32 a, pmc_u32 b, pmc_u32 c) {
-  c ^= b; c -= pmc_noise_rotl(b, 14);
-  a ^= c; a -= pmc_noise_rotl(c, 11);
-  b ^= a; b -= pmc_noise_rotl(a, 25);
-  c ^= b; c -= pmc_noise_rotl(b, 16);
-  a ^= c; a -= pmc_noise_rotl(c, 4);
-  b ^= a; b -= pmc_noise_rotl(a, 14);
-  c ^= b; c -= pmc_noise_rotl(b, 24);
+  c ^= b;
+  c -= pmc_noise_rotl(b, 14);
+  a ^= c;
+  a -= pmc_noise_rotl(c, 11);
+  b ^= a;
+  b -= pmc_noise_rotl(a, 25);
+  c ^= b;
+  c -= pmc_noise_rotl(b, 16);
+  a ^= c;
+  a -= pmc_noise_rotl(c, 4);
+  b ^= a;
+  b -= pmc_noise_rotl(a, 14);
+  c ^= b;
+  c -= pmc_noise_rotl(b, 24);
   return c;
 }
 
@@ -169,8 +188,8 @@ PMC_FN float pmc_noise_bilerp(float v0, float v1, float v2, float v3, float s, f
   return (1.0f - t) * (v0 * s1 + v1 * s) + t * (v2 * s1 + v3 * s);
 }
 
-PMC_FN float pmc_noise_trilerp(float v0, float v1, float v2, float v3, float v4, float v5, float v6,
-                               float v7, float s, float t, float r) {
+PMC_FN float pmc_noise_trilerp(float v0, float v1, float v2, float v3, float v4, float v5, float v6, float v7,
+                               float s, float t, float r) {
   float s1 = 1.0f - s, t1 = 1.0f - t, r1 = 1.0f - r;
   return (r1 * (t1 * (v0 * s1 + v1 * s) + t * (v2 * s1 + v3 * s)) +
           r * (t1 * (v4 * s1 + v5 * s) + t * (v6 * s1 + v7 * s)));
@@ -211,14 +230,12 @@ PMC_FN float4 pmc_noise_perlin3(float px, float py, float pz, int lanes) {
   float out[3] = {0.0f, 0.0f, 0.0f};
   for (int k = 0; k < lanes && k < 3; ++k) {
     int sh = 8 * k;
-    out[k] = 0.9820f * pmc_noise_trilerp(pmc_noise_grad3(h000 >> sh, fx, fy, fz),
-                                         pmc_noise_grad3(h100 >> sh, gx, fy, fz),
-                                         pmc_noise_grad3(h010 >> sh, fx, gy, fz),
-                                         pmc_noise_grad3(h110 >> sh, gx, gy, fz),
-                                         pmc_noise_grad3(h001 >> sh, fx, fy, gz),
-                                         pmc_noise_grad3(h101 >> sh, gx, fy, gz),
-                                         pmc_noise_grad3(h011 >> sh, fx, gy, gz),
-                                         pmc_noise_grad3(h111 >> sh, gx, gy, gz), u, v, w);
+    out[k] = 0.9820f * pmc_noise_trilerp(
+                           pmc_noise_grad3(h000 >> sh, fx, fy, fz), pmc_noise_grad3(h100 >> sh, gx, fy, fz),
+                           pmc_noise_grad3(h010 >> sh, fx, gy, fz), pmc_noise_grad3(h110 >> sh, gx, gy, fz),
+                           pmc_noise_grad3(h001 >> sh, fx, fy, gz), pmc_noise_grad3(h101 >> sh, gx, fy, gz),
+                           pmc_noise_grad3(h011 >> sh, fx, gy, gz), pmc_noise_grad3(h111 >> sh, gx, gy, gz),
+                           u, v, w);
   }
   return make_float4(out[0], out[1], out[2], 0.0f);
 }
@@ -245,8 +262,7 @@ PMC_FN float4 pmc_op_noise2d(float2 p, pmc_u32 width) {
 /* MaterialX noise3d before amplitude/pivot; lanes as pmc_op_noise2d, the
  * vector4 w from the float noise at p + (19, 73, 29). */
 PMC_FN float4 pmc_op_noise3d(float3 p, pmc_u32 width) {
-  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z))
-    return pmc_noise_zero4();
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z)) return pmc_noise_zero4();
   if (width <= 1u) {
     float n = pmc_noise_perlin3(p.x, p.y, p.z, 1).x;
     return make_float4(n, n, n, n);
@@ -265,8 +281,7 @@ PMC_FN int pmc_noise_octaves(int octaves) {
 
 /* Octave sum of the 2D noise (lanes 1 or 3). Stops early once the position or
  * the amplitude is no longer finite; the sum is clamped to finite floats. */
-PMC_FN float4 pmc_noise_fbm2(float px, float py, int octaves, float lacunarity, float diminish,
-                             int lanes) {
+PMC_FN float4 pmc_noise_fbm2(float px, float py, int octaves, float lacunarity, float diminish, int lanes) {
   float4 sum = pmc_noise_zero4();
   float amp = 1.0f;
   int n = pmc_noise_octaves(octaves);
@@ -280,18 +295,16 @@ PMC_FN float4 pmc_noise_fbm2(float px, float py, int octaves, float lacunarity, 
     px *= lacunarity;
     py *= lacunarity;
   }
-  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y),
-                     pmc_noise_sanitize(sum.z), 0.0f);
+  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y), pmc_noise_sanitize(sum.z), 0.0f);
 }
 
-PMC_FN float4 pmc_noise_fbm3(float px, float py, float pz, int octaves, float lacunarity,
-                             float diminish, int lanes) {
+PMC_FN float4 pmc_noise_fbm3(float px, float py, float pz, int octaves, float lacunarity, float diminish,
+                             int lanes) {
   float4 sum = pmc_noise_zero4();
   float amp = 1.0f;
   int n = pmc_noise_octaves(octaves);
   for (int i = 0; i < n; ++i) {
-    if (!pmc_noise_finite(px) || !pmc_noise_finite(py) || !pmc_noise_finite(pz) ||
-        !pmc_noise_finite(amp))
+    if (!pmc_noise_finite(px) || !pmc_noise_finite(py) || !pmc_noise_finite(pz) || !pmc_noise_finite(amp))
       break;
     float4 v = pmc_noise_perlin3(px, py, pz, lanes);
     sum.x += amp * v.x;
@@ -302,15 +315,13 @@ PMC_FN float4 pmc_noise_fbm3(float px, float py, float pz, int octaves, float la
     py *= lacunarity;
     pz *= lacunarity;
   }
-  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y),
-                     pmc_noise_sanitize(sum.z), 0.0f);
+  return make_float4(pmc_noise_sanitize(sum.x), pmc_noise_sanitize(sum.y), pmc_noise_sanitize(sum.z), 0.0f);
 }
 
 /* MaterialX fractal2d before amplitude. width 1: float fractal in all lanes;
  * 2: (F(p), F(p + (19, 193))); 3: vector3 fractal; 4: vector3 fractal and
  * w = F(p + (19, 193)). Octaves are clamped to [0, 16]. */
-PMC_FN float4 pmc_op_fractal2d(float2 p, int octaves, float lacunarity, float diminish,
-                               pmc_u32 width) {
+PMC_FN float4 pmc_op_fractal2d(float2 p, int octaves, float lacunarity, float diminish, pmc_u32 width) {
   if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(lacunarity) ||
       !pmc_noise_finite(diminish))
     return pmc_noise_zero4();
@@ -330,8 +341,7 @@ PMC_FN float4 pmc_op_fractal2d(float2 p, int octaves, float lacunarity, float di
 
 /* MaterialX fractal3d before amplitude; lanes as pmc_op_fractal2d with the
  * offset (19, 193, 17). */
-PMC_FN float4 pmc_op_fractal3d(float3 p, int octaves, float lacunarity, float diminish,
-                               pmc_u32 width) {
+PMC_FN float4 pmc_op_fractal3d(float3 p, int octaves, float lacunarity, float diminish, pmc_u32 width) {
   if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z) ||
       !pmc_noise_finite(lacunarity) || !pmc_noise_finite(diminish))
     return pmc_noise_zero4();
@@ -359,8 +369,8 @@ PMC_FN float pmc_op_cellnoise2d(float2 p) {
 
 PMC_FN float pmc_op_cellnoise3d(float3 p) {
   if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z)) return 0.0f;
-  return pmc_noise_to01(pmc_noise_hash3(pmc_noise_cell(floor(p.x)), pmc_noise_cell(floor(p.y)),
-                                        pmc_noise_cell(floor(p.z))));
+  return pmc_noise_to01(
+      pmc_noise_hash3(pmc_noise_cell(floor(p.x)), pmc_noise_cell(floor(p.y)), pmc_noise_cell(floor(p.z))));
 }
 
 /* ---- worley ------------------------------------------------------------- */
@@ -386,8 +396,8 @@ PMC_FN int pmc_noise_worley_insert(float d, float* d0, float* d1, float* d2) {
 
 /* Packs the worley result: distances (style 0) or the cell noise of the
  * nearest feature's cell (style 1; `c0..c2` are its three cell-noise lanes). */
-PMC_FN float4 pmc_noise_worley_out(int style, pmc_u32 width, float d0, float d1, float d2, float c0,
-                                   float c1, float c2) {
+PMC_FN float4 pmc_noise_worley_out(int style, pmc_u32 width, float d0, float d1, float d2, float c0, float c1,
+                                   float c2) {
   float a, b, c;
   if (style == 1) {
     a = c0;
@@ -407,8 +417,7 @@ PMC_FN float4 pmc_noise_worley_out(int style, pmc_u32 width, float d0, float d1,
  * 3: (F1, F2, F3). style 1 (Solid): cell noise of the nearest feature's cell
  * (float in all lanes for width 1, else the vector cell noise). */
 PMC_FN float4 pmc_op_worley2d(float2 p, float jitter, int style, pmc_u32 width) {
-  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(jitter))
-    return pmc_noise_zero4();
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(jitter)) return pmc_noise_zero4();
   pmc_u32 X, Y;
   float lx = pmc_noise_floorfrac(p.x, &X);
   float ly = pmc_noise_floorfrac(p.y, &Y);
@@ -444,8 +453,7 @@ PMC_FN float4 pmc_op_worley2d(float2 p, float jitter, int style, pmc_u32 width) 
 
 /* MaterialX worleynoise3d; outputs as pmc_op_worley2d. */
 PMC_FN float4 pmc_op_worley3d(float3 p, float jitter, int style, pmc_u32 width) {
-  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z) ||
-      !pmc_noise_finite(jitter))
+  if (!pmc_noise_finite(p.x) || !pmc_noise_finite(p.y) || !pmc_noise_finite(p.z) || !pmc_noise_finite(jitter))
     return pmc_noise_zero4();
   pmc_u32 X, Y, Z;
   float lx = pmc_noise_floorfrac(p.x, &X);

@@ -17,8 +17,8 @@
 
 /* uv gradients along the footprint's axes. `ng` is the unit geometric normal,
  * `dir` the unit ray direction, `radius` the cone radius at the hit. */
-PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p0, float3 p1, float3 p2, float2 t0,
-                                   float2 t1, float2 t2, float2* g1, float2* g2) {
+PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p0, float3 p1, float3 p2,
+                                   float2 t0, float2 t1, float2 t2, float2* g1, float2* g2) {
   *g1 = make_float2(0.0f, 0.0f);
   *g2 = make_float2(0.0f, 0.0f);
   if (!(radius > 0.0f) || !isfinite(radius)) return;

@@ -42,5 +42,7 @@ PMC_FN float pmc_rand(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 dim) {
 #define PMC_DIM_BSDF_U 6u
 #define PMC_DIM_BSDF_V 7u
 #define PMC_DIM_RR 8u
+#define PMC_DIM_CACHE_U 9u
+#define PMC_DIM_CACHE_V 10u
 
 #endif /* PMC_RNG_H */

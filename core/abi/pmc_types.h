@@ -6,8 +6,8 @@
  * here on both sides. Data flows:
  *   camera kernel   -> PmcRay queue + PmcPathState
  *   host (Embree)   -> PmcHit per ray (and occlusion bytes for shadow rays)
- *   shade kernel    -> runs PmcMaterialInfo.entry's bytecode, writes the next PmcRay queue, shadow PmcRay queue + PmcShadowLoad
- *   resolve kernel  -> PmcPathState.radiance; film kernel -> PmcFilmPixel
+ *   shade kernel    -> runs PmcMaterialInfo.entry's bytecode, writes the next PmcRay queue, shadow PmcRay
+ * queue + PmcShadowLoad resolve kernel  -> PmcPathState.radiance; film kernel -> PmcFilmPixel
  */
 #ifndef PMC_TYPES_H
 #define PMC_TYPES_H
@@ -115,6 +115,7 @@ typedef struct PmcFrame {
   pmc_u32 cache_ways;   /* entries per cell */
   pmc_u32 cache_cells_lo, cache_cells_hi;
   float mip_bias;
+  pmc_u32 cache_bilinear; /* --cache-filter bilinear: jittered texel selection */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

@@ -73,11 +73,9 @@ PMC_FN float2 operator+(float2 a, float2 b) { return {a.x + b.x, a.y + b.y}; }
 PMC_FN float2 operator-(float2 a, float2 b) { return {a.x - b.x, a.y - b.y}; }
 PMC_FN float2 operator*(float2 a, float s) { return {a.x * s, a.y * s}; }
 PMC_FN float2 operator*(float s, float2 a) { return {a.x * s, a.y * s}; }
-#define PMC_F4_BINOP(OP)                                                      \
-  PMC_FN float4 operator OP(float4 a, float4 b) {                           \
-    return {a.x OP b.x, a.y OP b.y, a.z OP b.z, a.w OP b.w};                \
-  }                                                                         \
-  PMC_FN float4 operator OP(float4 a, float s) { return {a.x OP s, a.y OP s, a.z OP s, a.w OP s}; } \
+#define PMC_F4_BINOP(OP)                                                                                     \
+  PMC_FN float4 operator OP(float4 a, float4 b) { return {a.x OP b.x, a.y OP b.y, a.z OP b.z, a.w OP b.w}; } \
+  PMC_FN float4 operator OP(float4 a, float s) { return {a.x OP s, a.y OP s, a.z OP s, a.w OP s}; }          \
   PMC_FN float4 operator OP(float s, float4 a) { return {s OP a.x, s OP a.y, s OP a.z, s OP a.w}; }
 PMC_F4_BINOP(+)
 PMC_F4_BINOP(-)
@@ -94,8 +92,8 @@ PMC_F4_UNARY(sin)
 PMC_F4_UNARY(cos)
 PMC_F4_UNARY(sqrt)
 #undef PMC_F4_UNARY
-#define PMC_F4_BINARY(FN)                                                        \
-  PMC_FN float4 FN(float4 a, float4 b) {                                         \
+#define PMC_F4_BINARY(FN)                                                                \
+  PMC_FN float4 FN(float4 a, float4 b) {                                                 \
     return {std::FN(a.x, b.x), std::FN(a.y, b.y), std::FN(a.z, b.z), std::FN(a.w, b.w)}; \
   }
 PMC_F4_BINARY(fmin)

@@ -213,6 +213,12 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     cache.bias = frame->mip_bias;
     cache.material = (uint)tri.material;
     cache.center = frame->cache_center;
+    cache.jitter = make_float2(0.0f, 0.0f);
+    if (frame->cache_bilinear) {
+      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
+      cache.jitter = make_float2(pmc_rand(ckey, depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
+                                 pmc_rand(ckey, depth + 1u, PMC_DIM_CACHE_V) - 0.5f);
+    }
     cache.hits = 0u;
     cache_ptr = &cache;
   }

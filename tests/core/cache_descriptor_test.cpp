@@ -46,8 +46,8 @@ struct Tri {
 };
 // Lower-left half of the unit square in z = 0, uv = (x, y) * uv_scale.
 Tri unit_tri(float uv_scale = 1.0f) {
-  return {make_float3(0, 0, 0),          make_float3(1, 0, 0),          make_float3(0, 1, 0),
-          make_float2(0, 0),             make_float2(uv_scale, 0),      make_float2(0, uv_scale)};
+  return {make_float3(0, 0, 0), make_float3(1, 0, 0),     make_float3(0, 1, 0),
+          make_float2(0, 0),    make_float2(uv_scale, 0), make_float2(0, uv_scale)};
 }
 // The other half, wound the other way round from a different corner.
 Tri other_tri() {
@@ -96,7 +96,8 @@ TEST(CacheDescriptor, RayConeGradientsMatchTheAnalyticFootprint) {
     float lo = std::fmin(length(g1), length(g2)), hi = std::fmax(length(g1), length(g2));
     EXPECT_NEAR(lo, r, 1e-5f * r) << "theta " << theta;
     EXPECT_NEAR(hi, r / std::cos(theta), 1e-4f * r / std::cos(theta)) << "theta " << theta;
-    EXPECT_EQ(pmc_cache_lambda(g1, g2, 0.0f), int(std::floor(-std::log2(r)))) << "lambda uses the shorter axis";
+    EXPECT_EQ(pmc_cache_lambda(g1, g2, 0.0f), int(std::floor(-std::log2(r))))
+        << "lambda uses the shorter axis";
   }
 }
 
@@ -104,7 +105,8 @@ TEST(CacheDescriptor, HardFootprintsGiveAFiniteClampedLevel) {
   const float3 n = make_float3(0, 0, 1);
   float2 g1, g2;
   // Ray exactly along the normal (dir = -n) and nearly so: a circle of the cone radius.
-  for (float3 dir : {make_float3(0, 0, -1), normalize(make_float3(1e-9f, 0, -1)), normalize(make_float3(0, 1e-7f, -1))}) {
+  for (float3 dir :
+       {make_float3(0, 0, -1), normalize(make_float3(1e-9f, 0, -1)), normalize(make_float3(0, 1e-7f, -1))}) {
     gradients(unit_tri(), dir, n, 0.01f, &g1, &g2);
     ASSERT_TRUE(finite2(g1) && finite2(g2));
     EXPECT_NEAR(length(g1), 0.01f, 1e-6f);
@@ -158,7 +160,8 @@ TEST(CacheDescriptor, HardFootprintsGiveAFiniteClampedLevel) {
     EXPECT_EQ(pmc_cache_lambda(g1, g2, 0.0f), PMC_LAMBDA_MAX) << r;
   }
   // Gradients and biases straight into pmc_cache_lambda.
-  const float vals[] = {0.0f, -0.0f, 1e-45f, 1e-30f, 1e-12f, 1e-3f, 1.0f, 1e6f, 1e30f, 3e38f, kInf, -kInf, kNaN};
+  const float vals[] = {0.0f, -0.0f, 1e-45f, 1e-30f, 1e-12f, 1e-3f, 1.0f,
+                        1e6f, 1e30f, 3e38f,  kInf,   -kInf,  kNaN};
   for (float a : vals)
     for (float b : vals)
       for (float bias : {0.0f, -32.0f, 32.0f, 1e30f, -1e30f, kNaN, kInf, -kInf}) {
@@ -172,8 +175,10 @@ TEST(CacheDescriptor, HardFootprintsGiveAFiniteClampedLevel) {
   EXPECT_EQ(pmc_cache_lambda(make_float2(1e30f, 0), make_float2(1e30f, 0), 0.0f), PMC_LAMBDA_MAX);
   EXPECT_EQ(pmc_cache_lambda(make_float2(1e-30f, 0), make_float2(1e-30f, 0), 0.0f), PMC_LAMBDA_MAX);
   EXPECT_EQ(pmc_cache_lambda(make_float2(0.25f, 0), make_float2(0, 0.5f), 0.0f), 2) << "min of the two";
-  EXPECT_EQ(pmc_cache_lambda(make_float2(0.25f, 0), make_float2(0, 0), 0.0f), 2) << "one zero axis: the other";
-  EXPECT_EQ(pmc_cache_lambda(make_float2(kNaN, 0), make_float2(0, 0.5f), 0.0f), 1) << "one NaN axis: the other";
+  EXPECT_EQ(pmc_cache_lambda(make_float2(0.25f, 0), make_float2(0, 0), 0.0f), 2)
+      << "one zero axis: the other";
+  EXPECT_EQ(pmc_cache_lambda(make_float2(kNaN, 0), make_float2(0, 0.5f), 0.0f), 1)
+      << "one NaN axis: the other";
 }
 
 // floor(u * 2^lambda) computed exactly in long double.
@@ -181,9 +186,9 @@ long double exact_texel(float u, int lambda) { return std::floor((long double)u 
 
 TEST(CacheDescriptor, TexelIndicesOnHardUvs) {
   const long kLim = 4611686018427387904L;  // 2^62
-  std::vector<float> uvs = {0.0f,  -0.0f,  0.3f,  -0.3f,  1.0f,   1.5f,  -1.0f, 0.999999f, 1e-40f, -1e-40f,
-                            1e7f,  -1e7f,  1.0000001e7f, 2e7f, -2e7f, 4.2e6f, 123456.7f, -98765.4f, 1e30f, -1e30f,
-                            3.4e38f, -3.4e38f, kInf, -kInf, kNaN};
+  std::vector<float> uvs = {0.0f,    -0.0f,  0.3f,    -0.3f,        1.0f, 1.5f,  -1.0f,  0.999999f, 1e-40f,
+                            -1e-40f, 1e7f,   -1e7f,   1.0000001e7f, 2e7f, -2e7f, 4.2e6f, 123456.7f, -98765.4f,
+                            1e30f,   -1e30f, 3.4e38f, -3.4e38f,     kInf, -kInf, kNaN};
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> uni(-3.0f, 3.0f);
   for (int i = 0; i < 2000; ++i) uvs.push_back(uni(rng));
@@ -241,8 +246,10 @@ TEST(CacheDescriptor, DistinctFloatUvsBeyondTheIndexRangeStayDistinct) {
   }
   // The texel of the infinite uvs is centred on the largest float: still finite.
   for (int lambda : {PMC_LAMBDA_MIN, 0, PMC_LAMBDA_MAX}) {
-    EXPECT_EQ(pmc_cache_texel_center(pmc_cache_texel(kInf, lambda), lambda), std::numeric_limits<float>::max());
-    EXPECT_EQ(pmc_cache_texel_center(pmc_cache_texel(-kInf, lambda), lambda), -std::numeric_limits<float>::max());
+    EXPECT_EQ(pmc_cache_texel_center(pmc_cache_texel(kInf, lambda), lambda),
+              std::numeric_limits<float>::max());
+    EXPECT_EQ(pmc_cache_texel_center(pmc_cache_texel(-kInf, lambda), lambda),
+              -std::numeric_limits<float>::max());
   }
   // Ordered like the uvs (a monotonic map), so it cannot meet an in-range index.
   EXPECT_LT(pmc_cache_texel(1e7f, l), pmc_cache_texel(2e7f, l));
@@ -263,7 +270,7 @@ TEST(CacheDescriptor, SameTexelSharesAKeyAndNeighboursDoNot) {
   std::uniform_real_distribution<float> in(0.05f, 0.95f);
   for (int i = 0; i < 5000; ++i) {
     float u0 = float(cell(rng)) * t, v0 = float(cell(rng)) * t;
-    float u = u0 + in(rng) * t, v = v0 + in(rng) * t, u2 = u0 + in(rng) * t, v2 = v0 + in(rng) * t;
+    float u = u0 + in(rng)*t, v = v0 + in(rng)*t, u2 = u0 + in(rng)*t, v2 = v0 + in(rng)*t;
     PmcCacheKey k = key(1, 7, u, v, g);
     ASSERT_TRUE(same(k, key(1, 7, u2, v2, g))) << "same texel " << u << "," << v << " vs " << u2 << "," << v2;
     ASSERT_FALSE(same(k, key(1, 7, u + t, v, g))) << "next texel in u";
@@ -323,21 +330,73 @@ TEST(CacheDescriptor, NoCellAndFingerprintCollisionsAmongDistinctDescriptors) {
   std::set<Desc> seen;
   std::vector<Desc> rnd;
   while (rnd.size() < 100000) {
-    Desc d{uint32_t(rng() % 64), uint32_t(rng() % 16384), int(rng() % 57) - 16, long(rng() % 2000001) - 1000000,
-           long(rng() % 2000001) - 1000000};
+    Desc d{uint32_t(rng() % 64), uint32_t(rng() % 16384), int(rng() % 57) - 16,
+           long(rng() % 2000001) - 1000000, long(rng() % 2000001) - 1000000};
     if (seen.insert(d).second) rnd.push_back(d);
   }
   auto [rc, rf] = collisions(rnd, cells);
   EXPECT_EQ(rc, 0u);
   EXPECT_LE(rf, 12u);
-  std::printf("descriptor collisions: structured %zu (cell+fp) %zu (fp); random %zu (cell+fp) %zu (fp)\n", gc, gf,
-              rc, rf);
+  std::printf("descriptor collisions: structured %zu (cell+fp) %zu (fp); random %zu (cell+fp) %zu (fp)\n", gc,
+              gf, rc, rf);
   // Cells fill evenly: 100k keys in 1024 cells, ~97.7 each (sd ~9.9).
   std::vector<int> load(1024, 0);
   for (const Desc& d : grid) ++load[pmc_cache_key(d.m, d.node, d.lambda, d.tx, d.ty).h1 % 1024];
   int lo = *std::min_element(load.begin(), load.end()), hi = *std::max_element(load.begin(), load.end());
   EXPECT_GT(lo, 40);
   EXPECT_LT(hi, 160);
+}
+
+}  // namespace
+}  // namespace pmc
+
+namespace pmc {
+namespace {
+
+// --cache-filter bilinear: texel = floor(u * 2^lambda + offset), offset
+// uniform in [-0.5, 0.5). Between the two texels whose centres bracket u the
+// farther one must be picked with its bilinear weight, i.e. the mean of the
+// picked texels' centre values equals linear interpolation between them.
+TEST(CacheDescriptor, JitteredTexelsPickNeighboursWithTheirBilinearWeights) {
+  const int lambda = 5;
+  const float w = std::ldexp(1.0f, -lambda);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> offset(-0.5f, 0.5f);
+  for (float u : {0.0f, 0.3f * w, 0.5f * w, 0.9f * w, 7.25f * w, -2.6f * w, 0.51f}) {
+    // Centres bracketing u: texel i0 at (i0 + 0.5) w <= u < (i0 + 1.5) w.
+    const double x = double(u) / w - 0.5;
+    const long i0 = long(std::floor(x));
+    const double f = x - double(i0);
+    const int n = 200000;
+    int far = 0;
+    for (int k = 0; k < n; ++k) {
+      long t = pmc_cache_texel_jittered(u, lambda, offset(rng));
+      ASSERT_TRUE(t == i0 || t == i0 + 1)
+          << "u " << u << " picked texel " << t << ", not " << i0 << " or " << i0 + 1;
+      far += t == i0 + 1 ? 1 : 0;
+    }
+    // Binomial standard deviation <= 0.5 / sqrt(n) ~ 0.0011: allow 5 of them.
+    EXPECT_NEAR(double(far) / n, f, 0.0056) << "u " << u;
+  }
+  EXPECT_EQ(pmc_cache_texel_jittered(0.3f * w, lambda, 0.0f), pmc_cache_texel(0.3f * w, lambda))
+      << "offset 0 is the nearest texel";
+  EXPECT_EQ(pmc_cache_texel_jittered(kNaN, lambda, 0.25f), 0L);
+  EXPECT_EQ(pmc_cache_texel_jittered(kInf, lambda, -0.5f), pmc_cache_texel(kInf, lambda));
+  EXPECT_EQ(pmc_cache_texel_jittered(1e7f, 30, 0.49f), pmc_cache_texel(1e7f, 30))
+      << "beyond the index range the offset changes nothing";
+}
+
+// A center-mode miss filters textures with the footprint of the unbiased
+// level, so a mip bias refines the texel grid without sharpening textures.
+TEST(CacheDescriptor, TexelFootprintIgnoresTheMipBiasAndStaysFinite) {
+  for (int lambda : {PMC_LAMBDA_MIN, -3, 0, 4, 17, PMC_LAMBDA_MAX}) {
+    EXPECT_FLOAT_EQ(pmc_cache_texel_footprint(lambda, 0.0f), 2.0f * std::ldexp(1.0f, -lambda));
+    EXPECT_FLOAT_EQ(pmc_cache_texel_footprint(lambda + 2, 2.0f), pmc_cache_texel_footprint(lambda, 0.0f));
+    for (float bias : {kNaN, kInf, -kInf, 1e30f, -1e30f}) {
+      float f = pmc_cache_texel_footprint(lambda, bias);
+      EXPECT_TRUE(std::isfinite(f) && f >= 0.0f) << "lambda " << lambda << " bias " << bias << ": " << f;
+    }
+  }
 }
 
 }  // namespace

@@ -51,7 +51,8 @@ Outcome render(const std::string& dir, const std::string& obj, const std::string
 void expect_refused(const std::string& dir, const Outcome& o, const std::vector<std::string>& mentions) {
   EXPECT_EQ(o.code, 2) << o.log;
   EXPECT_NE(o.log.find("pmc: error: "), std::string::npos) << o.log;
-  for (const std::string& m : mentions) EXPECT_NE(o.log.find(m), std::string::npos) << "expected \"" << m << "\" in:\n" << o.log;
+  for (const std::string& m : mentions)
+    EXPECT_NE(o.log.find(m), std::string::npos) << "expected \"" << m << "\" in:\n" << o.log;
   EXPECT_FALSE(test::file_exists(dir + "/out.exr")) << o.log;
   EXPECT_FALSE(test::file_exists(dir + "/out.png")) << o.log;
   EXPECT_FALSE(test::file_exists(dir + "/out.json")) << o.log;
@@ -139,7 +140,8 @@ TEST(BadInput, ObjUnreadable) {
     ASSERT_EQ(chmod((dir + "/locked.obj").c_str(), 0), 0);
     expect_refused(dir, render(dir, dir + "/locked.obj"), {"locked.obj", "cannot open"});
   } else {
-    RecordProperty("chmod_000_case", "not run: root reads mode-000 files (directory/ENOTDIR/dangling link cases ran)");
+    RecordProperty("chmod_000_case",
+                   "not run: root reads mode-000 files (directory/ENOTDIR/dangling link cases ran)");
   }
 }
 
@@ -155,7 +157,8 @@ TEST(BadInput, MtlMissingTexture) {
   std::string dir = test::temp_dir();
   test::write_file(dir + "/scene.mtl", "newmtl wood\nKd 1 1 1\nmap_Kd textures/missing.png\n");
   test::write_file(dir + "/scene.obj", quad_obj("scene.mtl", "wood"));
-  expect_refused(dir, render(dir, dir + "/scene.obj"), {"textures/missing.png", "wood", "cannot read texture"});
+  expect_refused(dir, render(dir, dir + "/scene.obj"),
+                 {"textures/missing.png", "wood", "cannot read texture"});
 }
 
 TEST(BadInput, MtlTextureThatIsNotAnImage) {
@@ -214,10 +217,9 @@ TEST(BadInput, MaterialXNotXml) {
 
 TEST(BadInput, MaterialXUnknownNode) {
   std::string dir = test::temp_dir();
-  expect_refused(dir,
-                 render_mtlx(dir, "unknown.mtlx",
-                             mtlx_doc("<hypernoise name=\"hn\" type=\"color3\"/>", "hn")),
-                 {"unknown.mtlx", "hypernoise", "hn", "unsupported node"});
+  expect_refused(
+      dir, render_mtlx(dir, "unknown.mtlx", mtlx_doc("<hypernoise name=\"hn\" type=\"color3\"/>", "hn")),
+      {"unknown.mtlx", "hypernoise", "hn", "unsupported node"});
 }
 
 TEST(BadInput, MaterialXCycle) {
@@ -226,7 +228,8 @@ TEST(BadInput, MaterialXCycle) {
       "<add name=\"a\" type=\"color3\"><input name=\"in1\" type=\"color3\" nodename=\"b\"/></add>\n"
       "<multiply name=\"b\" type=\"color3\"><input name=\"in1\" type=\"color3\" nodename=\"c\"/></multiply>\n"
       "<sin name=\"c\" type=\"color3\"><input name=\"in\" type=\"color3\" nodename=\"a\"/></sin>\n";
-  expect_refused(dir, render_mtlx(dir, "cycle.mtlx", mtlx_doc(body, "a")), {"cycle.mtlx", "cycle", "'a'", "'b'", "'c'"});
+  expect_refused(dir, render_mtlx(dir, "cycle.mtlx", mtlx_doc(body, "a")),
+                 {"cycle.mtlx", "cycle", "'a'", "'b'", "'c'"});
 }
 
 TEST(BadInput, MaterialXTypeMismatch) {
@@ -234,12 +237,12 @@ TEST(BadInput, MaterialXTypeMismatch) {
   // A vector2 texcoord linked where a color3 is expected.
   std::string body =
       "<texcoord name=\"uv\" type=\"vector2\"/>\n"
-      "<multiply name=\"m\" type=\"color3\"><input name=\"in1\" type=\"color3\" nodename=\"uv\"/></multiply>\n";
+      "<multiply name=\"m\" type=\"color3\"><input name=\"in1\" type=\"color3\" "
+      "nodename=\"uv\"/></multiply>\n";
   expect_refused(dir, render_mtlx(dir, "types.mtlx", mtlx_doc(body, "m")), {"types.mtlx", "type mismatch"});
   // A node that cannot output the declared type.
   expect_refused(dir,
-                 render_mtlx(dir, "types2.mtlx",
-                             mtlx_doc("<dotproduct name=\"d\" type=\"color3\"/>", "d")),
+                 render_mtlx(dir, "types2.mtlx", mtlx_doc("<dotproduct name=\"d\" type=\"color3\"/>", "d")),
                  {"types2.mtlx", "'d'", "type mismatch"});
 }
 
@@ -248,7 +251,8 @@ TEST(BadInput, MaterialXDanglingReference) {
   expect_refused(dir, render_mtlx(dir, "dangling.mtlx", mtlx_doc("", "nobody")),
                  {"dangling.mtlx", "nobody", "dangling reference"});
   std::string body =
-      "<add name=\"a\" type=\"color3\"><input name=\"in1\" type=\"color3\" nodegraph=\"NG_missing\"/></add>\n";
+      "<add name=\"a\" type=\"color3\"><input name=\"in1\" type=\"color3\" "
+      "nodegraph=\"NG_missing\"/></add>\n";
   expect_refused(dir, render_mtlx(dir, "dangling2.mtlx", mtlx_doc(body, "a")),
                  {"dangling2.mtlx", "NG_missing", "dangling reference"});
   // --material naming a material the documents do not define.
@@ -269,7 +273,8 @@ TEST(BadInput, MaterialXChainOf5000Nodes) {
   for (int i = 1; i <= 5000; ++i)
     body << "<sin name=\"n" << i << "\" type=\"vector3\"><input name=\"in\" type=\"vector3\" nodename=\"n"
          << i - 1 << "\"/></sin>\n";
-  body << "<convert name=\"c\" type=\"color3\"><input name=\"in\" type=\"vector3\" nodename=\"n5000\"/></convert>\n";
+  body << "<convert name=\"c\" type=\"color3\"><input name=\"in\" type=\"vector3\" "
+          "nodename=\"n5000\"/></convert>\n";
   expect_refused(dir, render_mtlx(dir, "deep.mtlx", mtlx_doc(body.str(), "c")),
                  {"deep.mtlx", "nested deeper than 2000"});
 }
@@ -291,14 +296,15 @@ TEST(BadInput, MaterialXNetworkTooWideForTheInterpreterStack) {
     body << "<multiply name=\"m" << i << "\" type=\"vector3\"><input name=\"in1\" type=\"vector3\" "
          << "nodename=\"uv\"/><input name=\"in2\" type=\"vector3\" value=\"" << 1.5 + i << ", " << 2.5 + i
          << ", " << 3.5 + i << "\"/></multiply>\n"
-         << "<sin name=\"l" << i << "\" type=\"vector3\"><input name=\"in\" type=\"vector3\" nodename=\"m" << i
-         << "\"/></sin>\n";
+         << "<sin name=\"l" << i << "\" type=\"vector3\"><input name=\"in\" type=\"vector3\" nodename=\"m"
+         << i << "\"/></sin>\n";
   body << "<add name=\"a" << n - 1 << "\" type=\"vector3\"><input name=\"in1\" type=\"vector3\" nodename=\"l"
        << n - 1 << "\"/></add>\n";
   for (int i = n - 2; i >= 0; --i)
-    body << "<add name=\"a" << i << "\" type=\"vector3\"><input name=\"in1\" type=\"vector3\" nodename=\"l" << i
-         << "\"/><input name=\"in2\" type=\"vector3\" nodename=\"a" << i + 1 << "\"/></add>\n";
-  body << "<convert name=\"c\" type=\"color3\"><input name=\"in\" type=\"vector3\" nodename=\"a0\"/></convert>\n";
+    body << "<add name=\"a" << i << "\" type=\"vector3\"><input name=\"in1\" type=\"vector3\" nodename=\"l"
+         << i << "\"/><input name=\"in2\" type=\"vector3\" nodename=\"a" << i + 1 << "\"/></add>\n";
+  body << "<convert name=\"c\" type=\"color3\"><input name=\"in\" type=\"vector3\" "
+          "nodename=\"a0\"/></convert>\n";
   const std::string doc = mtlx_doc(body.str(), "c");
   for (const char* cache : {"on", "off"}) {
     SCOPED_TRACE(std::string("--cache ") + cache);
@@ -315,9 +321,15 @@ TEST(BadInput, ZeroOrNegativeSizeOrSamples) {
   std::string dir = dir_with_mtl();
   test::write_file(dir + "/scene.obj", quad_obj());
   const std::pair<const char*, const char*> cases[] = {
-      {"--width 0", "--width"},       {"--width -16", "--width"},   {"--height 0", "--height"},
-      {"--height -1", "--height"},    {"--spp 0", "--spp"},         {"--spp -4", "--spp"},
-      {"--width 99999999999", "--width"}, {"--max-depth -1", "--max-depth"}, {"--spp 1.5", "--spp"},
+      {"--width 0", "--width"},
+      {"--width -16", "--width"},
+      {"--height 0", "--height"},
+      {"--height -1", "--height"},
+      {"--spp 0", "--spp"},
+      {"--spp -4", "--spp"},
+      {"--width 99999999999", "--width"},
+      {"--max-depth -1", "--max-depth"},
+      {"--spp 1.5", "--spp"},
   };
   for (const auto& [args, mentions] : cases) {
     SCOPED_TRACE(args);
@@ -350,8 +362,19 @@ TEST(BadInput, ZeroCacheCellsOrEntries) {
     expect_refused(dir, render(dir, plain, scene_args + " --cache-entries 0"), {"--cache-entries"});
     expect_refused(dir, render(dir, plain, scene_args + " --cache-cells 16 --cache-entries 0"),
                    {"--cache-entries"});
-    expect_refused(dir, render(dir, plain, scene_args + " --cache-entries 5000"), {"--cache-entries", "1..1024"});
+    expect_refused(dir, render(dir, plain, scene_args + " --cache-entries 5000"),
+                   {"--cache-entries", "1..1024"});
   }
+}
+
+TEST(BadInput, ContradictoryCacheModes) {
+  std::string dir = dir_with_mtl();
+  test::write_file(dir + "/plain.obj", quad_obj());
+  const std::string plain = dir + "/plain.obj";
+  expect_refused(dir, render(dir, plain, "--cache-eval hit --cache-filter bilinear"),
+                 {"--cache-filter bilinear", "--cache-eval center"});
+  expect_refused(dir, render(dir, plain, "--cache-filter trilinear"), {"--cache-filter", "trilinear"});
+  expect_refused(dir, render(dir, plain, "--cache-eval middle"), {"--cache-eval", "middle"});
 }
 
 TEST(BadInput, CacheLargerThanFreeMemory) {
@@ -362,8 +385,9 @@ TEST(BadInput, CacheLargerThanFreeMemory) {
   // 2^40 cells x 8 entries x 8 bytes = 64 TiB; and the largest int64.
   expect_refused(dir, render(dir, dir + "/plain.obj", noisy + " --cache-cells 1099511627776"),
                  {"--cache-cells", "free memory"});
-  expect_refused(dir, render(dir, dir + "/plain.obj", noisy + " --cache-cells 9223372036854775807 --cache-entries 1024"),
-                 {"--cache-cells", "free memory"});
+  expect_refused(
+      dir, render(dir, dir + "/plain.obj", noisy + " --cache-cells 9223372036854775807 --cache-entries 1024"),
+      {"--cache-cells", "free memory"});
   expect_refused(dir, render(dir, dir + "/plain.obj", noisy + " --cache-cells 99999999999999999999"),
                  {"--cache-cells", "not an integer"});
 }

@@ -148,7 +148,8 @@ TEST(HostThreading, CutoutFilterRunsConcurrentlyInsideEmbree) {
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x) px.push_back(((x + y) % 2) ? 1.0f : 0.0f);
   hard::write_image(dir + "/mask.png", 8, 8, 1, px);
-  test::write_file(dir + "/scene.mtl", "newmtl solid\nKd 0.5 0.5 0.5\nnewmtl leaf\nKd 0.2 0.8 0.2\nmap_d mask.png\n");
+  test::write_file(dir + "/scene.mtl",
+                   "newmtl solid\nKd 0.5 0.5 0.5\nnewmtl leaf\nKd 0.2 0.8 0.2\nmap_d mask.png\n");
   test::write_file(dir + "/scene.obj", layered_obj(24, "leaf"));
   ObjLoadOptions load;
   load.load_textures = false;

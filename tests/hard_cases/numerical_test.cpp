@@ -72,12 +72,14 @@ std::vector<RenderCase> material_variants(const std::string& obj, const std::str
 }
 
 std::string label(const RenderCase& c, bool cache) {
-  return (c.material.empty() ? std::string("MTL map_Kd") : c.material) + (cache ? ", cache on" : ", cache off");
+  return (c.material.empty() ? std::string("MTL map_Kd") : c.material) +
+         (cache ? ", cache on" : ", cache off");
 }
 
 // Renders every variant with the cache off and on; all must be clean. The
 // cache must actually be exercised: lookups happen when it is on.
-void render_all_clean(const std::vector<RenderCase>& cases, const RenderSettings& s, bool expect_lookups = true) {
+void render_all_clean(const std::vector<RenderCase>& cases, const RenderSettings& s,
+                      bool expect_lookups = true) {
   for (const RenderCase& c : cases)
     for (bool cache : {false, true}) {
       SCOPED_TRACE(label(c, cache));
@@ -217,17 +219,17 @@ TEST(Numerical, DegenerateAndZeroAreaTriangles) {
     int a = o.v(ax, ay, az), b = o.v(bx, by, bz), c = o.v(cx, cy, cz);
     o.ft(a, uv0, b, uv1, c, uv2);
   };
-  tri(-1, 0, 0, 0, 0, 0, 1, 0, 0);            // collinear
-  tri(-1, -1, 0, 0, 0, 0, 1, 1, 0);           // collinear, diagonal (the camera looks across it)
-  tri(0.5, 0.5, 0, 0.5, 0.5, 0, 0.5, 0.5, 0); // all corners the same point
+  tri(-1, 0, 0, 0, 0, 0, 1, 0, 0);             // collinear
+  tri(-1, -1, 0, 0, 0, 0, 1, 1, 0);            // collinear, diagonal (the camera looks across it)
+  tri(0.5, 0.5, 0, 0.5, 0.5, 0, 0.5, 0.5, 0);  // all corners the same point
   {
     int a = o.v(-0.5, 0.2, 0.1), b = o.v(0.5, 0.3, 0.1);
     o.ft(a, uv0, a, uv1, b, uv2);  // a repeated vertex index
     o.ft(a, uv0, b, uv1, b, uv2);
   }
-  tri(-1, 0.7, 0, 1, 0.7, 0, 0, 0.7 + 1e-7, 0);     // a sliver: 1e-7 high
-  tri(-1, -0.7, 0, 1, -0.7, 0, 3, -0.7, 1e-30);      // area underflows in float
-  tri(-1, 0.4, 0.2, 1, 0.4, 0.2, 0, 0.4 + 1e-12, 0.2); // sliver the camera sees edge-on
+  tri(-1, 0.7, 0, 1, 0.7, 0, 0, 0.7 + 1e-7, 0);         // a sliver: 1e-7 high
+  tri(-1, -0.7, 0, 1, -0.7, 0, 3, -0.7, 1e-30);         // area underflows in float
+  tri(-1, 0.4, 0.2, 1, 0.4, 0.2, 0, 0.4 + 1e-12, 0.2);  // sliver the camera sees edge-on
   // And a degenerate emitter: it must not enter the light table with zero area.
   o.line("usemtl lamp");
   tri(-0.2, 1.5, 0, 0, 1.5, 0, 0.2, 1.5, 0);
@@ -305,7 +307,7 @@ std::string non_finite_obj() {
   return "mtllib scene.mtl\nusemtl tex\n"
          "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"  // 1-4: clean
          "v nan 0 0\nv 0 inf 0\nv 0 0 -inf\n"        // 5-7: non-finite positions
-         "v 0 0 1e39\n"                             // 8: overflows float: +inf
+         "v 0 0 1e39\n"                              // 8: overflows float: +inf
          "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"          // 1-4
          "vt nan 0.5\nvt 0.5 inf\nvt 1e39 -1e39\n"   // 5-7
          "vn 0 0 1\nvn nan nan nan\nvn inf 0 0\nvn 0 0 1e39\n"
@@ -529,8 +531,8 @@ TEST(Numerical, SceneScaleFromTenToTheMinusFourToTenToTheFive) {
 // and at scale >= 1 it is the classic Wächter-Binder offset.
 TEST(Numerical, RayOffsetScalesWithTheScene) {
   const float3 n = make_float3(0.48f, 0.6f, -0.64f);
-  const float3 points[] = {make_float3(0, 0, 0), make_float3(0.3f, -0.01f, 0.002f), make_float3(0.9f, 0.5f, -0.7f),
-                           make_float3(1e-3f, 0.02f, -0.031f)};
+  const float3 points[] = {make_float3(0, 0, 0), make_float3(0.3f, -0.01f, 0.002f),
+                           make_float3(0.9f, 0.5f, -0.7f), make_float3(1e-3f, 0.02f, -0.031f)};
   for (const float3& p : points) {
     const float3 ref = pmc_offset_ray(p, n, 1.0f);
     for (int e : {-4, -10, -14, -17}) {  // 2^-17 ~ 7.6e-6

@@ -16,6 +16,8 @@
 // both at random uvs with a null cache (every lookup misses). With a host
 // cache table the second evaluation hits every point, jumps over the blocks
 // and returns the stored values (within the encodings' error).
+#include "materials/cache_plan.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,7 +29,6 @@
 
 #include "core/abi/pmc_interp.h"
 #include "core/texture.h"
-#include "materials/cache_plan.h"
 #include "materials/compiler.h"
 #include "materials/node_graph.h"
 #include "materials/node_library.h"
@@ -116,10 +117,16 @@ Graph new_graph(const std::string& material) {
 int uv_branch(Graph& g, const std::string& p, float scale, int* texcoord = nullptr) {
   int tc = texcoord && *texcoord >= 0 ? *texcoord : add(g, p + "uv", "texcoord", VT::Vector2);
   if (texcoord) *texcoord = tc;
-  int mul = add(g, p + "mul", "multiply", VT::Vector2, {{"in1", link(tc)}, {"in2", value(VT::Vector2, scale, scale)}});
-  int noise = add(g, p + "noise", "noise2d", VT::Color3, {{"texcoord", link(mul)}, {"amplitude", value(VT::Color3, 0.5f, 0.5f, 0.5f)}, {"pivot", value(VT::Float, 0.5f)}});
+  int mul = add(g, p + "mul", "multiply", VT::Vector2,
+                {{"in1", link(tc)}, {"in2", value(VT::Vector2, scale, scale)}});
+  int noise = add(g, p + "noise", "noise2d", VT::Color3,
+                  {{"texcoord", link(mul)},
+                   {"amplitude", value(VT::Color3, 0.5f, 0.5f, 0.5f)},
+                   {"pivot", value(VT::Float, 0.5f)}});
   return add(g, p + "mix", "mix", VT::Color3,
-             {{"fg", link(noise)}, {"bg", value(VT::Color3, 0.2f, 0.3f, 0.4f)}, {"mix", value(VT::Color3, 0.7f, 0.7f, 0.7f)}});
+             {{"fg", link(noise)},
+              {"bg", value(VT::Color3, 0.2f, 0.3f, 0.4f)},
+              {"mix", value(VT::Color3, 0.7f, 0.7f, 0.7f)}});
 }
 
 std::string reason_for(const CachePlan& plan, int node) {
@@ -138,7 +145,7 @@ TEST(CachePlan, UvOnlyChainHasOneCachePointAtTheTop) {
   Graph g = new_graph("M_uv");
   int top = uv_branch(g, "", 4.0f);
   add_surface(g, {{"base_color", link(top)}});
-  CachePlan plan = plan_cache(g, kDefaultCacheMinNodes);
+  CachePlan plan = plan_cache(g, 4);
   ASSERT_EQ(plan.points.size(), 1u);
   EXPECT_EQ(plan.points[0].node, top) << "the highest uv-only node, the one feeding the surface";
   EXPECT_EQ(plan.points[0].subgraph_nodes, 4);
@@ -156,10 +163,13 @@ TEST(CachePlan, PositionBelowMakesEverythingAboveUncacheable) {
   int sum = add(g, "sum", "add", VT::Vector2, {{"in1", link(mul)}, {"in2", link(pxy)}});
   int noise = add(g, "noise", "noise2d", VT::Color3, {{"texcoord", link(sum)}});
   int mix = add(g, "mix", "mix", VT::Color3,
-                {{"fg", link(noise)}, {"bg", value(VT::Color3, 0.2f, 0.3f, 0.4f)}, {"mix", value(VT::Color3, 0.7f, 0.7f, 0.7f)}});
+                {{"fg", link(noise)},
+                 {"bg", value(VT::Color3, 0.2f, 0.3f, 0.4f)},
+                 {"mix", value(VT::Color3, 0.7f, 0.7f, 0.7f)}});
   add_surface(g, {{"base_color", link(mix)}});
-  CachePlan plan = plan_cache(g, kDefaultCacheMinNodes);
-  for (const CachePoint& p : plan.points) ADD_FAILURE() << "unexpected cache point " << g.nodes[size_t(p.node)].name;
+  CachePlan plan = plan_cache(g, 4);
+  for (const CachePoint& p : plan.points)
+    ADD_FAILURE() << "unexpected cache point " << g.nodes[size_t(p.node)].name;
   for (int n : {sum, noise, mix}) {
     std::string why = reason_for(plan, n);
     EXPECT_NE(why.find("position"), std::string::npos) << g.nodes[size_t(n)].name << ": '" << why << "'";
@@ -179,11 +189,13 @@ TEST(CachePlan, TwoUvBranchesUnderAPositionDependentMixGiveTwoPoints) {
   int b1 = uv_branch(g, "a_", 3.0f, &tc);
   int b2 = uv_branch(g, "b_", 7.0f, &tc);  // shares the texcoord node
   int pos = add(g, "pos", "position", VT::Vector3);
-  int px = add(g, "px", "extract", VT::Float, {{"in", link(pos, VT::Vector3)}, {"index", value(VT::Integer, 0)}});
+  int px =
+      add(g, "px", "extract", VT::Float, {{"in", link(pos, VT::Vector3)}, {"index", value(VT::Integer, 0)}});
   int f = add(g, "f", "sin", VT::Float, {{"in", link(px)}});
-  int top = add(g, "top", "mix", VT::Color3, {{"fg", link(b1)}, {"bg", link(b2)}, {"mix", link(f, VT::Float)}});
+  int top =
+      add(g, "top", "mix", VT::Color3, {{"fg", link(b1)}, {"bg", link(b2)}, {"mix", link(f, VT::Float)}});
   add_surface(g, {{"base_color", link(top)}});
-  CachePlan plan = plan_cache(g, kDefaultCacheMinNodes);
+  CachePlan plan = plan_cache(g, 4);
   ASSERT_EQ(plan.points.size(), 2u);
   EXPECT_TRUE(is_point(plan, b1));
   EXPECT_TRUE(is_point(plan, b2));
@@ -222,7 +234,7 @@ TEST(CachePlan, Color4TopFallsBackToItsInputs) {
   int m = add(g, "m", "multiply", VT::Color4, {{"in1", link(c4)}, {"in2", link(p4)}});
   int c3 = add(g, "c3", "convert", VT::Color3, {{"in", link(m, VT::Color4)}});
   add_surface(g, {{"base_color", link(c3)}});
-  CachePlan plan = plan_cache(g, kDefaultCacheMinNodes);
+  CachePlan plan = plan_cache(g, 4);
   ASSERT_EQ(plan.points.size(), 1u);
   EXPECT_EQ(plan.points[0].node, branch) << "the colour3 input of the colour4 top";
   EXPECT_FALSE(is_point(plan, c4));
@@ -253,8 +265,8 @@ OpCounts count_ops(const MaterialProgram& p, const CompiledMaterial& m) {
   return c;
 }
 
-void run_host(const MaterialProgram& p, const CompiledMaterial& m, float u, float v, float params[PMC_P_COUNT],
-              float3 pos, PmcCacheContext* cache = nullptr) {
+void run_host(const MaterialProgram& p, const CompiledMaterial& m, float u, float v,
+              float params[PMC_P_COUNT], float3 pos, PmcCacheContext* cache = nullptr) {
   PmcShadingInputs in{};
   in.uv = make_float2(u, v);
   in.position = pos;
@@ -275,9 +287,11 @@ Graph cached_material(const std::string& name) {
   int b1 = uv_branch(g, "a_", 3.0f, &tc);
   int b2 = uv_branch(g, "b_", 7.0f, &tc);
   int pos = add(g, "pos", "position", VT::Vector3);
-  int px = add(g, "px", "extract", VT::Float, {{"in", link(pos, VT::Vector3)}, {"index", value(VT::Integer, 0)}});
+  int px =
+      add(g, "px", "extract", VT::Float, {{"in", link(pos, VT::Vector3)}, {"index", value(VT::Integer, 0)}});
   int f = add(g, "f", "sin", VT::Float, {{"in", link(px)}});
-  int top = add(g, "top", "mix", VT::Color3, {{"fg", link(b1)}, {"bg", link(b2)}, {"mix", link(f, VT::Float)}});
+  int top =
+      add(g, "top", "mix", VT::Color3, {{"fg", link(b1)}, {"bg", link(b2)}, {"mix", link(f, VT::Float)}});
   int mul = add(g, "rmul", "multiply", VT::Vector2, {{"in1", link(tc)}, {"in2", value(VT::Vector2, 2, 9)}});
   int rn = add(g, "rnoise", "noise2d", VT::Float, {{"texcoord", link(mul)}});
   int rs = add(g, "rsin", "sin", VT::Float, {{"in", link(rn)}});
@@ -293,6 +307,7 @@ TEST(CachePlan, CacheOnAndOffProgramsComputeTheSameParameters) {
   CompileOptions off_opts, on_opts;
   off_opts.cache = false;
   on_opts.cache = true;
+  on_opts.cache_min_nodes = 4;  // this graph's points have 4-5 nodes
   compile_material(off_graph, tex, prog, off_opts);
   compile_material(on_graph, tex, prog, on_opts);
   const CompiledMaterial& off = prog.materials[0];
@@ -323,6 +338,7 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
   MaterialProgram prog;
   CompileOptions on_opts;
   on_opts.cache = true;
+  on_opts.cache_min_nodes = 4;  // this graph's points have 4-5 nodes
   compile_material(off_graph, tex, prog);
   compile_material(on_graph, tex, prog, on_opts);
   const CompiledMaterial& off = prog.materials[0];
@@ -350,8 +366,9 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
     ASSERT_EQ(cache.hits, 0u) << "fresh texels miss";
     cache.hits = 0;
     run_host(prog, on, u, v, second, pos, &cache);
-    ASSERT_EQ(cache.hits, 3u) << "the second evaluation finds all three points; inserts " << stats[PMC_CSTAT_INSERTS]
-                              << ", not encodable " << stats[PMC_CSTAT_NOT_ENCODABLE] << "\n"
+    ASSERT_EQ(cache.hits, 3u) << "the second evaluation finds all three points; inserts "
+                              << stats[PMC_CSTAT_INSERTS] << ", not encodable "
+                              << stats[PMC_CSTAT_NOT_ENCODABLE] << "\n"
                               << disassemble(prog, on);
     for (int k = 0; k < PMC_P_COUNT; ++k) {
       ASSERT_EQ(first[k], ref[k]) << "a miss computes the plain value, param " << k;
@@ -380,14 +397,20 @@ TEST(CachePlan, CompiledNoiseNodesReadTheirLookupPoint) {
     int tc = add(g, "uv", "texcoord", VT::Vector2);
     int mul = add(g, "mul", "multiply", VT::Vector2, {{"in1", link(tc)}, {"in2", value(VT::Vector2, 3, 5)}});
     int pos = add(g, "pos", "position", VT::Vector3);
-    int n2 = add(g, "n2", "noise2d", VT::Float,
-                 {{"texcoord", link(mul)}, {"amplitude", value(VT::Float, 2)}, {"pivot", value(VT::Float, 0.25f)}});
-    int f2 = add(g, "f2", "fractal2d", VT::Float,
-                 {{"texcoord", link(mul)}, {"amplitude", value(VT::Float, 0.7f)}, {"octaves", value(VT::Integer, 2)}});
-    int n3 = add(g, "n3", "noise3d", VT::Float,
-                 {{"position", link(pos)}, {"amplitude", value(VT::Float, 1.5f)}, {"pivot", value(VT::Float, 0.1f)}});
-    int f3 = add(g, "f3", "fractal3d", VT::Float, {{"position", link(pos)}, {"amplitude", value(VT::Float, 0.9f)}});
-    add_surface(g, {{"base", link(n2)}, {"specular_roughness", link(f2)}, {"metalness", link(n3)}, {"coat", link(f3)}});
+    int n2 = add(
+        g, "n2", "noise2d", VT::Float,
+        {{"texcoord", link(mul)}, {"amplitude", value(VT::Float, 2)}, {"pivot", value(VT::Float, 0.25f)}});
+    int f2 = add(
+        g, "f2", "fractal2d", VT::Float,
+        {{"texcoord", link(mul)}, {"amplitude", value(VT::Float, 0.7f)}, {"octaves", value(VT::Integer, 2)}});
+    int n3 = add(
+        g, "n3", "noise3d", VT::Float,
+        {{"position", link(pos)}, {"amplitude", value(VT::Float, 1.5f)}, {"pivot", value(VT::Float, 0.1f)}});
+    int f3 = add(g, "f3", "fractal3d", VT::Float,
+                 {{"position", link(pos)}, {"amplitude", value(VT::Float, 0.9f)}});
+    add_surface(
+        g,
+        {{"base", link(n2)}, {"specular_roughness", link(f2)}, {"metalness", link(n3)}, {"coat", link(f3)}});
     TexturePool tex;
     MaterialProgram prog;
     CompileOptions opts;
@@ -402,12 +425,14 @@ TEST(CachePlan, CompiledNoiseNodesReadTheirLookupPoint) {
       float params[PMC_P_COUNT];
       run_host(prog, m, u, v, params, p);
       float2 st = make_float2(u * 3, v * 5);
-      float want[4] = {pmc_op_noise2d(st, 1u).x * 2.0f + 0.25f, pmc_op_fractal2d(st, 2, 2.0f, 0.5f, 1u).x * 0.7f,
-                       pmc_op_noise3d(p, 1u).x * 1.5f + 0.1f, pmc_op_fractal3d(p, 3, 2.0f, 0.5f, 1u).x * 0.9f};
+      float want[4] = {
+          pmc_op_noise2d(st, 1u).x * 2.0f + 0.25f, pmc_op_fractal2d(st, 2, 2.0f, 0.5f, 1u).x * 0.7f,
+          pmc_op_noise3d(p, 1u).x * 1.5f + 0.1f, pmc_op_fractal3d(p, 3, 2.0f, 0.5f, 1u).x * 0.9f};
       int at[4] = {PMC_P_BASE, PMC_P_SPECULAR_ROUGHNESS, PMC_P_METALNESS, PMC_P_COAT};
       const char* name[4] = {"noise2d", "fractal2d", "noise3d", "fractal3d"};
       for (int k = 0; k < 4; ++k)
-        ASSERT_NEAR(params[at[k]], want[k], 1e-5f) << name[k] << " (cache " << cache << ")\n" << disassemble(prog, m);
+        ASSERT_NEAR(params[at[k]], want[k], 1e-5f) << name[k] << " (cache " << cache << ")\n"
+                                                   << disassemble(prog, m);
     }
   }
 }
