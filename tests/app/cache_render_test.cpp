@@ -1,8 +1,8 @@
 // cache_render_test.cpp — the progressive material cache end to end, through
 // the pmc binary (real OpenCL on PoCL).
 //
-// Scene: the MaterialX teapot with M_BrickPattern (two cache points: the
-// base colour, 21 nodes, and the roughness, 7 nodes), white environment,
+// Scene: the MaterialX teapot with M_BrickPattern (one cache point at the
+// default --cache-min-nodes 8: the base colour, 21 nodes), white environment,
 // 160x120, 16 spp, a camera close enough that the teapot fills the frame
 // (from the default framing the teapot covers a fifth of the image and even
 // a cache 8 levels too coarse stays above 40 dB: the check could not fail).
@@ -11,12 +11,14 @@
 //    (seed 3, --max-depth 4 as here, seeds 1 and 2 within 0.3 dB):
 //      - centre values with the hit's texture footprint (not deterministic):
 //        49.8 dB; one virtual mip level coarser (--mip-bias -1) 45 dB, two
-//        levels 38.8 dB, --mip-bias -8 35 dB;
-//      - deterministic centre mode, cached image nodes sampled with a
-//        footprint of 2 * 2^-lambda (the texel's diameter, as the uncached
-//        sp.footprint = 2 max(|g1|, |g2|) is a diameter): 43.1 dB;
-//      - the same with a footprint of 2^-lambda (half that: finer texture
-//        mips than the uncached render uses): 38.7 dB — below the goal.
+//        levels 38.8 dB, --mip-bias -8 35 dB (with two cache points, at
+//        --cache-min-nodes 4);
+//      - deterministic centre mode with stochastic bilinear texel selection
+//        and textures filtered at the unbiased footprint 2 * 2^-(lambda -
+//        bias) (the defaults now): 44.0 dB; --mip-bias -8: 32.9 dB;
+//      - with a texture footprint of 2^-lambda (half the cone's diameter:
+//        finer texture mips than the uncached render uses): 38.7 dB — below
+//        the goal.
 //    A cache that returns values of the wrong texels (bad keys or levels,
 //    mixed words, wrong decoding) looks like a cache two or more levels too
 //    coarse, or worse, and fails; the wrong-level render shows the check can
