@@ -21,45 +21,64 @@
 
 #include "pmc_vec.h"
 
-#define PMC_OPCODES(X)                                                                                       \
-  X(END, 0, 0)       /* stop */                                                                              \
-  X(OUTPUT, 1, 1)    /* surface parameter `imm` = operand */                                                 \
-  X(MOVE, 1, 1)      /* dst = a (broadcast/truncate to width) */                                             \
-  X(SWIZZLE, 1, 1)   /* imm: 3 bits per lane: 0-3 = xyzw, 4 = 0, 5 = 1 */                                    \
-  X(COMBINE, 2, 4)   /* dst lanes = first lane of each operand */                                            \
-  X(TEXCOORD, 0, 0)  /* uv */                                                                                \
-  X(POSITION, 0, 0)  /* world (= object) position */                                                         \
-  X(NORMAL, 0, 0)    /* shading normal, world */                                                             \
-  X(TANGENT, 0, 0)   /* tangent, world */                                                                    \
-  X(BITANGENT, 0, 0) /* bitangent, world */                                                                  \
-  X(ADD, 2, 2)                                                                                               \
-  X(SUB, 2, 2) X(MUL, 2, 2) X(DIV, 2, 2) X(MOD, 2, 2) X(POW, 2, 2) X(MIN, 2, 2) X(MAX, 2, 2) X(DOT, 2, 2)    \
-      X(ABS, 1, 1) X(FLOOR, 1, 1) X(CEIL, 1, 1) X(SIN, 1, 1) X(COS, 1, 1) X(SQRT, 1, 1) X(NORMALIZE, 1, 1)   \
-          X(CLAMP, 3, 3)                                 /* in, low, high */                                 \
-      X(SMOOTHSTEP, 3, 3)                                /* in, low, high */                                 \
-      X(MIX, 3, 3)                                       /* fg, bg, mix: bg + (fg - bg) * mix */             \
-      X(REMAP, 5, 5)                                     /* in, inlow, inhigh, outlow, outhigh */            \
-      X(IFGREATER, 4, 4)                                 /* value1, value2, in1, in2 */                      \
-      X(IFGREATEREQ, 4, 4)                               /* value1, value2, in1, in2 */                      \
-      X(LUMINANCE, 2, 2)                                 /* in, lumacoeffs */                                \
-      X(RGBTOHSV, 1, 1) X(HSVTORGB, 1, 1) X(IMAGE, 3, 3) /* uv, default, mode; imm = texture index */        \
-      X(PLACE2D, 6, 6)                                   /* texcoord, pivot, scale, rotate, offset, order */ \
-      X(NOISE2D, 3, 3)                                   /* texcoord, amplitude, pivot */                    \
-      X(NOISE3D, 3, 3)                                   /* position, amplitude, pivot */                    \
-      X(FRACTAL2D, 5, 5) /* texcoord, amplitude, octaves, lacunarity, diminish */                            \
-      X(FRACTAL3D, 5, 5) /* position, amplitude, octaves, lacunarity, diminish */                            \
-      X(CELLNOISE2D, 1, 1) X(CELLNOISE3D, 1, 1) X(WORLEY2D, 3, 3) /* texcoord, jitter, style */              \
-      X(WORLEY3D, 3, 3)                                           /* position, jitter, style */              \
-      X(RAMPLR, 3, 3)                                             /* valuel, valuer, texcoord */             \
-      X(RAMPTB, 3, 3)                                             /* valuet, valueb, texcoord */             \
-      X(RAMP4, 5, 5)                                              /* tl, tr, bl, br, texcoord */             \
-      X(SPLITLR, 4, 4)                                            /* valuel, valuer, center, texcoord */     \
-      X(SPLITTB, 4, 4)                                            /* valuet, valueb, center, texcoord */     \
-      X(TILEDSHAPE, 5, 5)   /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */                 \
-      X(LINEPATTERN, 5, 5)  /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */             \
-      X(NORMALMAP, 4, 4)    /* in, scale, normal, tangent */                                                 \
-      X(CACHE_LOOKUP, 1, 1) /* dst = cached value; skip word; imm = node | enc << 14 */                      \
-      X(CACHE_STORE, 1, 1)  /* insert the operand for the pending lookup; imm = enc */
+// clang-format off
+#define PMC_OPCODES(X)                                                                         \
+  X(END, 0, 0)            /* stop */                                                           \
+  X(OUTPUT, 1, 1)         /* surface parameter `imm` = operand */                              \
+  X(MOVE, 1, 1)           /* dst = a (broadcast/truncate to width) */                          \
+  X(SWIZZLE, 1, 1)        /* imm: 3 bits per lane: 0-3 = xyzw, 4 = 0, 5 = 1 */                 \
+  X(COMBINE, 2, 4)        /* dst lanes = first lane of each operand */                         \
+  X(TEXCOORD, 0, 0)       /* uv */                                                             \
+  X(POSITION, 0, 0)       /* world (= object) position */                                      \
+  X(NORMAL, 0, 0)         /* shading normal, world */                                          \
+  X(TANGENT, 0, 0)        /* tangent, world */                                                 \
+  X(BITANGENT, 0, 0)      /* bitangent, world */                                               \
+  X(ADD, 2, 2)                                                                                 \
+  X(SUB, 2, 2)                                                                                 \
+  X(MUL, 2, 2)                                                                                 \
+  X(DIV, 2, 2)                                                                                 \
+  X(MOD, 2, 2)                                                                                 \
+  X(POW, 2, 2)                                                                                 \
+  X(MIN, 2, 2)                                                                                 \
+  X(MAX, 2, 2)                                                                                 \
+  X(DOT, 2, 2)                                                                                 \
+  X(ABS, 1, 1)                                                                                 \
+  X(FLOOR, 1, 1)                                                                               \
+  X(CEIL, 1, 1)                                                                                \
+  X(SIN, 1, 1)                                                                                 \
+  X(COS, 1, 1)                                                                                 \
+  X(SQRT, 1, 1)                                                                                \
+  X(NORMALIZE, 1, 1)                                                                           \
+  X(CLAMP, 3, 3)          /* in, low, high */                                                  \
+  X(SMOOTHSTEP, 3, 3)     /* in, low, high */                                                  \
+  X(MIX, 3, 3)            /* fg, bg, mix: bg + (fg - bg) * mix */                              \
+  X(REMAP, 5, 5)          /* in, inlow, inhigh, outlow, outhigh */                             \
+  X(IFGREATER, 4, 4)      /* value1, value2, in1, in2 */                                       \
+  X(IFGREATEREQ, 4, 4)    /* value1, value2, in1, in2 */                                       \
+  X(LUMINANCE, 2, 2)      /* in, lumacoeffs */                                                 \
+  X(RGBTOHSV, 1, 1)                                                                            \
+  X(HSVTORGB, 1, 1)                                                                            \
+  X(IMAGE, 3, 3)          /* uv, default, mode; imm = texture index */                         \
+  X(PLACE2D, 6, 6)        /* texcoord, pivot, scale, rotate, offset, order */                  \
+  X(NOISE2D, 3, 3)        /* texcoord, amplitude, pivot */                                     \
+  X(NOISE3D, 3, 3)        /* position, amplitude, pivot */                                     \
+  X(FRACTAL2D, 5, 5)      /* texcoord, amplitude, octaves, lacunarity, diminish */             \
+  X(FRACTAL3D, 5, 5)      /* position, amplitude, octaves, lacunarity, diminish */             \
+  X(CELLNOISE2D, 1, 1)                                                                         \
+  X(CELLNOISE3D, 1, 1)                                                                         \
+  X(WORLEY2D, 3, 3)       /* texcoord, jitter, style */                                        \
+  X(WORLEY3D, 3, 3)       /* position, jitter, style */                                        \
+  X(RAMPLR, 3, 3)         /* valuel, valuer, texcoord */                                       \
+  X(RAMPTB, 3, 3)         /* valuet, valueb, texcoord */                                       \
+  X(RAMP4, 5, 5)          /* tl, tr, bl, br, texcoord */                                       \
+  X(SPLITLR, 4, 4)        /* valuel, valuer, center, texcoord */                               \
+  X(SPLITTB, 4, 4)        /* valuet, valueb, center, texcoord */                               \
+  X(TILEDSHAPE, 5, 5)     /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */     \
+  X(LINEPATTERN, 5, 5)    /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
+  X(NORMALMAP, 4, 4)      /* in, scale, normal, tangent */                                     \
+  X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
+  X(CACHE_STORE, 1, 1)    /* insert the operand for the pending lookup; imm = enc */
+// clang-format on
 
 #define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,
 enum PmcOpcode { PMC_OPCODES(PMC_OP_ENUM) PMC_OP_COUNT };

@@ -20,30 +20,69 @@
   X(PmcFrame)                 \
   X(PmcCounters)
 
-#define PMC_LAYOUT_FIELDS(X)                                                                                \
-  X(PmcRay, org_x)                                                                                          \
-  X(PmcRay, tnear) X(PmcRay, dir_x) X(PmcRay, time) X(PmcRay, tfar) X(PmcRay, mask) X(PmcRay, id)           \
-      X(PmcRay, flags) X(PmcHit, t) X(PmcHit, u) X(PmcHit, v) X(PmcHit, prim) X(PmcPathState, throughput)   \
-          X(PmcPathState, radiance) X(PmcPathState, cone_width) X(PmcPathState, cone_spread) X(             \
-              PmcPathState, bsdf_pdf) X(PmcPathState, pixel) X(PmcPathState, depth) X(PmcPathState, flags)  \
-              X(PmcPathState, cache_hits) X(PmcShadowLoad, rgb) X(PmcShadowLoad, path) X(PmcTriangle, v)    \
-                  X(PmcTriangle, n) X(PmcTriangle, t) X(PmcTriangle, material) X(PmcFilmPixel, rgb) X(      \
-                      PmcFilmPixel, bad_samples) X(PmcFilmPixel, cache_hits) X(PmcTexture, offset)          \
-                      X(PmcTexture, width) X(PmcTexture, height) X(PmcTexture, levels) X(PmcTexture, flags) \
-                          X(PmcMaterialInfo, entry) X(PmcMaterialInfo, flags) X(PmcMaterialInfo, emission)  \
-                              X(PmcFrame, cam_eye) X(PmcFrame, cam_spread) X(PmcFrame, cam_forward)         \
-                                  X(PmcFrame, cam_right) X(PmcFrame, cam_up) X(PmcFrame, env)               \
-                                      X(PmcFrame, scene_radius) X(PmcFrame, width) X(PmcFrame, height)      \
-                                          X(PmcFrame, seed) X(PmcFrame, sample) X(PmcFrame, pixel_offset)   \
-                                              X(PmcFrame, path_count) X(PmcFrame, max_depth)                \
-                                                  X(PmcFrame, light_count) X(PmcFrame, light_total_power)   \
-                                                      X(PmcFrame, texture_count) X(PmcFrame, cache_on)      \
-                                                          X(PmcFrame, cache_center) X(PmcFrame, cache_ways) \
-                                                              X(PmcFrame, cache_cells_lo)                   \
-                                                                  X(PmcFrame, cache_cells_hi)               \
-                                                                      X(PmcFrame, mip_bias)                 \
-                                                                          X(PmcFrame, cache_bilinear)       \
-                                                                              X(PmcCounters, next_rays) X(  \
-                                                                                  PmcCounters, shadow_rays)
+// clang-format off
+#define PMC_LAYOUT_FIELDS(X)     \
+  X(PmcRay, org_x)               \
+  X(PmcRay, tnear)               \
+  X(PmcRay, dir_x)               \
+  X(PmcRay, time)                \
+  X(PmcRay, tfar)                \
+  X(PmcRay, mask)                \
+  X(PmcRay, id)                  \
+  X(PmcRay, flags)               \
+  X(PmcHit, t)                   \
+  X(PmcHit, u)                   \
+  X(PmcHit, v)                   \
+  X(PmcHit, prim)                \
+  X(PmcPathState, throughput)    \
+  X(PmcPathState, radiance)      \
+  X(PmcPathState, cone_width)    \
+  X(PmcPathState, cone_spread)   \
+  X(PmcPathState, pixel)         \
+  X(PmcPathState, depth)         \
+  X(PmcPathState, flags)         \
+  X(PmcPathState, cache_hits)    \
+  X(PmcShadowLoad, rgb)          \
+  X(PmcShadowLoad, path)         \
+  X(PmcTriangle, v)              \
+  X(PmcTriangle, n)              \
+  X(PmcTriangle, t)              \
+  X(PmcTriangle, material)       \
+  X(PmcFilmPixel, rgb)           \
+  X(PmcFilmPixel, cache_hits)    \
+  X(PmcTexture, offset)          \
+  X(PmcTexture, width)           \
+  X(PmcTexture, height)          \
+  X(PmcTexture, levels)          \
+  X(PmcTexture, flags)           \
+  X(PmcMaterialInfo, entry)      \
+  X(PmcMaterialInfo, flags)      \
+  X(PmcMaterialInfo, emission)   \
+  X(PmcFrame, cam_eye)           \
+  X(PmcFrame, cam_spread)        \
+  X(PmcFrame, cam_forward)       \
+  X(PmcFrame, cam_right)         \
+  X(PmcFrame, cam_up)            \
+  X(PmcFrame, env)               \
+  X(PmcFrame, scene_radius)      \
+  X(PmcFrame, width)             \
+  X(PmcFrame, height)            \
+  X(PmcFrame, seed)              \
+  X(PmcFrame, sample)            \
+  X(PmcFrame, pixel_offset)      \
+  X(PmcFrame, path_count)        \
+  X(PmcFrame, max_depth)         \
+  X(PmcFrame, light_count)       \
+  X(PmcFrame, light_total_power) \
+  X(PmcFrame, texture_count)     \
+  X(PmcFrame, cache_on)          \
+  X(PmcFrame, cache_center)      \
+  X(PmcFrame, cache_ways)        \
+  X(PmcFrame, cache_cells_lo)    \
+  X(PmcFrame, cache_cells_hi)    \
+  X(PmcFrame, mip_bias)          \
+  X(PmcFrame, cache_bilinear)    \
+  X(PmcCounters, next_rays)
+// clang-format on
 
 #endif /* PMC_LAYOUT_H */

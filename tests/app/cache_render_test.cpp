@@ -51,8 +51,12 @@ constexpr double kMinPsnr = 40.0;
 
 std::string teapot() { return test::shared_scene("materialx/geometry/teapot.obj"); }
 std::string mtlx(const std::string& file) { return test::shared_scene("materialx/" + file); }
-std::string brick() { return " --mtlx " + mtlx("standard_surface_brick_procedural.mtlx") + " --material M_BrickPattern"; }
-std::string marble() { return " --mtlx " + mtlx("standard_surface_marble_solid.mtlx") + " --material Marble_3D"; }
+std::string brick() {
+  return " --mtlx " + mtlx("standard_surface_brick_procedural.mtlx") + " --material M_BrickPattern";
+}
+std::string marble() {
+  return " --mtlx " + mtlx("standard_surface_marble_solid.mtlx") + " --material Marble_3D";
+}
 const std::string kView =
     " --env 1,1,1 --camera-from -0.1,0.5,2.2 --camera-at -0.1,0.1,0 --fov 40 --max-depth 4 --quiet";
 const std::string kFull = " --width 160 --height 120 --spp 16 --seed 3";
@@ -81,8 +85,8 @@ const Render& render(const std::string& name, const std::string& args) {
   if (it != done.end()) return it->second;
   const std::string base = shared_dir() + "/" + name;
   Render r;
-  int rc = test::run_pmc("render " + teapot() + args + " -o " + base + ".exr --stats " + base + ".json --hitmap " +
-                             base + "_hits.png",
+  int rc = test::run_pmc("render " + teapot() + args + " -o " + base + ".exr --stats " + base +
+                             ".json --hitmap " + base + "_hits.png",
                          &r.log);
   EXPECT_EQ(rc, 0) << r.log;
   if (rc == 0) {
@@ -101,7 +105,8 @@ double psnr(const Image& a, const Image& b) {
   EXPECT_EQ(a.pixels.size(), b.pixels.size());
   double se = 0;
   size_t n = std::min(a.pixels.size(), b.pixels.size());
-  for (size_t i = 0; i < n; ++i) se += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
+  for (size_t i = 0; i < n; ++i)
+    se += (double(a.pixels[i]) - b.pixels[i]) * (double(a.pixels[i]) - b.pixels[i]);
   double mse = se / double(n ? n : 1);
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 1e9;
 }
@@ -149,7 +154,8 @@ TEST(CacheRender, HitMapIsZeroOnTheBackgroundAndPositiveOnTheTeapot) {
     ASSERT_TRUE(std::isfinite(h) && h >= 0.0f) << i;
     if (background(on.image, i)) {
       ++bg;
-      ASSERT_EQ(h, 0.0f) << "background pixel " << i % size_t(on.hits.width) << "," << i / size_t(on.hits.width);
+      ASSERT_EQ(h, 0.0f) << "background pixel " << i % size_t(on.hits.width) << ","
+                         << i / size_t(on.hits.width);
     } else {
       ++fg;
       fg_hit += h > 0.0f;
@@ -163,7 +169,8 @@ TEST(CacheRender, HitMapIsZeroOnTheBackgroundAndPositiveOnTheTeapot) {
 }
 
 TEST(CacheRender, PositionDrivenMarbleHasNoHitsAnywhere) {
-  const Render& m = render("marble", marble() + kView + " --width 96 --height 72 --spp 4 --seed 3 --cache on");
+  const Render& m =
+      render("marble", marble() + kView + " --width 96 --height 72 --spp 4 --seed 3 --cache on");
   ASSERT_FALSE(m.hits.pixels.empty());
   size_t fg = 0;
   for (size_t i = 0; i < m.hits.pixels.size(); ++i) {
@@ -179,7 +186,8 @@ TEST(CacheRender, StatsReportTheCache) {
   const Render& on = brick_on();
   ASSERT_TRUE(on.stats.contains("cache")) << on.stats.dump();
   const nlohmann::json& c = on.stats["cache"];
-  for (const char* key : {"lookups", "hits", "inserts", "dropped_full", "occupancy", "memory_bytes", "cells", "entries"})
+  for (const char* key :
+       {"lookups", "hits", "inserts", "dropped_full", "occupancy", "memory_bytes", "cells", "entries"})
     ASSERT_TRUE(c.contains(key)) << key << " in " << c.dump();
   uint64_t lookups = c["lookups"], hits = c["hits"], inserts = c["inserts"], cells = c["cells"],
            entries = c["entries"], memory = c["memory_bytes"];
@@ -236,7 +244,8 @@ TEST(CacheRender, CenterEvalIsBitIdenticalWithOneAndTwoThreads) {
   size_t differ = 0;
   for (size_t i = 0; i < a.image.pixels.size(); ++i) differ += a.image.pixels[i] != b.image.pixels[i];
   EXPECT_EQ(differ, 0u) << "floats differing between --threads 1 and --threads 2";
-  EXPECT_EQ(0, std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(float)));
+  EXPECT_EQ(0,
+            std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(float)));
 }
 
 }  // namespace

@@ -30,8 +30,8 @@ struct Result {
 
 // Runs scripts/ci-compare with this build's pmc binary and `args`.
 Result ci_compare(const std::string& args) {
-  const std::string cmd = test::source_path("scripts/ci-compare") + " --pmc " + std::string(PMC_BINARY) + " " +
-                          args + " 2>&1";
+  const std::string cmd =
+      test::source_path("scripts/ci-compare") + " --pmc " + std::string(PMC_BINARY) + " " + args + " 2>&1";
   Result r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return r;
@@ -99,12 +99,12 @@ TEST(CiCompare, UsageErrorsExitWith2) {
     std::string args;
     const char* mentions;
   } cases[] = {
-      {scene, "--min-psnr"},                                          // threshold missing
-      {"--min-psnr 30", "SCENE"},                                     // scene missing
-      {scene + " --min-psnr abc", "--min-psnr"},                      // not a number
-      {scene + " --min-psnr 30 --max-relmse -1", "--max-relmse"},     // negative
-      {scene + " --min-psnr 30 --cache on", "--cache"},               // compare renders both
-      {scene + " --min-psnr 30 --width 0", "--width"},                // pmc's own check
+      {scene, "--min-psnr"},                                       // threshold missing
+      {"--min-psnr 30", "SCENE"},                                  // scene missing
+      {scene + " --min-psnr abc", "--min-psnr"},                   // not a number
+      {scene + " --min-psnr 30 --max-relmse -1", "--max-relmse"},  // negative
+      {scene + " --min-psnr 30 --cache on", "--cache"},            // compare renders both
+      {scene + " --min-psnr 30 --width 0", "--width"},             // pmc's own check
       {scene + " --min-psnr 30 --no-such-option 1", "no-such-option"},
   };
   for (const auto& c : cases) {

@@ -250,8 +250,8 @@ std::vector<double> expected_probs(const Grid& g, F&& pdf, int sub) {
   std::vector<double> e(g.cells(), 0.0);
   for (int ic = 0; ic < g.nc; ++ic)
     for (int ip = 0; ip < g.np; ++ip)
-      e[ic * g.np + ip] = integrate_band(double(ic) / g.nc, double(ic + 1) / g.nc,
-                                         2.0 * kPi * ip / g.np, 2.0 * kPi * (ip + 1) / g.np, sub, sub, pdf);
+      e[ic * g.np + ip] = integrate_band(double(ic) / g.nc, double(ic + 1) / g.nc, 2.0 * kPi * ip / g.np,
+                                         2.0 * kPi * (ip + 1) / g.np, sub, sub, pdf);
   e[g.reject()] = integrate_band(-1.0, 0.0, 0.0, 2.0 * kPi, 512, 512, pdf);
   return e;
 }
@@ -424,7 +424,9 @@ TEST(BsdfSampling, MixedPdfMassEqualsAcceptedFraction) {
   struct Case {
     float kd, ks, alpha;
     double deg;
-  } cases[] = {{0.5f, 0.5f, 0.5f, 75.0}, {0.8f, 0.2f, 0.2f, 60.0}, {0.3f, 0.7f, 1.0f, 85.0},
+  } cases[] = {{0.5f, 0.5f, 0.5f, 75.0},
+               {0.8f, 0.2f, 0.2f, 60.0},
+               {0.3f, 0.7f, 1.0f, 85.0},
                {0.1f, 0.9f, 0.05f, 80.0}};
   const int n = 400000;
   uint32_t seed = 777u;
@@ -432,7 +434,8 @@ TEST(BsdfSampling, MixedPdfMassEqualsAcceptedFraction) {
     PmcBsdf b = make_bsdf(c.kd, c.ks, c.alpha);
     float3 wo = view_dir(c.deg);
     D3 mirror{-wo.x, -wo.y, wo.z};
-    double mass = integrate_sphere(mirror, 1024, 512, [&](float3 wi) { return double(pmc_bsdf_pdf(&b, wo, wi)); });
+    double mass =
+        integrate_sphere(mirror, 1024, 512, [&](float3 wi) { return double(pmc_bsdf_pdf(&b, wo, wi)); });
     Rng rng(seed++);
     int rejected = 0;
     for (int k = 0; k < n; ++k) {
@@ -483,8 +486,8 @@ TEST(BsdfSampling, GgxSamplingChiSquare) {
       double total = std::accumulate(ex.begin(), ex.end(), 0.0);
       EXPECT_NEAR(total / kGgxSamples, 1.0, 1e-3);
       Chi2 r = chi_square(obs, ex);
-      EXPECT_GT(r.pvalue, 1e-3) << "alpha " << alpha << " wo " << deg << " chi2=" << r.stat << " dof=" << r.dof
-                                << " rejected obs " << obs[kGgxGrid.reject()] << " exp "
+      EXPECT_GT(r.pvalue, 1e-3) << "alpha " << alpha << " wo " << deg << " chi2=" << r.stat
+                                << " dof=" << r.dof << " rejected obs " << obs[kGgxGrid.reject()] << " exp "
                                 << ex[kGgxGrid.reject()];
     }
   }
@@ -500,7 +503,8 @@ TEST(BsdfSampling, GgxChiSquareRejectsWrongPdf) {
       std::vector<double> obs = sample_histogram(kGgxGrid, b, wo, kGgxSamples, seed++);
       // (a) roughness off by 30%.
       Chi2 r = chi_square(obs, ggx_expected_counts(wo, alpha * 1.3f));
-      EXPECT_LT(r.pvalue, 1e-6) << "alpha*1.3 accepted: alpha " << alpha << " wo " << deg << " chi2=" << r.stat;
+      EXPECT_LT(r.pvalue, 1e-6) << "alpha*1.3 accepted: alpha " << alpha << " wo " << deg
+                                << " chi2=" << r.stat;
       // (b) the classic mistake: distribution of normals, D(h) cos(theta_h) /
       //     (4 wo.h), instead of visible normals (also normalised on the sphere).
       auto ndf_pdf = [&](float3 wi) {
@@ -510,7 +514,8 @@ TEST(BsdfSampling, GgxChiSquareRejectsWrongPdf) {
       std::vector<double> e = expected_probs(kGgxGrid, ndf_pdf, 12);
       for (double& x : e) x *= kGgxSamples;
       Chi2 r2 = chi_square(obs, e);
-      EXPECT_LT(r2.pvalue, 1e-6) << "NDF pdf accepted: alpha " << alpha << " wo " << deg << " chi2=" << r2.stat;
+      EXPECT_LT(r2.pvalue, 1e-6) << "NDF pdf accepted: alpha " << alpha << " wo " << deg
+                                 << " chi2=" << r2.stat;
     }
   }
 }
@@ -626,9 +631,8 @@ TEST(BsdfSampling, SpecularAlbedoNoEnergyGain) {
       EXPECT_LE(quad, 1.0 + 2e-3) << "energy gain: alpha " << alpha << " wo " << deg;
       // Independent answer: the double reference model integrated in the
       // half-vector domain (a different grid and parametrisation).
-      double ref = integrate_half(d3(wo), alpha, 1024, 256, [&](D3 wi) {
-        return wi.z > 0.0 ? ref_eval(b, d3(wo), wi).y * wi.z : 0.0;
-      });
+      double ref = integrate_half(d3(wo), alpha, 1024, 256,
+                                  [&](D3 wi) { return wi.z > 0.0 ? ref_eval(b, d3(wo), wi).y * wi.z : 0.0; });
       EXPECT_NEAR(quad, ref, 2e-3) << "alpha " << alpha << " wo " << deg;
       // Sampler estimate: each weight is G2/G1 <= 1; their mean must agree
       // with the quadrature (5 sigma + quadrature tolerance).

@@ -54,7 +54,8 @@ uint32_t bits_of(float f) {
 uint64_t test_seed() {
   static uint64_t seed = [] {
     const char* env = std::getenv("PMC_TEST_SEED");
-    uint64_t s = env ? std::strtoull(env, nullptr, 10) : (uint64_t(std::random_device{}()) << 32) ^ std::random_device{}();
+    uint64_t s = env ? std::strtoull(env, nullptr, 10)
+                     : (uint64_t(std::random_device{}()) << 32) ^ std::random_device{}();
     std::printf("cache_encoding_test: seed %llu (replay with PMC_TEST_SEED=%llu)\n", (unsigned long long)s,
                 (unsigned long long)s);
     return s;
@@ -65,9 +66,9 @@ uint64_t test_seed() {
 const float kInf = std::numeric_limits<float>::infinity();
 const float kNaN = std::numeric_limits<float>::quiet_NaN();
 const float kDenormMin = std::numeric_limits<float>::denorm_min();  // 1.4e-45
-const float kExtremes[] = {0.0f, -0.0f, kDenormMin, 1e-40f, -1e-40f, 1.1754942e-38f, 1e-30f, -1e-30f, 1e30f,
-                           -1e30f, 65408.0f, 65409.0f, 65504.0f, 65505.0f, 1.0f, -1.0f, 0.5f, kNaN, -kNaN,
-                           kInf, -kInf};
+const float kExtremes[] = {0.0f,    -0.0f, kDenormMin, 1e-40f,   -1e-40f,  1.1754942e-38f, 1e-30f,
+                           -1e-30f, 1e30f, -1e30f,     65408.0f, 65409.0f, 65504.0f,       65505.0f,
+                           1.0f,    -1.0f, 0.5f,       kNaN,     -kNaN,    kInf,           -kInf};
 
 // Random magnitudes spread over many binades (a uniform draw would almost
 // never hit the small exponents).

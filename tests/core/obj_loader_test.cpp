@@ -5,9 +5,10 @@
 // material order and values, normal/uv indices, triangulation, relative
 // indices, the default material, the errors (which must name the file), NaN
 // positions, and texture loading (Windows paths, only used textures, mips).
-#include <gtest/gtest.h>
+#include "core/obj_loader.h"
 
 #include <OpenImageIO/imageio.h>
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,7 +18,6 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/obj_loader.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -41,7 +41,9 @@ std::string error_message(F&& f) {
   return {};
 }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
 
 // Writes an 8-bit image through OpenImageIO (format from the extension).
 void write_image(const std::string& path, int w, int h, int channels, const std::vector<uint8_t>& pixels) {
@@ -203,7 +205,7 @@ TEST(ObjLoader, TriangulatesQuads) {
              "f 1 2 3 4\n"
              "f 5 6 7 8\n");
   Scene s = load_obj(dir + "/q.obj");
-  ASSERT_EQ(s.triangles.size(), 4u);  // 2 quads -> 4 triangles
+  ASSERT_EQ(s.triangles.size(), 4u);                                // 2 quads -> 4 triangles
   EXPECT_EQ(vertex_indices(s), (std::vector<int>{0, 1, 2, 0, 2, 3,  //
                                                  4, 5, 7, 5, 6, 7}));
   // Both halves keep the quad's counter-clockwise winding and cover its area.
@@ -345,8 +347,11 @@ TEST(ObjLoader, FaceIndexOutOfRangeThrows) {
   };
   // Past the end, before the start (relative), a quad (tinyobjloader drops bad
   // quads with only a warning), a normal index past the end, and index 0.
-  const Case cases[] = {{"tri", "f 1 2 9\n"},       {"rel", "f -9 1 2\n"},   {"quad", "f 1 2 3 9\n"},
-                        {"normal", "f 1//1 2//1 3//5\n"}, {"relnormal", "f 1//-5 2//1 3//1\n"},
+  const Case cases[] = {{"tri", "f 1 2 9\n"},
+                        {"rel", "f -9 1 2\n"},
+                        {"quad", "f 1 2 3 9\n"},
+                        {"normal", "f 1//1 2//1 3//5\n"},
+                        {"relnormal", "f 1//-5 2//1 3//1\n"},
                         {"zero", "f 0 1 2\n"}};
   for (const Case& c : cases) {
     std::string obj = dir + "/" + c.name + ".obj";
@@ -427,11 +432,10 @@ std::string write_textured_scene(const std::string& dir, const std::string& tex_
   std::filesystem::create_directories(dir + "/sub/tex");
   write_file(dir + "/sub/scene.mtl",
              "newmtl unused\nKd 1 1 1\n" + unused_line + "\n\nnewmtl tex\nKd 1 1 1\n" + tex_line + "\n");
-  write_file(dir + "/sub/scene.obj",
-             "mtllib scene.mtl\n" + std::string(kTriangle) +
-                 "vt 0 0\nvt 1 0\nvt 0 1\n"
-                 "usemtl tex\n"
-                 "f 1/1 2/2 3/3\n");
+  write_file(dir + "/sub/scene.obj", "mtllib scene.mtl\n" + std::string(kTriangle) +
+                                         "vt 0 0\nvt 1 0\nvt 0 1\n"
+                                         "usemtl tex\n"
+                                         "f 1/1 2/2 3/3\n");
   return dir + "/sub/scene.obj";
 }
 

@@ -53,7 +53,8 @@ inline std::string check_obj(const uint8_t* data, size_t size) {
   try {
     Scene s = load_obj(path, options);
     // What the renderer relies on: in-range indices, finite used data.
-    const long nv = long(s.positions.size() / 3), nn = long(s.normals.size() / 3), nt = long(s.uvs.size() / 2);
+    const long nv = long(s.positions.size() / 3), nn = long(s.normals.size() / 3),
+               nt = long(s.uvs.size() / 2);
     if (s.triangles.empty()) return "a scene without triangles was returned";
     for (const PmcTriangle& t : s.triangles) {
       if (t.material < 0 || size_t(t.material) >= s.materials.size()) return "material index out of range";
