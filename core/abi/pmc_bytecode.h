@@ -136,8 +136,9 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_P_COUNT 28
 
 /* Floats of stack per shading point: the compiler's limit. Kernels are built
- * with -DPMC_STACK_SIZE=<the scene's peak>, so private memory is only as
- * large as the loaded materials need. */
+ * with -DPMC_STACK_SIZE=<the scene's peak rounded up to a power of two, at
+ * least 16> (gpu/wavefront_renderer.cpp), so private memory is about as large
+ * as the loaded materials need while few distinct kernel builds exist. */
 #ifndef PMC_STACK_SIZE
 #define PMC_STACK_SIZE 128
 #endif

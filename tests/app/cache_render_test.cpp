@@ -32,6 +32,7 @@
 //  * --cache-eval center with --threads 1 and 2 is bit-identical (README):
 //    (see the test for what makes it hold).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstring>
@@ -68,9 +69,11 @@ struct Render {
 };
 
 // One directory for the whole binary run, so renders shared by tests run once.
+// Per process: ctest -j runs each test in its own process, at the same time.
 const std::string& shared_dir() {
   static std::string dir = [] {
-    std::filesystem::path p = std::filesystem::temp_directory_path() / "pmc_tests" / "CacheRender_shared";
+    std::filesystem::path p = std::filesystem::temp_directory_path() / "pmc_tests" /
+                              ("CacheRender_shared_" + std::to_string(getpid()));
     std::filesystem::remove_all(p);
     std::filesystem::create_directories(p);
     return p.string();
