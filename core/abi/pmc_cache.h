@@ -125,10 +125,22 @@ typedef struct PmcCacheKey {
   pmc_u32 fingerprint;
 } PmcCacheKey;
 
-PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, long tx, long ty) {
-  pmc_u64 a = pmc_mix64(((pmc_u64)material << 32) ^ (pmc_u64)node ^ ((pmc_u64)(pmc_u32)(lambda + 64) << 48));
+/* The part of the key that depends on the texel alone (level and indices).
+ * Every cache point of one evaluation shares it, so the interpreter hashes
+ * the texel once per shading point and each lookup adds only its material
+ * and node (pmc_cache_key_at). */
+PMC_FN pmc_u64 pmc_cache_texel_hash(int lambda, long tx, long ty) {
+  pmc_u64 a = pmc_mix64(((pmc_u64)(pmc_u32)(lambda + 64) << 48) ^ 0x2545f4914f6cdd1dUL);
   pmc_u64 b = pmc_mix64(a ^ (pmc_u64)tx);
-  pmc_u64 c = pmc_mix64(b ^ ((pmc_u64)ty * 0x9e3779b97f4a7c15UL));
+  return pmc_mix64(b ^ ((pmc_u64)ty * 0x9e3779b97f4a7c15UL));
+}
+
+/* (material, node) is injective into the 64 bits XORed with the texel hash
+ * (node ids are 14 bits), and pmc_mix64 is a bijection, so two descriptors
+ * share h1 only if their texel hashes differ by exactly the XOR of their
+ * (material, node) words: about 2^-64 for any pair. */
+PMC_FN PmcCacheKey pmc_cache_key_at(pmc_u64 texel_hash, pmc_u32 material, pmc_u32 node) {
+  pmc_u64 c = pmc_mix64(texel_hash ^ ((pmc_u64)material << 32) ^ (pmc_u64)node);
   PmcCacheKey k;
   k.h1 = c;
   /* A second, independent hash of the same descriptor for the fingerprint. */
@@ -136,6 +148,10 @@ PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, lon
   pmc_u32 fp = (pmc_u32)(d >> 32);
   k.fingerprint = fp == 0u ? 1u : fp;
   return k;
+}
+
+PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, long tx, long ty) {
+  return pmc_cache_key_at(pmc_cache_texel_hash(lambda, tx, ty), material, node);
 }
 
 /* ---- encodings --------------------------------------------------------------- */

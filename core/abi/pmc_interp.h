@@ -179,6 +179,10 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
   int pending_valid = 0;
   pending.h1 = 0;
   pending.fingerprint = 0u;
+  /* The cache descriptor's texel, computed at the first lookup. */
+  int texel_ready = 0, lambda = 0;
+  long tx = 0, ty = 0;
+  pmc_u64 texel_hash = 0;
   for (int guard = 0; guard < 1 << 16; ++guard) {
     pmc_u32 h = code[pc];
     pmc_u32 op = pmc_op_code(h);
@@ -222,10 +226,14 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
          * the number of words to skip past the matching CACHE_STORE on a hit. */
         pending_valid = 0;
         if (cache) {
-          int lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
-          long tx = pmc_cache_texel_jittered(in->uv.x, lambda, cache->jitter.x);
-          long ty = pmc_cache_texel_jittered(in->uv.y, lambda, cache->jitter.y);
-          PmcCacheKey key = pmc_cache_key(cache->material, imm & 0x3fffu, lambda, tx, ty);
+          if (!texel_ready) { /* once per evaluation: every cache point shares the texel */
+            lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
+            tx = pmc_cache_texel_jittered(in->uv.x, lambda, cache->jitter.x);
+            ty = pmc_cache_texel_jittered(in->uv.y, lambda, cache->jitter.y);
+            texel_hash = pmc_cache_texel_hash(lambda, tx, ty);
+            texel_ready = 1;
+          }
+          PmcCacheKey key = pmc_cache_key_at(texel_hash, cache->material, imm & 0x3fffu);
           pmc_u32 bits;
           pmc_stat_add(cache->stats, PMC_CSTAT_LOOKUPS);
           if (pmc_cache_lookup(&cache->table, key, &bits)) {
