@@ -299,9 +299,15 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
     cm.cache_plan = plan_cache(g, options.cache_min_nodes);
     std::vector<CachePoint> kept;
     for (const CachePoint& p : cm.cache_plan.points)
-      if (p.node < (1 << 14)) {  // the node id travels in 14 bits of the instruction
+      // The node id travels in 14 bits of the instruction; the interpreter
+      // tracks a group's misses in one 32-bit mask.
+      if (p.node < (1 << 14) && kept.size() < 32) {
         kept.push_back(p);
         is_point[size_t(p.node)] = 1;
+      } else {
+        cm.cache_plan.not_cached.push_back(
+            {p.node, p.node >= (1 << 14) ? "node id beyond the 14 bits a cache instruction holds"
+                                         : "the material already has 32 cache points (one miss mask)"});
       }
     cm.cache_plan.points = kept;
   }
@@ -375,31 +381,55 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
           release((*slots)[size_t(in.node)], width_of(in.node));
     }
   };
-  for (int i : order) {
-    if (i == g.surface) continue;
-    if (!is_point[size_t(i)]) {
-      std::vector<int> one{i};
-      emit_nodes(one, uses, -1);
-      continue;
+  // The cache group: every cache point's LOOKUP first, then the union of
+  // their sub-graphs (each node once, its own texcoord included, in
+  // block-local slots), then one STORE per point. All points of an
+  // evaluation share the texel, so they hit or miss together; the last
+  // LOOKUP jumps past the group when every lookup hit. On any miss the whole
+  // union runs once (shared nodes are not evaluated per point) and each
+  // STORE inserts and delivers only the values that missed.
+  if (!cm.cache_plan.points.empty()) {
+    std::vector<int> point_dst;
+    size_t last_lookup = 0;
+    for (const CachePoint& p : cm.cache_plan.points) {
+      const Node& n = g.nodes[size_t(p.node)];
+      int dst = allocate(width_of(p.node), "cache point '" + n.name + "'");
+      slot_of[size_t(p.node)] = dst;
+      point_dst.push_back(dst);
+      last_lookup = em.size();
+      em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(p.node), uint32_t(p.node) | (p.encoding << 14),
+                   uint32_t(dst), {0u});
     }
-    // A cache block: LOOKUP, the whole sub-graph with block-local slots, STORE.
-    const Node& n = g.nodes[size_t(i)];
-    uint32_t enc = 0;
-    for (const CachePoint& p : cm.cache_plan.points)
-      if (p.node == i) enc = p.encoding;
-    int dst = allocate(width_of(i), "cache point '" + n.name + "'");
-    slot_of[size_t(i)] = dst;
-    size_t lookup_at = em.size();
-    em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(i), uint32_t(i) | (enc << 14), uint32_t(dst), {0u});
-    size_t after_lookup = em.size();
-    std::vector<int> block = subgraph_order(g, i);
+    size_t after_lookups = em.size();
+    std::vector<int> group;
+    {
+      std::vector<char> seen(g.nodes.size(), 0);
+      for (const CachePoint& p : cm.cache_plan.points)
+        for (int i : subgraph_order(g, p.node))
+          if (!seen[size_t(i)]) {
+            seen[size_t(i)] = 1;
+            group.push_back(i);
+          }
+    }
     std::vector<int> block_slots(g.nodes.size(), -1);
-    std::vector<int> block_uses = count_uses(block, false);
+    std::vector<int> block_uses = count_uses(group, false);
+    for (const CachePoint& p : cm.cache_plan.points) ++block_uses[size_t(p.node)];  // read by its STORE
     slots = &block_slots;
-    emit_nodes(block, block_uses, dst);
+    emit_nodes(group, block_uses, -1);
     slots = &slot_of;
-    em.instr(PMC_OP_CACHE_STORE, width_of(i), enc, 0, {Emitter::slot(uint32_t(dst), width_of(i))});
-    em.patch(lookup_at + 2, uint32_t(em.size() - after_lookup));
+    for (size_t k = 0; k < cm.cache_plan.points.size(); ++k) {
+      const CachePoint& p = cm.cache_plan.points[k];
+      int w = width_of(p.node);
+      em.instr(PMC_OP_CACHE_STORE, w, uint32_t(p.node) | (p.encoding << 14), uint32_t(point_dst[k]),
+               {Emitter::slot(uint32_t(block_slots[size_t(p.node)]), w)});
+      release(block_slots[size_t(p.node)], w);
+    }
+    em.patch(last_lookup + 2, uint32_t(em.size() - after_lookups));
+  }
+  for (int i : order) {
+    if (i == g.surface || is_point[size_t(i)]) continue;
+    std::vector<int> one{i};
+    emit_nodes(one, uses, -1);
   }
   // Surface parameters: links always, constants when they differ from the interpreter's defaults.
   const Node& surface = g.nodes[size_t(g.surface)];

@@ -10,12 +10,15 @@
 // ever loaded. A program that needs more stack than PMC_STACK_SIZE is
 // refused with an error naming the material.
 //
-// With the cache on, each cache point's whole sub-graph (its own texcoord
-// included) is emitted as one contiguous block between CACHE_LOOKUP, which
-// jumps past the block on a hit, and CACHE_STORE. Blocks are self-contained,
-// so a hit skips all of their work and --cache-eval center can re-evaluate a
-// block at a texel centre. With the cache off the program has no cache
-// instructions at all.
+// With the cache on, a material's cache points form one group at the start
+// of its program: a CACHE_LOOKUP per point (all share the shading point's
+// texel, so they hit or miss together), then the union of their sub-graphs
+// (each node once, its own texcoord included, in group-local slots), then a
+// CACHE_STORE per point that inserts and delivers the values that missed.
+// The last lookup jumps past the group when every lookup hit. The group is
+// self-contained, so a hit skips all of its work and --cache-eval center can
+// re-evaluate it at a texel centre. With the cache off the program has no
+// cache instructions at all.
 #pragma once
 
 #include <cstdint>
@@ -30,7 +33,7 @@
 namespace pmc {
 
 struct CompileOptions {
-  bool cache = false;  // emit CACHE_LOOKUP/CACHE_STORE around cache points
+  bool cache = false;  // emit the cache group (CACHE_LOOKUP/CACHE_STORE) for cache points
   int cache_min_nodes = kDefaultCacheMinNodes;
 };
 

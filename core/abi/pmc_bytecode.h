@@ -77,7 +77,7 @@
   X(LINEPATTERN, 5, 5)    /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
   X(NORMALMAP, 4, 4)      /* in, scale, normal, tangent */                                     \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
-  X(CACHE_STORE, 1, 1)    /* insert the operand for the pending lookup; imm = enc */
+  X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on
 
 #define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,

@@ -175,10 +175,8 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
    * depends on the texel alone. */
   float2 uv_now = in->uv;
   float footprint_now = in->footprint;
-  PmcCacheKey pending;
-  int pending_valid = 0;
-  pending.h1 = 0;
-  pending.fingerprint = 0u;
+  /* The cache group: lookups and stores so far, and which lookups missed. */
+  pmc_u32 n_lookups = 0u, n_stores = 0u, missed = 0u;
   /* The cache descriptor's texel, computed at the first lookup. */
   int texel_ready = 0, lambda = 0;
   long tx = 0, ty = 0;
@@ -223,8 +221,12 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         break;
       case PMC_OP_CACHE_LOOKUP: {
         /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
-         * the number of words to skip past the matching CACHE_STORE on a hit. */
-        pending_valid = 0;
+         * the number of words to skip on a hit when no earlier lookup of the
+         * group missed (0 but for the group's last lookup, whose skip passes
+         * the group's sub-graphs and STOREs). Without a cache context every
+         * lookup misses. */
+        pmc_u32 bit = 1u << (n_lookups & 31u);
+        n_lookups += 1u;
         if (cache) {
           if (!texel_ready) { /* once per evaluation: every cache point shares the texel */
             lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
@@ -243,41 +245,46 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
             if (width > 2u) stack[dst + 2u] = v.z;
             cache->hits += 1u;
             pmc_stat_add(cache->stats, PMC_CSTAT_HITS);
-            pc += 3u + code[pc + 2u];
+            pc += 3u + (missed == 0u ? code[pc + 2u] : 0u);
             continue;
           }
-          pending = key;
-          pending_valid = 1;
           if (cache->center) {
             uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
             footprint_now = pmc_cache_texel_footprint(lambda, cache->bias);
           }
         }
+        missed |= bit;
         pc += 3u;
         continue;
       }
       case PMC_OP_CACHE_STORE: {
-        if (cache && pending_valid) {
-          pmc_u32 bits;
-          if (pmc_cache_encode(PMC_ARG(0), imm, &bits)) {
-            if (cache->center) {
-              /* Use the stored (quantised) value now too: a texel's value is
-               * then the same whether this sample missed or a later one hits,
-               * which makes center-mode renders independent of who inserts. */
-              float4 q = pmc_cache_decode(bits, imm);
-              pmc_u32 slot = code[pc + 2u] & PMC_OPERAND_INDEX_MASK;
-              stack[slot] = q.x;
-              if (width > 1u) stack[slot + 1u] = q.y;
-              if (width > 2u) stack[slot + 2u] = q.z;
+        /* The group's k-th STORE belongs to its k-th LOOKUP (same imm). A
+         * point that hit keeps its value; one that missed gets the computed
+         * operand in `dst` and, with a cache, is inserted (in center mode the
+         * stored, quantised value is delivered: a texel's value is then the
+         * same whether this sample missed or a later one hits, which makes
+         * center-mode renders independent of who inserts). */
+        pmc_u32 bit = 1u << (n_stores & 31u);
+        n_stores += 1u;
+        if (missed & bit) {
+          float4 v = PMC_ARG(0);
+          if (cache) {
+            pmc_u32 bits;
+            if (pmc_cache_encode(v, imm >> 14, &bits)) {
+              if (cache->center) v = pmc_cache_decode(bits, imm >> 14);
+              PmcCacheKey key = pmc_cache_key_at(texel_hash, cache->material, imm & 0x3fffu);
+              int result = pmc_cache_insert(&cache->table, key, bits);
+              if (result > 0) pmc_stat_add(cache->stats, PMC_CSTAT_INSERTS);
+              if (result < 0) pmc_stat_add(cache->stats, PMC_CSTAT_DROPPED_FULL);
+            } else {
+              pmc_stat_add(cache->stats, PMC_CSTAT_NOT_ENCODABLE);
             }
-            int result = pmc_cache_insert(&cache->table, pending, bits);
-            if (result > 0) pmc_stat_add(cache->stats, PMC_CSTAT_INSERTS);
-            if (result < 0) pmc_stat_add(cache->stats, PMC_CSTAT_DROPPED_FULL);
-          } else {
-            pmc_stat_add(cache->stats, PMC_CSTAT_NOT_ENCODABLE);
           }
+          stack[dst] = v.x;
+          if (width > 1u) stack[dst + 1u] = v.y;
+          if (width > 2u) stack[dst + 2u] = v.z;
+          if (width > 3u) stack[dst + 3u] = v.w;
         }
-        pending_valid = 0;
         uv_now = in->uv;
         footprint_now = in->footprint;
         pc += 2u + nargs;

@@ -554,10 +554,11 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
   }
   {
     // Chained program around a cache block, as the compiler emits it:
-    //   MOVE s44 <- s0; CACHE_LOOKUP s48 [skip]; ADD s48 <- s44, s4;
-    //   CACHE_STORE <- s48; MUL s40 <- s48, s44; OUTPUT
+    //   MOVE s44 <- s0; CACHE_LOOKUP s48 [skip]; ADD s52 <- s44, s4;
+    //   CACHE_STORE s48 <- s52; MUL s40 <- s48, s44; OUTPUT
     // Without a cache context (host reference, cache off) every lookup is a
-    // miss: the block runs and the result is (a + b) * a on both sides.
+    // miss: the block runs into its own slot, the STORE delivers it to the
+    // point's slot, and the result is (a + b) * a on both sides.
     Case c;
     c.label = "MOVE; CACHE_LOOKUP; ADD; CACHE_STORE; MUL (chained, cache miss)";
     c.out_width = 4;
@@ -569,8 +570,8 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
     std::vector<Instr> prog = {
         {PMC_OP_MOVE, 4, 0, 44, {Operand{false, false, 0, 4, 0, {}}}},
         {PMC_OP_CACHE_LOOKUP, 4, 0, 48, {skip}},
-        {PMC_OP_ADD, 4, 0, 48, {Operand{false, false, 0, 4, 44, {}}, Operand{false, false, 0, 4, 4, {}}}},
-        {PMC_OP_CACHE_STORE, 4, 0, 0, {Operand{false, false, 0, 4, 48, {}}}},
+        {PMC_OP_ADD, 4, 0, 52, {Operand{false, false, 0, 4, 44, {}}, Operand{false, false, 0, 4, 4, {}}}},
+        {PMC_OP_CACHE_STORE, 4, 0, 48, {Operand{false, false, 0, 4, 52, {}}}},
         {PMC_OP_MUL, 4, 0, kDst, {Operand{false, false, 0, 4, 48, {}}, Operand{false, false, 0, 4, 44, {}}}},
         {PMC_OP_OUTPUT, 4, 0, 0, {Operand{false, false, 0, 4, kDst, {}}}},
     };

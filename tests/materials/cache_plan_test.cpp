@@ -385,6 +385,116 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
   EXPECT_EQ(stats[PMC_CSTAT_DROPPED_FULL], 0u);
 }
 
+// Two float cache points over one shared 9-node uv chain: base colour (via
+// a position-driven mix) and roughness.
+Graph shared_chain_material(const std::string& name) {
+  Graph g = new_graph(name);
+  int tc = add(g, "uv", "texcoord", VT::Vector2);
+  int mul = add(g, "mul", "multiply", VT::Vector2, {{"in1", link(tc)}, {"in2", value(VT::Vector2, 4, 6)}});
+  int chain = add(g, "n", "noise2d", VT::Float, {{"texcoord", link(mul)}});
+  for (int k = 0; k < 6; ++k)
+    chain = add(g, "c" + std::to_string(k), k % 2 ? "sin" : "absval", VT::Float, {{"in", link(chain)}});
+  int a = add(g, "a", "multiply", VT::Float, {{"in1", link(chain)}, {"in2", value(VT::Float, 0.5f)}});
+  int b = add(g, "b", "add", VT::Float, {{"in1", link(chain)}, {"in2", value(VT::Float, 0.25f)}});
+  int pos = add(g, "pos", "position", VT::Vector3);
+  int px =
+      add(g, "px", "extract", VT::Float, {{"in", link(pos, VT::Vector3)}, {"index", value(VT::Integer, 0)}});
+  int top = add(g, "top", "multiply", VT::Float, {{"in1", link(a)}, {"in2", link(px)}});
+  int col = add(g, "col", "convert", VT::Color3, {{"in", link(top, VT::Float)}});
+  add_surface(g, {{"base_color", link(col)}, {"specular_roughness", link(b)}});
+  return g;
+}
+
+TEST(CachePlan, OverlappingCachePointsEvaluateTheirSharedNodesOnce) {
+  Graph off_graph = shared_chain_material("M_off"), on_graph = shared_chain_material("M_on");
+  TexturePool tex;
+  MaterialProgram prog;
+  CompileOptions on_opts;
+  on_opts.cache = true;
+  on_opts.cache_min_nodes = 4;
+  compile_material(off_graph, tex, prog);
+  compile_material(on_graph, tex, prog, on_opts);
+  const CompiledMaterial& off = prog.materials[0];
+  const CompiledMaterial& on = prog.materials[1];
+  ASSERT_EQ(on.cache_plan.points.size(), 2u) << disassemble(prog, on);
+  for (const CachePoint& p : on.cache_plan.points) EXPECT_EQ(p.subgraph_nodes, 10) << "chain + its own node";
+  OpCounts c_off = count_ops(prog, off), c_on = count_ops(prog, on);
+  EXPECT_EQ(c_on.lookup, 2);
+  EXPECT_EQ(c_on.store, 2);
+  // One block per point would emit the 9 shared nodes twice (2 x 10 block
+  // nodes); the group emits the 11-node union once. Outside the group only
+  // the texcoord-free nodes remain, so the cached program is the plain one
+  // plus its 4 cache instructions.
+  EXPECT_EQ(c_on.instructions, c_off.instructions + 4) << disassemble(prog, on);
+}
+
+TEST(CachePlan, APartialHitKeepsTheFoundValueAndRecomputesTheMissedOne) {
+  Graph on_graph = shared_chain_material("M_on"), off_graph = shared_chain_material("M_off");
+  TexturePool tex;
+  MaterialProgram prog;
+  CompileOptions on_opts;
+  on_opts.cache = true;
+  on_opts.cache_min_nodes = 4;
+  compile_material(off_graph, tex, prog);
+  compile_material(on_graph, tex, prog, on_opts);
+  const CompiledMaterial& off = prog.materials[0];
+  const CompiledMaterial& on = prog.materials[1];
+  // Both orders: the hit first (the miss comes last) and the miss first
+  // (the last lookup hits, and must not skip the group).
+  for (int hit_index = 0; hit_index < 2; ++hit_index) {
+    SCOPED_TRACE("cache point " + std::to_string(hit_index) + " hits");
+    std::vector<uint64_t> words(size_t(1) << 12, 0);
+    uint64_t stats[PMC_CSTAT_COUNT] = {0};
+    PmcCacheContext cache{};
+    cache.table.entries = words.data();
+    cache.table.cells = words.size() / 8;
+    cache.table.ways = 8;
+    cache.stats = stats;
+    cache.g1 = make_float2(1e-3f, 0.0f);
+    cache.g2 = make_float2(0.0f, 1e-3f);
+    cache.material = 1;
+    cache.center = 0;
+    const float u = 0.37f, v = 0.61f;
+    const float3 pos = make_float3(0.8f, 0.1f, 0.2f);
+    float ref[PMC_P_COUNT], first[PMC_P_COUNT], partial[PMC_P_COUNT];
+    run_host(prog, off, u, v, ref, pos);
+    run_host(prog, on, u, v, first, pos, &cache);
+    ASSERT_EQ(stats[PMC_CSTAT_INSERTS], 2u);
+    // Plant a different value under one point's key and remove the other's:
+    // the next evaluation must take the planted value for the first point and
+    // compute the second one (floats are stored as raw bits).
+    int lambda = pmc_cache_lambda(cache.g1, cache.g2, 0.0f);
+    uint64_t th = pmc_cache_texel_hash(lambda, pmc_cache_texel(u, lambda), pmc_cache_texel(v, lambda));
+    const CachePoint& kept = on.cache_plan.points[hit_index];
+    const CachePoint& dropped = on.cache_plan.points[1 - hit_index];
+    PmcCacheKey kk = pmc_cache_key_at(th, 1u, uint32_t(kept.node));
+    PmcCacheKey kd = pmc_cache_key_at(th, 1u, uint32_t(dropped.node));
+    int cleared = 0;
+    for (uint64_t& w : words) {
+      if (w != 0 && uint32_t(w >> 32) == kd.fingerprint) w = 0, ++cleared;
+      if (w != 0 && uint32_t(w >> 32) == kk.fingerprint)
+        w = (uint64_t(kk.fingerprint) << 32) | pmc_float_bits(0.125f);
+    }
+    ASSERT_EQ(cleared, 1);
+    // The cleared entry may have been in front of the kept one in a shared
+    // cell; lookups stop at the first empty entry, so keep cells packed.
+    ASSERT_NE(pmc_cache_cell(&cache.table, kk.h1), pmc_cache_cell(&cache.table, kd.h1));
+    cache.hits = 0;
+    run_host(prog, on, u, v, partial, pos, &cache);
+    EXPECT_EQ(cache.hits, 1u);
+    const std::string kept_name = on_graph.nodes[size_t(kept.node)].name;
+    if (kept_name == "a") {
+      EXPECT_FLOAT_EQ(partial[PMC_P_BASE_COLOR], 0.125f * 0.8f) << "the planted value, times the position";
+      EXPECT_EQ(partial[PMC_P_SPECULAR_ROUGHNESS], ref[PMC_P_SPECULAR_ROUGHNESS]) << "recomputed";
+    } else {
+      ASSERT_EQ(kept_name, "b");
+      EXPECT_EQ(partial[PMC_P_SPECULAR_ROUGHNESS], 0.125f) << "the planted value";
+      EXPECT_EQ(partial[PMC_P_BASE_COLOR], ref[PMC_P_BASE_COLOR]) << "recomputed";
+    }
+    EXPECT_EQ(stats[PMC_CSTAT_INSERTS], 3u) << "the missed point was inserted again";
+  }
+}
+
 TEST(CachePlan, CompiledNoiseNodesReadTheirLookupPoint) {
   // noise2d/fractal2d (texcoord) and noise3d/fractal3d (position) list the
   // point last in MaterialX, while the opcodes read it first: emitted in
