@@ -50,6 +50,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     info.entry = cm.entry;
     info.flags = cm.has_cutout ? PMC_MAT_CUTOUT : 0u;
     for (int k = 0; k < 3; ++k) info.emission[k] = cm.constant_emission[k];
+    info.cache_points = uint32_t(cm.cache_plan.points.size());
   }
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (used[i]) continue;

@@ -6,7 +6,9 @@
  * lambda = -log2(min(|g1|, |g2|)) + bias comes from the ray-cone uv gradients,
  * the texel is floor(uv * 2^lambda). The descriptor (material, node, lambda,
  * texel x, texel y) is hashed twice: h1 picks one of Nc cells, h2 is a 32-bit
- * fingerprint (never 0; 0 marks an empty entry). A cell holds Ne 64-bit words
+ * fingerprint (never 0; 0 marks an empty entry). h1 is a hash of (material,
+ * lambda, texel) plus the node's rank among its material's cache points, so
+ * the points of one shading point sit in adjacent cells. A cell holds Ne 64-bit words
  * {fingerprint << 32 | encoded value}; an insert publishes one with a single
  * 64-bit compare-and-swap from 0, so readers never see a torn entry; on
  * collision the first value stays (the paper's Algorithm 1).
@@ -60,6 +62,10 @@ PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
   return (int)floor(lambda);
 }
 
+/* 2^e for an integer e in [-126, 127], exactly, from the exponent bits (a
+ * library exp2 costs tens of instructions and sits on every lookup's path). */
+PMC_FN float pmc_exp2i(int e) { return as_float((e + 127) << 23); }
+
 /* floor(u * 2^lambda + offset) as a 64-bit integer without overflow or UB.
  * The offset is in [-0.5, 0.5): 0 gives the texel under u; a uniform random
  * offset gives stochastic bilinear selection (between the two texels whose
@@ -71,7 +77,7 @@ PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
  * (and ordered), never an in-range index, at most 2^62 + 2^31 in magnitude.
  * NaN maps to 0. */
 PMC_FN long pmc_cache_texel_jittered(float u, int lambda, float offset) {
-  float s = u * exp2((float)lambda) + offset;
+  float s = u * pmc_exp2i(lambda) + offset;
   float f = floor(s);
   const float lim = 4.6116860184e18f; /* 2^62 */
   if (isnan(f)) return 0L;
@@ -91,11 +97,11 @@ PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
   const long big = (long)4611686018427387904L; /* 2^62 */
   if (texel >= big || texel <= -big) {
     float f = as_float((int)(pmc_u32)((texel < 0 ? -texel : texel) - big));
-    float c = f * exp2((float)-lambda);
+    float c = f * pmc_exp2i(-lambda);
     if (!isfinite(c)) c = 3.4028234664e38f;
     return texel < 0 ? -c : c;
   }
-  return ((float)texel + 0.5f) * exp2((float)-lambda);
+  return ((float)texel + 0.5f) * pmc_exp2i(-lambda);
 }
 
 /* Texture footprint (uv diameter) for a --cache-eval center miss: what the
@@ -135,23 +141,58 @@ PMC_FN pmc_u64 pmc_cache_texel_hash(int lambda, long tx, long ty) {
   return pmc_mix64(b ^ ((pmc_u64)ty * 0x9e3779b97f4a7c15UL));
 }
 
-/* (material, node) is injective into the 64 bits XORed with the texel hash
+/* The cell hash of a material's cache group at a texel: its k-th cache point
+ * (the k-th lookup of the group, `rank`) lives in cell h1 = base + k (mod
+ * Nc). Different texels get independent bases, so cells fill as evenly as
+ * with one hash per point, but the points of one evaluation sit in adjacent
+ * cells: the shade kernel can fetch them all before the interpreter needs
+ * them (pmc_shade's prefetch pass), and they share memory pages. */
+PMC_FN pmc_u64 pmc_cache_group_base(pmc_u64 texel_hash, pmc_u32 material) {
+  return pmc_mix64(texel_hash ^ ((pmc_u64)material << 32) ^ 0x6a09e667f3bcc909UL);
+}
+
+/* The key of cache point `node` (rank `rank` in its material's group).
+ * (material, node) is injective into the 64 bits XORed with the texel hash
  * (node ids are 14 bits), and pmc_mix64 is a bijection, so two descriptors
- * share h1 only if their texel hashes differ by exactly the XOR of their
- * (material, node) words: about 2^-64 for any pair. */
-PMC_FN PmcCacheKey pmc_cache_key_at(pmc_u64 texel_hash, pmc_u32 material, pmc_u32 node) {
-  pmc_u64 c = pmc_mix64(texel_hash ^ ((pmc_u64)material << 32) ^ (pmc_u64)node);
+ * share the fingerprint's source word only if their texel hashes differ by
+ * exactly the XOR of their (material, node) words: about 2^-64 for any pair. */
+PMC_FN PmcCacheKey pmc_cache_key_at(pmc_u64 texel_hash, pmc_u64 group_base, pmc_u32 material, pmc_u32 node,
+                                    pmc_u32 rank) {
   PmcCacheKey k;
-  k.h1 = c;
-  /* A second, independent hash of the same descriptor for the fingerprint. */
+  k.h1 = group_base + (pmc_u64)rank;
+  pmc_u64 c = pmc_mix64(texel_hash ^ ((pmc_u64)material << 32) ^ (pmc_u64)node);
   pmc_u64 d = pmc_mix64(c ^ 0xd6e8feb86659fd93UL);
   pmc_u32 fp = (pmc_u32)(d >> 32);
   k.fingerprint = fp == 0u ? 1u : fp;
   return k;
 }
 
-PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, int lambda, long tx, long ty) {
-  return pmc_cache_key_at(pmc_cache_texel_hash(lambda, tx, ty), material, node);
+PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, pmc_u32 rank, int lambda, long tx, long ty) {
+  pmc_u64 th = pmc_cache_texel_hash(lambda, tx, ty);
+  return pmc_cache_key_at(th, pmc_cache_group_base(th, material), material, node, rank);
+}
+
+/* Everything about one shading point's texel that its cache points share. */
+typedef struct PmcCacheTexel {
+  pmc_u64 hash;  /* pmc_cache_texel_hash */
+  pmc_u64 base;  /* pmc_cache_group_base */
+  long tx, ty;   /* texel indices */
+  int lambda;    /* virtual mip level */
+  pmc_u32 ready; /* the fields above are filled */
+} PmcCacheTexel;
+
+/* The texel of a shading point: level from the ray-cone gradients and the
+ * mip bias, indices of uv * 2^lambda + jitter (see pmc_cache_texel_jittered). */
+PMC_FN PmcCacheTexel pmc_cache_texel_of(float2 uv, float2 g1, float2 g2, float bias, float2 jitter,
+                                        pmc_u32 material) {
+  PmcCacheTexel t;
+  t.lambda = pmc_cache_lambda(g1, g2, bias);
+  t.tx = pmc_cache_texel_jittered(uv.x, t.lambda, jitter.x);
+  t.ty = pmc_cache_texel_jittered(uv.y, t.lambda, jitter.y);
+  t.hash = pmc_cache_texel_hash(t.lambda, t.tx, t.ty);
+  t.base = pmc_cache_group_base(t.hash, material);
+  t.ready = 1u;
+  return t;
 }
 
 /* ---- encodings --------------------------------------------------------------- */
@@ -176,7 +217,7 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
   int e = (int)floor(log2(m));                             /* m in [2^e, 2^(e+1)) */
   if (e < -16) e = -16;
   int exp_shared = e + 1; /* mantissas < 512 */
-  float scale = exp2((float)(9 - exp_shared));
+  float scale = pmc_exp2i(9 - exp_shared);
   int mm = (int)floor(m * scale + 0.5f);
   if (mm == 512) {
     exp_shared += 1;
@@ -192,7 +233,7 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
 
 PMC_FN float4 pmc_decode_rgb9e5(pmc_u32 v) {
   int e = (int)(v >> 27) - 15;
-  float scale = exp2((float)(e - 9));
+  float scale = pmc_exp2i(e - 9);
   return make_float4((float)(v & 511u) * scale, (float)((v >> 9) & 511u) * scale,
                      (float)((v >> 18) & 511u) * scale, 0.0f);
 }

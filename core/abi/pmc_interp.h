@@ -33,15 +33,19 @@ typedef struct PmcShadingInputs {
  * makes every lookup a miss. */
 typedef struct PmcCacheContext {
   PmcCacheTable table;
-  PMC_CACHE_PTR stats; /* PMC_CSTAT_* counters */
-  float2 g1, g2;       /* ray-cone uv gradients at the hit */
-  float bias;          /* --mip-bias */
-  float2 jitter;       /* added to uv * 2^lambda before flooring, in [-0.5, 0.5):
-                        * 0 is the nearest texel; uniform random offsets pick a
-                        * neighbour with its bilinear weight (--cache-filter) */
+  float2 g1, g2; /* ray-cone uv gradients at the hit */
+  float bias;    /* --mip-bias */
+  float2 jitter; /* added to uv * 2^lambda before flooring, in [-0.5, 0.5):
+                  * 0 is the nearest texel; uniform random offsets pick a
+                  * neighbour with its bilinear weight (--cache-filter) */
   pmc_u32 material;
-  pmc_u32 center; /* --cache-eval center: evaluate misses at the texel centre */
-  pmc_u32 hits;   /* out: cache points found in this evaluation */
+  pmc_u32 center;      /* --cache-eval center: evaluate misses at the texel centre */
+  PmcCacheTexel texel; /* the shading point's texel, if the caller computed it
+                        * (ready); else the first lookup computes it */
+  pmc_u32 hits;        /* out: cache points found in this evaluation */
+  /* out: PMC_CSTAT_* events, counted privately (no atomics per lookup); the
+   * caller adds them up: the shade kernel once per work-group. */
+  pmc_u32 counts[PMC_CSTAT_COUNT];
 } PmcCacheContext;
 
 PMC_FN float4 pmc_broadcast(float v) { return make_float4(v, v, v, v); }
@@ -177,10 +181,10 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
   float footprint_now = in->footprint;
   /* The cache group: lookups and stores so far, and which lookups missed. */
   pmc_u32 n_lookups = 0u, n_stores = 0u, missed = 0u;
-  /* The cache descriptor's texel, computed at the first lookup. */
-  int texel_ready = 0, lambda = 0;
-  long tx = 0, ty = 0;
-  pmc_u64 texel_hash = 0;
+  /* The cache descriptor's texel: the caller's, or computed at the first lookup. */
+  PmcCacheTexel texel;
+  texel.ready = 0u;
+  if (cache) texel = cache->texel;
   for (int guard = 0; guard < 1 << 16; ++guard) {
     pmc_u32 h = code[pc];
     pmc_u32 op = pmc_op_code(h);
@@ -228,29 +232,27 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
         pmc_u32 bit = 1u << (n_lookups & 31u);
         n_lookups += 1u;
         if (cache) {
-          if (!texel_ready) { /* once per evaluation: every cache point shares the texel */
-            lambda = pmc_cache_lambda(cache->g1, cache->g2, cache->bias);
-            tx = pmc_cache_texel_jittered(in->uv.x, lambda, cache->jitter.x);
-            ty = pmc_cache_texel_jittered(in->uv.y, lambda, cache->jitter.y);
-            texel_hash = pmc_cache_texel_hash(lambda, tx, ty);
-            texel_ready = 1;
-          }
-          PmcCacheKey key = pmc_cache_key_at(texel_hash, cache->material, imm & 0x3fffu);
+          if (!texel.ready) /* once per evaluation: every cache point shares the texel */
+            texel =
+                pmc_cache_texel_of(in->uv, cache->g1, cache->g2, cache->bias, cache->jitter, cache->material);
+          PmcCacheKey key =
+              pmc_cache_key_at(texel.hash, texel.base, cache->material, imm & 0x3fffu, n_lookups - 1u);
           pmc_u32 bits;
-          pmc_stat_add(cache->stats, PMC_CSTAT_LOOKUPS);
+          cache->counts[PMC_CSTAT_LOOKUPS] += 1u;
           if (pmc_cache_lookup(&cache->table, key, &bits)) {
             float4 v = pmc_cache_decode(bits, imm >> 14);
             stack[dst] = v.x;
             if (width > 1u) stack[dst + 1u] = v.y;
             if (width > 2u) stack[dst + 2u] = v.z;
             cache->hits += 1u;
-            pmc_stat_add(cache->stats, PMC_CSTAT_HITS);
+            cache->counts[PMC_CSTAT_HITS] += 1u;
             pc += 3u + (missed == 0u ? code[pc + 2u] : 0u);
             continue;
           }
           if (cache->center) {
-            uv_now = make_float2(pmc_cache_texel_center(tx, lambda), pmc_cache_texel_center(ty, lambda));
-            footprint_now = pmc_cache_texel_footprint(lambda, cache->bias);
+            uv_now = make_float2(pmc_cache_texel_center(texel.tx, texel.lambda),
+                                 pmc_cache_texel_center(texel.ty, texel.lambda));
+            footprint_now = pmc_cache_texel_footprint(texel.lambda, cache->bias);
           }
         }
         missed |= bit;
@@ -272,12 +274,13 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
             pmc_u32 bits;
             if (pmc_cache_encode(v, imm >> 14, &bits)) {
               if (cache->center) v = pmc_cache_decode(bits, imm >> 14);
-              PmcCacheKey key = pmc_cache_key_at(texel_hash, cache->material, imm & 0x3fffu);
+              PmcCacheKey key =
+                  pmc_cache_key_at(texel.hash, texel.base, cache->material, imm & 0x3fffu, n_stores - 1u);
               int result = pmc_cache_insert(&cache->table, key, bits);
-              if (result > 0) pmc_stat_add(cache->stats, PMC_CSTAT_INSERTS);
-              if (result < 0) pmc_stat_add(cache->stats, PMC_CSTAT_DROPPED_FULL);
+              if (result > 0) cache->counts[PMC_CSTAT_INSERTS] += 1u;
+              if (result < 0) cache->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
             } else {
-              pmc_stat_add(cache->stats, PMC_CSTAT_NOT_ENCODABLE);
+              cache->counts[PMC_CSTAT_NOT_ENCODABLE] += 1u;
             }
           }
           stack[dst] = v.x;

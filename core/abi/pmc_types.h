@@ -82,14 +82,16 @@ typedef struct PmcTexture {
   pmc_u32 pad[3];
 } PmcTexture;
 
-/* Per material: where its program starts, and its constant emission (the
- * light table and next-event estimation use it). */
+/* Per material: where its program starts, its constant emission (the
+ * light table and next-event estimation use it) and how many cache points
+ * its program looks up (0 with the cache off). */
 #define PMC_MAT_CUTOUT 1u
 typedef struct PmcMaterialInfo {
   pmc_u32 entry;
   pmc_u32 flags;
   float emission[3];
-  pmc_u32 pad[3];
+  pmc_u32 cache_points;
+  pmc_u32 pad[2];
 } PmcMaterialInfo;
 
 /* Everything a wave's kernels need to know about the frame. */

@@ -9,14 +9,17 @@
  *   (host: Embree tests shadow rays and uploads one occlusion byte each)
  *   pmc_resolve_shadows: add unoccluded light samples to their paths
  *   pmc_film_accumulate: when the wave is done, add path radiance to the film
- * Kernels take a global offset so the host can stream a queue in chunks.
+ * Kernels take the index of their first ray so the host can stream a queue in
+ * chunks.
  */
-#include "pmc_types.h"
-#include "pmc_rng.h"
 #include "pmc_bsdf.h"
 #include "pmc_geometry.h"
 #include "pmc_interp.h"
 #include "pmc_raycone.h"
+#include "pmc_rng.h"
+#include "pmc_types.h"
+
+/* After the headers: it uses their types. */
 #include "material_network.cl"
 
 __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
@@ -103,34 +106,45 @@ static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float
   r->flags = 0u;
 }
 
-__kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
-                        __global const PmcHit* hits, __global PmcPathState* paths,
-                        __global const float* positions, __global const float* normals,
-                        __global const float* uvs, __global const PmcTriangle* triangles,
-                        __global const pmc_u32* code, __global const PmcMaterialInfo* materials,
-                        __global const PmcTexture* textures, __global const pmc_u32* texels,
-                        __constant float* srgb_lut, __global const int* light_tris,
-                        __global const float* light_cdf, __global const float* tri_light_pmf,
-                        __global PmcRay* next_rays, __global PmcRay* shadow_rays,
-                        __global PmcShadowLoad* shadow_loads, __global PmcCounters* counters,
-                        __global volatile ulong* cache_entries, __global volatile ulong* cache_stats,
-                        uint first, uint ray_count) {
-  /* Chunks start at `first` (an argument, not a global offset: PoCL would
-   * compile a second work-group function for non-zero offsets). */
-  uint i = first + (uint)get_global_id(0);
-  if (i >= ray_count) return;
+/* The geometry of one ray's hit: what pmc_shade_surface needs (the first
+ * pass of pmc_shade computes it for the whole work-group). */
+typedef struct PmcHitPoint {
+  float3 dir, pos, ng, ns, tangent;
+  float2 uv, g1, g2; /* texture coordinates and their ray-cone gradients */
+  float t, hit_scale, area2, cone_width;
+  int prim, material;
+  uint path;
+  int surface;         /* 0: the ray escaped */
+  float2 cache_jitter; /* --cache-filter bilinear: texel selection offset */
+  PmcCacheTexel texel; /* ready when the material has cache points */
+  uint cache_points;   /* how many (the cells to prefetch) */
+} PmcHitPoint;
+
+/* What shading one ray asks the queues for. */
+typedef struct PmcShadeOut {
+  float3 next_org, next_dir;                 /* the continuation ray, if `next` */
+  float3 shadow_org, shadow_dir, shadow_rgb; /* the light sample, if `shadow` */
+  float shadow_tfar;
+  int next, shadow;
+  uint cache_counts[PMC_CSTAT_COUNT]; /* PMC_CSTAT_* events of this evaluation */
+} PmcShadeOut;
+
+/* Pass 1: the hit's geometry, shading frame, ray cone and (with the cache)
+ * texel. An escaped ray adds the environment to its path here. */
+static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcRay* rays,
+                                 __global const PmcHit* hits, __global PmcPathState* paths,
+                                 __global const float* positions, __global const float* normals,
+                                 __global const float* uvs, __global const PmcTriangle* triangles,
+                                 __global const PmcMaterialInfo* materials, uint i, PmcHitPoint* hp) {
   PmcRay ray = rays[i];
   PmcHit hit = hits[i];
-  uint pid = ray.id;
-  __global PmcPathState* path = &paths[pid];
-  float3 throughput = pmc_load3(path->throughput);
-  float3 radiance = pmc_load3(path->radiance);
+  hp->path = ray.id;
+  __global PmcPathState* path = &paths[ray.id];
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
-  uint depth = path->depth;
-
-  if (hit.prim < 0) {
+  hp->surface = hit.prim >= 0;
+  if (!hp->surface) {
     /* Escaped: the constant environment (sampled only by the BSDF). */
-    radiance += throughput * pmc_load3(frame->env);
+    float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * pmc_load3(frame->env);
     path->radiance[0] = radiance.x;
     path->radiance[1] = radiance.y;
     path->radiance[2] = radiance.z;
@@ -143,7 +157,6 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   float3 p2 = pmc_vertex(positions, tri.v[2]);
   float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
   float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
-  float hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
   float3 ng = cross(p1 - p0, p2 - p0);
   float area2 = length(ng);
   ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
@@ -166,8 +179,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     t2 = make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]);
     uv = t0 * b0 + t1 * b1 + t2 * b2;
   }
-  float3 wo_world = -dir;
-  if (dot(ns, wo_world) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
+  if (dot(ns, -dir) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
 
   /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
   float cone_width = path->cone_width + hit.t * path->cone_spread;
@@ -187,6 +199,52 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     tangent = tangent * ((det < 0.0f ? -1.0f : 1.0f) / tl);
   }
 
+  hp->dir = dir;
+  hp->pos = pos;
+  hp->ng = ng;
+  hp->ns = ns;
+  hp->tangent = tangent;
+  hp->uv = uv;
+  hp->g1 = g1;
+  hp->g2 = g2;
+  hp->t = hit.t;
+  hp->hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
+  hp->area2 = area2;
+  hp->cone_width = cone_width;
+  hp->prim = hit.prim;
+  hp->material = tri.material;
+  hp->cache_jitter = make_float2(0.0f, 0.0f);
+  hp->texel.ready = 0u;
+  hp->cache_points = 0u;
+  if (frame->cache_on) {
+    if (frame->cache_bilinear) {
+      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
+      hp->cache_jitter = make_float2(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
+                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f);
+    }
+    hp->cache_points = materials[tri.material].cache_points;
+    if (hp->cache_points > 0u)
+      hp->texel = pmc_cache_texel_of(uv, g1, g2, frame->mip_bias, hp->cache_jitter, (uint)tri.material);
+  }
+}
+
+/* Pass 3: the material (against the cache), emission, next-event estimation
+ * and the BSDF sample for the next bounce. */
+static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoint* hp,
+                                     __global PmcPathState* paths, __global const float* positions,
+                                     __global const PmcTriangle* triangles, __global const pmc_u32* code,
+                                     __global const PmcMaterialInfo* materials,
+                                     __global const PmcTexture* textures, __global const pmc_u32* texels,
+                                     __constant float* srgb_lut, __global const int* light_tris,
+                                     __global const float* light_cdf, __global const float* tri_light_pmf,
+                                     __global volatile ulong* cache_entries, PmcShadeOut* out) {
+  __global PmcPathState* path = &paths[hp->path];
+  float3 throughput = pmc_load3(path->throughput);
+  float3 radiance = pmc_load3(path->radiance);
+  uint depth = path->depth;
+  float3 dir = hp->dir, pos = hp->pos, ng = hp->ng, ns = hp->ns;
+  float3 wo_world = -dir;
+
   PmcMaterialData md;
   md.code = code;
   md.materials = materials;
@@ -195,46 +253,44 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   md.textures.srgb_lut = srgb_lut;
   md.textures.count = frame->texture_count;
   PmcShadingInputs sp;
-  sp.uv = uv;
+  sp.uv = hp->uv;
   sp.position = pos;
   sp.normal = ns;
-  sp.tangent = tangent;
-  sp.bitangent = cross(ns, tangent);
-  sp.footprint = 2.0f * fmax(length(g1), length(g2));
+  sp.tangent = hp->tangent;
+  sp.bitangent = cross(ns, hp->tangent);
+  sp.footprint = 2.0f * fmax(length(hp->g1), length(hp->g2));
   PmcCacheContext cache;
   PmcCacheContext* cache_ptr = 0;
-  if (frame->cache_on) {
+  if (frame->cache_on && hp->cache_points > 0u) {
     cache.table.entries = cache_entries;
     cache.table.cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
     cache.table.ways = frame->cache_ways;
-    cache.stats = cache_stats;
-    cache.g1 = g1;
-    cache.g2 = g2;
+    cache.g1 = hp->g1;
+    cache.g2 = hp->g2;
     cache.bias = frame->mip_bias;
-    cache.material = (uint)tri.material;
+    cache.material = (uint)hp->material;
     cache.center = frame->cache_center;
-    cache.jitter = make_float2(0.0f, 0.0f);
-    if (frame->cache_bilinear) {
-      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
-      cache.jitter = make_float2(pmc_rand(ckey, depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
-                                 pmc_rand(ckey, depth + 1u, PMC_DIM_CACHE_V) - 0.5f);
-    }
+    cache.jitter = hp->cache_jitter;
+    cache.texel = hp->texel;
     cache.hits = 0u;
+    for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache.counts[c] = 0u;
     cache_ptr = &cache;
   }
-  PmcBsdf bsdf = pmc_eval_material(&md, tri.material, &sp, cache_ptr);
-  if (cache_ptr) path->cache_hits += cache.hits;
+  PmcBsdf bsdf = pmc_eval_material(&md, hp->material, &sp, cache_ptr);
+  if (cache_ptr) {
+    path->cache_hits += cache.hits;
+    for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out->cache_counts[c] = cache.counts[c];
+  }
   if (dot(sp.normal, wo_world) > 0.0f) ns = sp.normal; /* normal maps, unless they face away */
 
   /* Emission reached by the path: MIS against light sampling. */
   if (pmc_max3(bsdf.emission) > 0.0f) {
     float w = 1.0f;
     if (!(path->flags & PMC_PATH_SPECULAR) && frame->light_count > 0) {
-      float pmf = tri_light_pmf[hit.prim];
+      float pmf = tri_light_pmf[hp->prim];
       float cosl = fabs(dot(ng, dir));
-      float light_pdf = cosl > 0.0f && area2 > 0.0f
-                            ? pmf * hit.t * hit.t / (0.5f * area2 * cosl)
-                            : 0.0f;
+      float light_pdf =
+          cosl > 0.0f && hp->area2 > 0.0f ? pmf * hp->t * hp->t / (0.5f * hp->area2 * cosl) : 0.0f;
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
     }
     radiance += throughput * bsdf.emission * w;
@@ -250,19 +306,18 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
 
   /* Next-event estimation toward one emissive triangle. */
   if (frame->light_count > 0 && has_lobes) {
-    int li = pmc_pick_light(light_cdf, frame->light_count,
-                            pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
+    int li = pmc_pick_light(light_cdf, frame->light_count, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
     int ltri_index = light_tris[li];
     PmcTriangle lt = triangles[ltri_index];
     float3 q0 = pmc_vertex(positions, lt.v[0]);
     float3 q1 = pmc_vertex(positions, lt.v[1]);
     float3 q2 = pmc_vertex(positions, lt.v[2]);
-    float2 bc = pmc_sample_triangle(pmc_rand(key, bounce, PMC_DIM_LIGHT_U),
-                                    pmc_rand(key, bounce, PMC_DIM_LIGHT_V));
+    float2 bc =
+        pmc_sample_triangle(pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V));
     float3 q = q0 * bc.x + q1 * bc.y + q2 * (1.0f - bc.x - bc.y);
     float3 lng = cross(q1 - q0, q2 - q0);
     float larea = 0.5f * length(lng);
-    float3 origin = pmc_offset_ray(pos, ng, hit_scale);
+    float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
     float3 d = q - origin;
     float dist2 = dot(d, d);
     float dist = sqrt(dist2);
@@ -278,13 +333,11 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
         float3 le = pmc_material_emission(&md, lt.material);
         float3 c = throughput * f * le * (wi.z * w / light_pdf);
         if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
-          uint slot = atomic_inc(&counters->shadow_rays);
-          pmc_append_ray(shadow_rays, slot, origin, wi_world, dist * (1.0f - 1e-4f), pid);
-          __global PmcShadowLoad* sl = &shadow_loads[slot];
-          sl->rgb[0] = c.x;
-          sl->rgb[1] = c.y;
-          sl->rgb[2] = c.z;
-          sl->path = pid;
+          out->shadow = 1;
+          out->shadow_org = origin;
+          out->shadow_dir = wi_world;
+          out->shadow_tfar = dist * (1.0f - 1e-4f);
+          out->shadow_rgb = c;
         }
       }
     }
@@ -294,9 +347,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   if (alive) {
     float3 wi, weight;
     float pdf;
-    alive = pmc_bsdf_sample(&bsdf, wo, pmc_rand(key, bounce, PMC_DIM_LOBE),
-                            pmc_rand(key, bounce, PMC_DIM_BSDF_U),
-                            pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi, &pdf, &weight);
+    alive =
+        pmc_bsdf_sample(&bsdf, wo, pmc_rand(key, bounce, PMC_DIM_LOBE), pmc_rand(key, bounce, PMC_DIM_BSDF_U),
+                        pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi, &pdf, &weight);
     if (alive) {
       throughput *= weight;
       if (depth >= 3u) {
@@ -310,12 +363,12 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
     if (alive && isfinite(pmc_max3(throughput))) {
       float3 wi_world = pmc_to_world(wi, t, b, ns);
       float side = dot(wi_world, ng) >= 0.0f ? 1.0f : -1.0f;
-      float3 origin = pmc_offset_ray(pos, ng * side, hit_scale);
-      uint slot = atomic_inc(&counters->next_rays);
-      pmc_append_ray(next_rays, slot, origin, wi_world, INFINITY, pid);
+      out->next = 1;
+      out->next_org = pmc_offset_ray(pos, ng * side, hp->hit_scale);
+      out->next_dir = wi_world;
       path->bsdf_pdf = pdf;
       path->flags = 0u;
-      path->cone_width = cone_width;
+      path->cone_width = hp->cone_width;
     }
   }
   path->depth = depth;
@@ -327,9 +380,98 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   path->radiance[2] = radiance.z;
 }
 
-__kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads,
-                                  __global const uchar* occluded, __global PmcPathState* paths,
-                                  uint first, uint count) {
+/* Shades one chunk of hits in four passes over each work-group, split by
+ * barriers (every work-item reaches them: no early return in this kernel):
+ *   1. geometry and the cache texel of every hit (pmc_hit_point);
+ *   2. prefetch: read the first word of each cache cell the group's
+ *      materials will look up. On a CPU device (PoCL runs a work-group as a
+ *      loop over its work-items) this pass is a short loop whose loads are
+ *      all in flight at once, so pass 3 finds the cells in the CPU's caches
+ *      instead of waiting for each in turn inside the interpreter (that wait
+ *      was ~40% of the interpreter's time with the cache on); on a GPU it is
+ *      a few cached reads;
+ *   3. materials, lights and the next bounce (pmc_shade_surface);
+ *   4. queue compaction: each work-item takes a slot in local memory, one
+ *      work-item reserves the group's range with one global atomic, then
+ *      everyone writes its rays. (One global atomic per ray made two CPU
+ *      cores fight over the counters' cache line: a third of the kernel's
+ *      time on PoCL; GPUs gain the same way.) The cache's event counts are
+ *      summed the same way. */
+__kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays, __global const PmcHit* hits,
+                        __global PmcPathState* paths, __global const float* positions,
+                        __global const float* normals, __global const float* uvs,
+                        __global const PmcTriangle* triangles, __global const pmc_u32* code,
+                        __global const PmcMaterialInfo* materials, __global const PmcTexture* textures,
+                        __global const pmc_u32* texels, __constant float* srgb_lut,
+                        __global const int* light_tris, __global const float* light_cdf,
+                        __global const float* tri_light_pmf, __global PmcRay* next_rays,
+                        __global PmcRay* shadow_rays, __global PmcShadowLoad* shadow_loads,
+                        __global PmcCounters* counters, __global volatile ulong* cache_entries,
+                        __global volatile ulong* cache_stats, uint first, uint ray_count) {
+  __local uint group_count[2 + PMC_CSTAT_COUNT];
+  __local uint group_base[2];
+  uint lid = (uint)get_local_id(0);
+  if (lid == 0u)
+    for (int c = 0; c < 2 + PMC_CSTAT_COUNT; ++c) group_count[c] = 0u;
+
+  /* Chunks start at `first` (an argument, not a global offset: PoCL would
+   * compile a second work-group function for non-zero offsets). */
+  uint i = first + (uint)get_global_id(0);
+  PmcHitPoint hp;
+  hp.surface = 0;
+  if (i < ray_count)
+    pmc_hit_point(frame, rays, hits, paths, positions, normals, uvs, triangles, materials, i, &hp);
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  if (hp.surface && hp.texel.ready) {
+    ulong cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
+    uint n = min(hp.cache_points, 8u);
+    for (uint k = 0u; k < n; ++k) {
+      ulong h1 = hp.texel.base + (ulong)k;
+      ulong cell = (cells & (cells - 1ul)) == 0ul ? (h1 & (cells - 1ul)) : (h1 % cells);
+      (void)cache_entries[cell * (ulong)frame->cache_ways]; /* volatile: the load happens */
+    }
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  PmcShadeOut out;
+  out.next = 0;
+  out.shadow = 0;
+  for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out.cache_counts[c] = 0u;
+  if (hp.surface)
+    pmc_shade_surface(frame, &hp, paths, positions, triangles, code, materials, textures, texels, srgb_lut,
+                      light_tris, light_cdf, tri_light_pmf, cache_entries, &out);
+
+  uint next_slot = out.next ? atomic_inc(&group_count[0]) : 0u;
+  uint shadow_slot = out.shadow ? atomic_inc(&group_count[1]) : 0u;
+  if (frame->cache_on)
+    for (int c = 0; c < PMC_CSTAT_COUNT; ++c)
+      if (out.cache_counts[c]) atomic_add(&group_count[2 + c], out.cache_counts[c]);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0u) {
+    group_base[0] = group_count[0] ? atomic_add(&counters->next_rays, group_count[0]) : 0u;
+    group_base[1] = group_count[1] ? atomic_add(&counters->shadow_rays, group_count[1]) : 0u;
+    if (frame->cache_on)
+      for (int c = 0; c < PMC_CSTAT_COUNT; ++c)
+        if (group_count[2 + c]) atom_add(&cache_stats[c], (ulong)group_count[2 + c]);
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+
+  if (out.next)
+    pmc_append_ray(next_rays, group_base[0] + next_slot, out.next_org, out.next_dir, INFINITY, hp.path);
+  if (out.shadow) {
+    uint slot = group_base[1] + shadow_slot;
+    pmc_append_ray(shadow_rays, slot, out.shadow_org, out.shadow_dir, out.shadow_tfar, hp.path);
+    __global PmcShadowLoad* sl = &shadow_loads[slot];
+    sl->rgb[0] = out.shadow_rgb.x;
+    sl->rgb[1] = out.shadow_rgb.y;
+    sl->rgb[2] = out.shadow_rgb.z;
+    sl->path = hp.path;
+  }
+}
+
+__kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global const uchar* occluded,
+                                  __global PmcPathState* paths, uint first, uint count) {
   uint i = first + (uint)get_global_id(0);
   if (i >= count || occluded[i]) return;
   __global PmcPathState* p = &paths[loads[i].path];

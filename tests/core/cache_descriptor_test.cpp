@@ -260,7 +260,7 @@ TEST(CacheDescriptor, DistinctFloatUvsBeyondTheIndexRangeStayDistinct) {
 TEST(CacheDescriptor, SameTexelSharesAKeyAndNeighboursDoNot) {
   auto key = [](uint32_t m, uint32_t node, float u, float v, float2 g) {
     int lambda = pmc_cache_lambda(g, g, 0.0f);
-    return pmc_cache_key(m, node, lambda, pmc_cache_texel(u, lambda), pmc_cache_texel(v, lambda));
+    return pmc_cache_key(m, node, node & 3u, lambda, pmc_cache_texel(u, lambda), pmc_cache_texel(v, lambda));
   };
   auto same = [](PmcCacheKey a, PmcCacheKey b) { return a.h1 == b.h1 && a.fingerprint == b.fingerprint; };
   const float2 g = make_float2(1.0f / 1000.0f, 0.0f);  // level 9: texels of 1/512
@@ -297,7 +297,7 @@ std::pair<size_t, size_t> collisions(const std::vector<Desc>& ds, uint64_t cells
   std::vector<std::pair<uint64_t, uint32_t>> cf;
   std::vector<uint32_t> fps;
   for (const Desc& d : ds) {
-    PmcCacheKey k = pmc_cache_key(d.m, d.node, d.lambda, d.tx, d.ty);
+    PmcCacheKey k = pmc_cache_key(d.m, d.node, d.node & 7u, d.lambda, d.tx, d.ty);
     cf.push_back({k.h1 % cells, k.fingerprint});
     fps.push_back(k.fingerprint);
   }
@@ -341,7 +341,7 @@ TEST(CacheDescriptor, NoCellAndFingerprintCollisionsAmongDistinctDescriptors) {
               gf, rc, rf);
   // Cells fill evenly: 100k keys in 1024 cells, ~97.7 each (sd ~9.9).
   std::vector<int> load(1024, 0);
-  for (const Desc& d : grid) ++load[pmc_cache_key(d.m, d.node, d.lambda, d.tx, d.ty).h1 % 1024];
+  for (const Desc& d : grid) ++load[pmc_cache_key(d.m, d.node, d.node, d.lambda, d.tx, d.ty).h1 % 1024];
   int lo = *std::min_element(load.begin(), load.end()), hi = *std::max_element(load.begin(), load.end());
   EXPECT_GT(lo, 40);
   EXPECT_LT(hi, 160);

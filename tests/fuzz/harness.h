@@ -96,12 +96,10 @@ inline std::string check_obj(const uint8_t* data, size_t size) {
 
 inline void run_program(const MaterialProgram& program, const CompiledMaterial& m, bool cached) {
   std::vector<uint64_t> entries(64 * 4, 0);
-  uint64_t stats[PMC_CSTAT_COUNT] = {0};
   PmcCacheContext cache{};
   cache.table.entries = entries.data();
   cache.table.cells = 64;
   cache.table.ways = 4;
-  cache.stats = stats;
   cache.g1 = make_float2(0.01f, 0.0f);
   cache.g2 = make_float2(0.0f, 0.02f);
   cache.material = 1;

@@ -44,7 +44,7 @@ const char* kStressKernel = R"CL(
 
 /* Descriptor of key id k: distinct material/node/level/texels per key. */
 static PmcCacheKey stress_key(uint k) {
-  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), (int)(k % 7u) - 2, (long)k * 1000L - 7L,
+  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), (k >> 3) & 3u, (int)(k % 7u) - 2, (long)k * 1000L - 7L,
                        -(long)k * 3L);
 }
 
@@ -83,8 +83,8 @@ __kernel void cache_stress(__global volatile ulong* entries, ulong cells, uint w
 
 // The same descriptors on the host.
 PmcCacheKey stress_key(uint32_t k) {
-  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), int(k % 7u) - 2, long(k) * 1000L - 7L,
-                       -long(k) * 3L);
+  return pmc_cache_key((k & 7u) + 1u, 3u + ((k >> 3) & 3u), (k >> 3) & 3u, int(k % 7u) - 2,
+                       long(k) * 1000L - 7L, -long(k) * 3L);
 }
 
 constexpr uint32_t kWorkItems = 65536;
@@ -268,7 +268,7 @@ TEST(CacheTable, ConcurrentCollidingInsertsNeverTearAndKeepTheFirstValue) {
 std::vector<PmcCacheKey> keys_in_cell(uint64_t cells, uint64_t cell, size_t count) {
   std::vector<PmcCacheKey> out;
   for (long tx = 0; out.size() < count; ++tx) {
-    PmcCacheKey k = pmc_cache_key(7u, 11u, 5, tx, 2);
+    PmcCacheKey k = pmc_cache_key(7u, 11u, 0u, 5, tx, 2);
     if (k.h1 % cells == cell) out.push_back(k);
   }
   return out;
@@ -334,7 +334,8 @@ TEST(CacheTable, FingerprintIsNeverZero) {
   // large sample and that the key function never yields 0.
   for (uint32_t m = 0; m < 8; ++m)
     for (long tx = -20000; tx < 20000; ++tx) {
-      PmcCacheKey k = pmc_cache_key(m, uint32_t(tx & 15), int(((tx % 57) + 57) % 57) - 16, tx, -tx * 7);
+      PmcCacheKey k =
+          pmc_cache_key(m, uint32_t(tx & 15), uint32_t(tx & 3), int(((tx % 57) + 57) % 57) - 16, tx, -tx * 7);
       ASSERT_NE(k.fingerprint, 0u);
     }
 }

@@ -162,7 +162,7 @@ TEST(HostThreading, CutoutFilterRunsConcurrentlyInsideEmbree) {
 
 // Descriptors of key k (the same scheme as the OpenCL stress test).
 PmcCacheKey key_of(uint32_t k) {
-  return pmc_cache_key(k + 1u, 3u + (k & 3u), int(k % 7u) - 2, long(k) * 1000L - 7L, -long(k) * 3L);
+  return pmc_cache_key(k + 1u, 3u + (k & 3u), k & 3u, int(k % 7u) - 2, long(k) * 1000L - 7L, -long(k) * 3L);
 }
 
 TEST(HostThreading, CacheTableConcurrentInsertsKeepTheFirstValue) {

@@ -344,12 +344,10 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
   const CompiledMaterial& off = prog.materials[0];
   const CompiledMaterial& on = prog.materials[1];
   std::vector<uint64_t> words(size_t(1) << 14, 0);
-  uint64_t stats[PMC_CSTAT_COUNT] = {0};
   PmcCacheContext cache{};
   cache.table.entries = words.data();
   cache.table.cells = words.size() / 8;
   cache.table.ways = 8;
-  cache.stats = stats;
   cache.g1 = make_float2(1e-4f, 0.0f);  // level 13: tiny texels
   cache.g2 = make_float2(0.0f, 1e-4f);
   cache.material = 1;
@@ -367,8 +365,8 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
     cache.hits = 0;
     run_host(prog, on, u, v, second, pos, &cache);
     ASSERT_EQ(cache.hits, 3u) << "the second evaluation finds all three points; inserts "
-                              << stats[PMC_CSTAT_INSERTS] << ", not encodable "
-                              << stats[PMC_CSTAT_NOT_ENCODABLE] << "\n"
+                              << cache.counts[PMC_CSTAT_INSERTS] << ", not encodable "
+                              << cache.counts[PMC_CSTAT_NOT_ENCODABLE] << "\n"
                               << disassemble(prog, on);
     for (int k = 0; k < PMC_P_COUNT; ++k) {
       ASSERT_EQ(first[k], ref[k]) << "a miss computes the plain value, param " << k;
@@ -379,10 +377,10 @@ TEST(CachePlan, HostCacheHitsSkipTheBlocksAndReturnTheStoredValues) {
     }
     ASSERT_EQ(second[PMC_P_SPECULAR_ROUGHNESS], ref[PMC_P_SPECULAR_ROUGHNESS]) << "floats are stored exactly";
   }
-  EXPECT_EQ(stats[PMC_CSTAT_LOOKUPS], 200u * 6u);
-  EXPECT_EQ(stats[PMC_CSTAT_HITS], 200u * 3u);
-  EXPECT_EQ(stats[PMC_CSTAT_INSERTS], 200u * 3u);
-  EXPECT_EQ(stats[PMC_CSTAT_DROPPED_FULL], 0u);
+  EXPECT_EQ(cache.counts[PMC_CSTAT_LOOKUPS], 200u * 6u);
+  EXPECT_EQ(cache.counts[PMC_CSTAT_HITS], 200u * 3u);
+  EXPECT_EQ(cache.counts[PMC_CSTAT_INSERTS], 200u * 3u);
+  EXPECT_EQ(cache.counts[PMC_CSTAT_DROPPED_FULL], 0u);
 }
 
 // Two float cache points over one shared 9-node uv chain: base colour (via
@@ -444,12 +442,10 @@ TEST(CachePlan, APartialHitKeepsTheFoundValueAndRecomputesTheMissedOne) {
   for (int hit_index = 0; hit_index < 2; ++hit_index) {
     SCOPED_TRACE("cache point " + std::to_string(hit_index) + " hits");
     std::vector<uint64_t> words(size_t(1) << 12, 0);
-    uint64_t stats[PMC_CSTAT_COUNT] = {0};
     PmcCacheContext cache{};
     cache.table.entries = words.data();
     cache.table.cells = words.size() / 8;
     cache.table.ways = 8;
-    cache.stats = stats;
     cache.g1 = make_float2(1e-3f, 0.0f);
     cache.g2 = make_float2(0.0f, 1e-3f);
     cache.material = 1;
@@ -459,16 +455,17 @@ TEST(CachePlan, APartialHitKeepsTheFoundValueAndRecomputesTheMissedOne) {
     float ref[PMC_P_COUNT], first[PMC_P_COUNT], partial[PMC_P_COUNT];
     run_host(prog, off, u, v, ref, pos);
     run_host(prog, on, u, v, first, pos, &cache);
-    ASSERT_EQ(stats[PMC_CSTAT_INSERTS], 2u);
+    ASSERT_EQ(cache.counts[PMC_CSTAT_INSERTS], 2u);
     // Plant a different value under one point's key and remove the other's:
     // the next evaluation must take the planted value for the first point and
     // compute the second one (floats are stored as raw bits).
     int lambda = pmc_cache_lambda(cache.g1, cache.g2, 0.0f);
-    uint64_t th = pmc_cache_texel_hash(lambda, pmc_cache_texel(u, lambda), pmc_cache_texel(v, lambda));
+    long tx = pmc_cache_texel(u, lambda), ty = pmc_cache_texel(v, lambda);
     const CachePoint& kept = on.cache_plan.points[hit_index];
     const CachePoint& dropped = on.cache_plan.points[1 - hit_index];
-    PmcCacheKey kk = pmc_cache_key_at(th, 1u, uint32_t(kept.node));
-    PmcCacheKey kd = pmc_cache_key_at(th, 1u, uint32_t(dropped.node));
+    // A point's rank is its place in the group (the plan's order).
+    PmcCacheKey kk = pmc_cache_key(1u, uint32_t(kept.node), uint32_t(hit_index), lambda, tx, ty);
+    PmcCacheKey kd = pmc_cache_key(1u, uint32_t(dropped.node), uint32_t(1 - hit_index), lambda, tx, ty);
     int cleared = 0;
     for (uint64_t& w : words) {
       if (w != 0 && uint32_t(w >> 32) == kd.fingerprint) w = 0, ++cleared;
@@ -491,7 +488,7 @@ TEST(CachePlan, APartialHitKeepsTheFoundValueAndRecomputesTheMissedOne) {
       EXPECT_EQ(partial[PMC_P_SPECULAR_ROUGHNESS], 0.125f) << "the planted value";
       EXPECT_EQ(partial[PMC_P_BASE_COLOR], ref[PMC_P_BASE_COLOR]) << "recomputed";
     }
-    EXPECT_EQ(stats[PMC_CSTAT_INSERTS], 3u) << "the missed point was inserted again";
+    EXPECT_EQ(cache.counts[PMC_CSTAT_INSERTS], 3u) << "the missed point was inserted again";
   }
 }
 
