@@ -167,6 +167,15 @@ std::map<std::string, NodeDef> build() {
        in_s("space", "tangent")},
       PMC_OP_NORMALMAP);
 
+  // Lowered to finite differences of shifted copies of the height sub-graph
+  // (materials/height_normal.cpp); bump adds the normalmap.
+  def("heighttonormal", {"vector3"}, {in_f("in", 0), in_f("scale", 1), uv}, -1);
+  def("bump", {"vector3"},
+      {in_f("height", 0), in_f("scale", 1), in_geom("normal", "vector3", GeomDefault::Nworld),
+       in_geom("tangent", "vector3", GeomDefault::Tworld),
+       in_geom("bitangent", "vector3", GeomDefault::Bworld)},
+      -1);
+
   std::vector<InputDef> shape = {uv, in_v2("uvtiling", 1, 1), in_v2("uvoffset", 0, 0), in_f("size", 0.5f),
                                  in_b("staggered", false)};
   def("tiledcircles", {"color3", "float"}, shape, PMC_OP_TILEDSHAPE, PMC_SHAPE_CIRCLES);

@@ -1,4 +1,5 @@
 // passes.cpp — lowering, checks, folding, deduplication, dead-node removal.
+// (heighttonormal and bump are lowered in height_normal.cpp.)
 #include "materials/passes.h"
 
 #include <cstring>
@@ -8,6 +9,7 @@
 
 #include "core/error.h"
 #include "materials/compiler.h"
+#include "materials/height_normal.h"
 
 namespace pmc {
 namespace {
@@ -107,6 +109,7 @@ void lower_composites(Graph& g) {
       n.inputs.push_back(filter);
     }
   }
+  lower_height_to_normal(g);
 }
 
 void check_types(const Graph& g) {

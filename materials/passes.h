@@ -1,8 +1,8 @@
 // passes.h — graph checks and optimisations run before compiling.
 //
-// Order (optimize()): lower composite nodes (tiledimage, invert) into
-// primitive ones, check types, check for cycles, fold constants and
-// identities (x*1, x+0, x*0, mix by 0 or 1 ...), deduplicate equal
+// Order (optimize()): lower composite nodes (tiledimage, invert,
+// heighttonormal, bump) into primitive ones, check types, check for cycles,
+// fold constants and identities (x*1, x+0, x*0, mix by 0 or 1 ...), deduplicate equal
 // sub-graphs, remove nodes that reach no output. Each pass reports the live
 // node count before and after, which `pmc info --dump-bytecode` prints.
 // Dependencies: which shading-point inputs (uv, position, normal, tangent)

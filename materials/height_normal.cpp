@@ -1,0 +1,212 @@
+// height_normal.cpp — lowers MaterialX heighttonormal and bump into primitive nodes.
+//
+// heighttonormal turns a scalar height field h(uv) into a tangent-space
+// normal map value. pmc takes the gradient with respect to the surface's uv
+// by forward differences: the height sub-graph is evaluated at uv (the node's
+// own input), and at uv + (d, 0) and uv + (0, d) by two copies of it in which
+// every texcoord node is replaced by texcoord + offset. Then
+//   n = normalize(-scale * dh/du, -scale * dh/dv, 1),  out = n * 0.5 + 0.5
+// (the [0, 1] encoding normalmap decodes). bump is normalmap(heighttonormal(
+// height), scale), as MaterialX's NG_bump_vector3 defines it.
+//
+// The copies are ordinary nodes of their own, so the material cache never
+// confuses a shifted evaluation with the centre's: they have other node ids
+// (other cache keys), and when the whole normal depends on uv alone it is one
+// cache point whose block evaluates all three heights at the same point (the
+// texel centre in --cache-eval center). Parts of the height that do not
+// depend on uv (position, normal) are shared by the copies, so they add
+// nothing to the gradient: like MaterialX's own GLSL (which can only offset
+// texture samples), pmc bumps with uv-driven heights.
+//
+// d is a fixed uv step (kHeightStep): a sub-graph that depends only on uv
+// stays cacheable, and the result does not depend on the camera. It is one
+// texel of a 2048-texel height map; with uvs around 1e7 uv + d == uv in
+// float and the gradient is 0 (flat, never NaN).
+#include "materials/height_normal.h"
+
+#include <functional>
+#include <map>
+
+#include "core/error.h"
+#include "materials/passes.h"
+
+namespace pmc {
+namespace {
+
+Input link_to(int node, ValueType t, const std::string& name) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.linked = true;
+  in.node = node;
+  return in;
+}
+
+Input constant(const std::string& name, ValueType t, float a, float b = 0, float c = 0) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.value = Value::number(t, a, b, c, 0);
+  return in;
+}
+
+int add_node(Graph& g, const std::string& category, ValueType t, std::vector<Input> inputs,
+             const std::string& origin) {
+  Node n;
+  n.category = category;
+  n.type = t;
+  n.inputs = std::move(inputs);
+  n.origin = origin;
+  return g.add(std::move(n));
+}
+
+// Copies of the sub-graphs under a heighttonormal's input with every
+// texcoord replaced by texcoord + (du, dv). Nodes that do not depend on a
+// texcoord are shared, not copied.
+class ShiftedCopier {
+ public:
+  ShiftedCopier(Graph& g, float du, float dv) : g_(g), du_(du), dv_(dv) {}
+
+  int copy(int node) {
+    auto it = copies_.find(node);
+    if (it != copies_.end()) return it->second;
+    int result = node;
+    if (uses_uv(node)) {
+      if (g_.nodes[size_t(node)].category == "texcoord") {
+        const Node& tc = g_.nodes[size_t(node)];
+        result = add_node(
+            g_, "add", ValueType::Vector2,
+            {link_to(node, ValueType::Vector2, "in1"), constant("in2", ValueType::Vector2, du_, dv_)},
+            tc.origin + " (shifted for heighttonormal)");
+      } else {
+        Node n = g_.nodes[size_t(node)];  // a copy: g_.nodes may grow below
+        for (Input& in : n.inputs)
+          if (in.linked) in.node = copy(in.node);
+        if (!n.name.empty()) n.name += du_ != 0.0f ? "@+du" : "@+dv";
+        n.origin +=
+            du_ != 0.0f ? " (at uv + (d, 0) for heighttonormal)" : " (at uv + (0, d) for heighttonormal)";
+        result = g_.add(std::move(n));
+      }
+    }
+    copies_[node] = result;
+    return result;
+  }
+
+ private:
+  bool uses_uv(int node) {
+    auto it = uses_uv_.find(node);
+    if (it != uses_uv_.end()) return it->second;
+    const Node& n = g_.nodes[size_t(node)];
+    bool uses = n.category == "texcoord";
+    for (const Input& in : n.inputs)
+      if (in.linked && uses_uv(in.node)) uses = true;
+    uses_uv_[node] = uses;
+    return uses;
+  }
+
+  Graph& g_;
+  float du_, dv_;
+  std::map<int, int> copies_;
+  std::map<int, bool> uses_uv_;
+};
+
+// Rewrites node `i` (a heighttonormal) in place into the gradient network.
+void lower_one(Graph& g, int i) {
+  const Node h = g.nodes[size_t(i)];
+  const Input* texcoord = h.input("texcoord");
+  if (texcoord && texcoord->linked && g.nodes[size_t(texcoord->node)].category != "texcoord")
+    fail(h.origin,
+         ": heighttonormal computes the gradient with respect to the surface's uv; a texcoord "
+         "input linked to '",
+         g.nodes[size_t(texcoord->node)].name, "' (", g.nodes[size_t(texcoord->node)].category,
+         ") is not supported");
+  const Input* height = h.input("in");
+  const Input* scale = h.input("scale");
+  PMC_CHECK(height && scale, "heighttonormal inputs");
+  const std::string origin = h.origin;
+  if (!height->linked) {  // a constant height field is flat
+    Node& n = g.nodes[size_t(i)];
+    n.category = "constant";
+    n.inputs = {constant("value", ValueType::Vector3, 0.5f, 0.5f, 1.0f)};
+    return;
+  }
+  const int h0 = height->node;
+  const Node& source = g.nodes[size_t(h0)];
+  if (type_width(source.type) != 1)
+    fail(h.origin, ": input 'in' expects float but node '", source.name, "' outputs ", type_name(source.type),
+         " (type mismatch)");
+  ShiftedCopier along_u(g, kHeightStep, 0.0f), along_v(g, 0.0f, kHeightStep);
+  const int hu = along_u.copy(h0), hv = along_v.copy(h0);
+  const ValueType F = ValueType::Float;
+  auto diff = [&](int shifted, const char* axis) {
+    return add_node(g, "subtract", F, {link_to(shifted, F, "in1"), link_to(h0, F, "in2")},
+                    origin + " (height difference along " + axis + ")");
+  };
+  const int dh_u = diff(hu, "u"), dh_v = diff(hv, "v");
+  // -scale / d: a constant, or a node when the scale is linked.
+  Input k = constant("in2", F, scale->linked ? -1.0f / kHeightStep : -scale->value.f[0] / kHeightStep);
+  if (scale->linked) {
+    Input s = *scale;
+    s.name = "in1";
+    k = link_to(add_node(g, "multiply", F, {s, k}, origin + " (gradient scale)"), F, "in2");
+  }
+  auto slope = [&](int d, const char* axis) {
+    return add_node(g, "multiply", F, {link_to(d, F, "in1"), k}, origin + " (slope along " + axis + ")");
+  };
+  const int sx = slope(dh_u, "u"), sy = slope(dh_v, "v");
+  const ValueType V3 = ValueType::Vector3;
+  const int v =
+      add_node(g, "combine3", V3, {link_to(sx, F, "in1"), link_to(sy, F, "in2"), constant("in3", F, 1.0f)},
+               origin + " (unnormalised normal)");
+  const int n = add_node(g, "normalize", V3, {link_to(v, V3, "in")}, origin + " (normal)");
+  const int half = add_node(g, "multiply", V3, {link_to(n, V3, "in1"), constant("in2", F, 0.5f)},
+                            origin + " (normal / 2)");
+  Node& out = g.nodes[size_t(i)];  // g.nodes has grown: index again
+  out.category = "add";
+  out.type = V3;
+  out.inputs = {link_to(half, V3, "in1"), constant("in2", F, 0.5f)};
+}
+
+}  // namespace
+
+void lower_height_to_normal(Graph& g) {
+  bool any = false;
+  for (const Node& n : g.nodes)
+    any = any || (!n.dead && (n.category == "heighttonormal" || n.category == "bump"));
+  if (!any) return;
+  check_acyclic(g);  // the copies below recurse through the graph
+  // bump = normalmap(heighttonormal(height), scale, normal, tangent, bitangent)
+  const size_t count = g.nodes.size();
+  for (size_t i = 0; i < count; ++i) {
+    if (g.nodes[i].dead || g.nodes[i].category != "bump") continue;
+    Node h2n;
+    h2n.category = "heighttonormal";
+    h2n.type = ValueType::Vector3;
+    h2n.origin = g.nodes[i].origin + " (heighttonormal)";
+    Input in = *g.nodes[i].input("height");
+    in.name = "in";
+    h2n.inputs = {in, constant("scale", ValueType::Float, 1.0f)};
+    int h = g.add(std::move(h2n));
+    Node& b = g.nodes[i];
+    Input scale = *b.input("scale"), normal = *b.input("normal"), tangent = *b.input("tangent"),
+          bitangent = *b.input("bitangent");
+    b.category = "normalmap";
+    Input space = constant("space", ValueType::String, 0.0f);
+    space.value.text = "tangent";
+    b.inputs = {link_to(h, ValueType::Vector3, "in"), scale, normal, tangent, bitangent, space};
+  }
+  // Inputs first, so a heighttonormal under another one is lowered before it is copied.
+  std::vector<char> done(g.nodes.size(), 0);
+  std::function<void(int)> visit = [&](int i) {
+    if (done[size_t(i)]) return;
+    done[size_t(i)] = 1;
+    for (const Input& in : g.nodes[size_t(i)].inputs)
+      if (in.linked) visit(in.node);
+    if (g.nodes[size_t(i)].category == "heighttonormal") lower_one(g, i);
+  };
+  const size_t with_bumps = g.nodes.size();
+  for (size_t i = 0; i < with_bumps; ++i)
+    if (!g.nodes[i].dead) visit(int(i));
+}
+
+}  // namespace pmc
