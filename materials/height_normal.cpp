@@ -33,23 +33,6 @@
 namespace pmc {
 namespace {
 
-Input link_to(int node, ValueType t, const std::string& name) {
-  Input in;
-  in.name = name;
-  in.type = t;
-  in.linked = true;
-  in.node = node;
-  return in;
-}
-
-Input constant(const std::string& name, ValueType t, float a, float b = 0, float c = 0) {
-  Input in;
-  in.name = name;
-  in.type = t;
-  in.value = Value::number(t, a, b, c, 0);
-  return in;
-}
-
 int add_node(Graph& g, const std::string& category, ValueType t, std::vector<Input> inputs,
              const std::string& origin) {
   Node n;
@@ -74,10 +57,10 @@ class ShiftedCopier {
     if (uses_uv(node)) {
       if (g_.nodes[size_t(node)].category == "texcoord") {
         const Node& tc = g_.nodes[size_t(node)];
-        result = add_node(
-            g_, "add", ValueType::Vector2,
-            {link_to(node, ValueType::Vector2, "in1"), constant("in2", ValueType::Vector2, du_, dv_)},
-            tc.origin + " (shifted for heighttonormal)");
+        result = add_node(g_, "add", ValueType::Vector2,
+                          {Input::link("in1", ValueType::Vector2, node),
+                           Input::constant("in2", ValueType::Vector2, du_, dv_)},
+                          tc.origin + " (shifted for heighttonormal)");
       } else {
         Node n = g_.nodes[size_t(node)];  // a copy: g_.nodes may grow below
         for (Input& in : n.inputs)
@@ -127,7 +110,7 @@ void lower_one(Graph& g, int i) {
   if (!height->linked) {  // a constant height field is flat
     Node& n = g.nodes[size_t(i)];
     n.category = "constant";
-    n.inputs = {constant("value", ValueType::Vector3, 0.5f, 0.5f, 1.0f)};
+    n.inputs = {Input::constant("value", ValueType::Vector3, 0.5f, 0.5f, 1.0f)};
     return;
   }
   const int h0 = height->node;
@@ -139,32 +122,33 @@ void lower_one(Graph& g, int i) {
   const int hu = along_u.copy(h0), hv = along_v.copy(h0);
   const ValueType F = ValueType::Float;
   auto diff = [&](int shifted, const char* axis) {
-    return add_node(g, "subtract", F, {link_to(shifted, F, "in1"), link_to(h0, F, "in2")},
+    return add_node(g, "subtract", F, {Input::link("in1", F, shifted), Input::link("in2", F, h0)},
                     origin + " (height difference along " + axis + ")");
   };
   const int dh_u = diff(hu, "u"), dh_v = diff(hv, "v");
   // -scale / d: a constant, or a node when the scale is linked.
-  Input k = constant("in2", F, scale->linked ? -1.0f / kHeightStep : -scale->value.f[0] / kHeightStep);
+  Input k = Input::constant("in2", F, scale->linked ? -1.0f / kHeightStep : -scale->value.f[0] / kHeightStep);
   if (scale->linked) {
     Input s = *scale;
     s.name = "in1";
-    k = link_to(add_node(g, "multiply", F, {s, k}, origin + " (gradient scale)"), F, "in2");
+    k = Input::link("in2", F, add_node(g, "multiply", F, {s, k}, origin + " (gradient scale)"));
   }
   auto slope = [&](int d, const char* axis) {
-    return add_node(g, "multiply", F, {link_to(d, F, "in1"), k}, origin + " (slope along " + axis + ")");
+    return add_node(g, "multiply", F, {Input::link("in1", F, d), k}, origin + " (slope along " + axis + ")");
   };
   const int sx = slope(dh_u, "u"), sy = slope(dh_v, "v");
   const ValueType V3 = ValueType::Vector3;
   const int v =
-      add_node(g, "combine3", V3, {link_to(sx, F, "in1"), link_to(sy, F, "in2"), constant("in3", F, 1.0f)},
+      add_node(g, "combine3", V3,
+               {Input::link("in1", F, sx), Input::link("in2", F, sy), Input::constant("in3", F, 1.0f)},
                origin + " (unnormalised normal)");
-  const int n = add_node(g, "normalize", V3, {link_to(v, V3, "in")}, origin + " (normal)");
-  const int half = add_node(g, "multiply", V3, {link_to(n, V3, "in1"), constant("in2", F, 0.5f)},
+  const int n = add_node(g, "normalize", V3, {Input::link("in", V3, v)}, origin + " (normal)");
+  const int half = add_node(g, "multiply", V3, {Input::link("in1", V3, n), Input::constant("in2", F, 0.5f)},
                             origin + " (normal / 2)");
   Node& out = g.nodes[size_t(i)];  // g.nodes has grown: index again
   out.category = "add";
   out.type = V3;
-  out.inputs = {link_to(half, V3, "in1"), constant("in2", F, 0.5f)};
+  out.inputs = {Input::link("in1", V3, half), Input::constant("in2", F, 0.5f)};
 }
 
 }  // namespace
@@ -185,15 +169,15 @@ void lower_height_to_normal(Graph& g) {
     h2n.origin = g.nodes[i].origin + " (heighttonormal)";
     Input in = *g.nodes[i].input("height");
     in.name = "in";
-    h2n.inputs = {in, constant("scale", ValueType::Float, 1.0f)};
+    h2n.inputs = {in, Input::constant("scale", ValueType::Float, 1.0f)};
     int h = g.add(std::move(h2n));
     Node& b = g.nodes[i];
     Input scale = *b.input("scale"), normal = *b.input("normal"), tangent = *b.input("tangent"),
           bitangent = *b.input("bitangent");
     b.category = "normalmap";
-    Input space = constant("space", ValueType::String, 0.0f);
+    Input space = Input::constant("space", ValueType::String, 0.0f);
     space.value.text = "tangent";
-    b.inputs = {link_to(h, ValueType::Vector3, "in"), scale, normal, tangent, bitangent, space};
+    b.inputs = {Input::link("in", ValueType::Vector3, h), scale, normal, tangent, bitangent, space};
   }
   // Inputs first, so a heighttonormal under another one is lowered before it is copied.
   std::vector<char> done(g.nodes.size(), 0);

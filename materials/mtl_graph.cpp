@@ -11,23 +11,6 @@
 namespace pmc {
 namespace {
 
-Input constant(const std::string& name, ValueType t, float a, float b = 0, float c = 0) {
-  Input in;
-  in.name = name;
-  in.type = t;
-  in.value = Value::number(t, a, b, c);
-  return in;
-}
-
-Input link(const std::string& name, ValueType t, int node) {
-  Input in;
-  in.name = name;
-  in.type = t;
-  in.linked = true;
-  in.node = node;
-  return in;
-}
-
 int image_node(Graph& g, const std::string& file, ValueType type, bool srgb, const std::string& origin) {
   Node uv;
   uv.category = "texcoord";
@@ -45,8 +28,8 @@ int image_node(Graph& g, const std::string& file, ValueType type, bool srgb, con
   f.value.text = file;
   f.value.f[0] = srgb ? 1.0f : 0.0f;
   n.inputs.push_back(f);
-  n.inputs.push_back(constant("default", type, 0, 0, 0));
-  n.inputs.push_back(link("texcoord", ValueType::Vector2, uv_id));
+  n.inputs.push_back(Input::constant("default", type, 0, 0, 0));
+  n.inputs.push_back(Input::link("texcoord", ValueType::Vector2, uv_id));
   for (const char* mode : {"uaddressmode", "vaddressmode"}) {
     Input s;
     s.name = mode;
@@ -92,22 +75,26 @@ Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
   surface.type = ValueType::Surface;
   surface.origin = origin;
   for (const SurfaceParam& p : surface_params("pmc_mtl_surface"))
-    surface.inputs.push_back(constant(p.input, p.type, p.def[0], p.def[1], p.def[2]));
+    surface.inputs.push_back(Input::constant(p.input, p.type, p.def[0], p.def[1], p.def[2]));
 
   Input* base = surface.input("base_color");
-  *base = constant("base_color", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]);
+  *base = Input::constant("base_color", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]);
   if (!m.map_kd.empty()) {
     int img = image_node(g, m.map_kd, ValueType::Color3, true, origin + " map_Kd");
-    int mul = binary(g, "multiply", ValueType::Color3, link("", ValueType::Color3, img),
-                     constant("", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]), origin + " Kd*map_Kd");
-    *base = link("base_color", ValueType::Color3, mul);
+    int mul =
+        binary(g, "multiply", ValueType::Color3, Input::link("", ValueType::Color3, img),
+               Input::constant("", ValueType::Color3, m.kd[0], m.kd[1], m.kd[2]), origin + " Kd*map_Kd");
+    *base = Input::link("base_color", ValueType::Color3, mul);
   }
-  *surface.input("specular_color") = constant("specular_color", ValueType::Color3, m.ks[0], m.ks[1], m.ks[2]);
+  *surface.input("specular_color") =
+      Input::constant("specular_color", ValueType::Color3, m.ks[0], m.ks[1], m.ks[2]);
   float alpha = std::sqrt(2.0f / (std::max(0.0f, m.ns) + 2.0f));
-  *surface.input("specular_roughness") = constant("specular_roughness", ValueType::Float, std::sqrt(alpha));
-  *surface.input("emission_color") = constant("emission_color", ValueType::Color3, m.ke[0], m.ke[1], m.ke[2]);
+  *surface.input("specular_roughness") =
+      Input::constant("specular_roughness", ValueType::Float, std::sqrt(alpha));
+  *surface.input("emission_color") =
+      Input::constant("emission_color", ValueType::Color3, m.ke[0], m.ke[1], m.ke[2]);
   Input* opacity = surface.input("opacity");
-  *opacity = constant("opacity", ValueType::Float, m.dissolve);
+  *opacity = Input::constant("opacity", ValueType::Float, m.dissolve);
   if (!m.map_d.empty()) {
     bool alpha_channel = has_alpha_channel(m.map_d);
     int img = image_node(g, m.map_d, ValueType::Color4, false, origin + " map_d");
@@ -115,10 +102,10 @@ Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
     ex.category = "extract";
     ex.type = ValueType::Float;
     ex.origin = origin + " map_d channel";
-    ex.inputs = {link("in", ValueType::Color4, img),
-                 constant("index", ValueType::Integer, alpha_channel ? 3.0f : 0.0f)};
+    ex.inputs = {Input::link("in", ValueType::Color4, img),
+                 Input::constant("index", ValueType::Integer, alpha_channel ? 3.0f : 0.0f)};
     int e = g.add(ex);
-    *opacity = link("opacity", ValueType::Float, e);
+    *opacity = Input::link("opacity", ValueType::Float, e);
   }
   std::string dropped;
   if (!m.map_bump.empty()) dropped += " bump map (" + m.map_bump + ")";

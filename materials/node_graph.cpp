@@ -24,6 +24,23 @@ int type_width(ValueType t) {
 
 bool is_numeric(ValueType t) { return type_width(t) > 0; }
 
+Input Input::constant(const std::string& name, ValueType t, float a, float b, float c, float d) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.value = Value::number(t, a, b, c, d);
+  return in;
+}
+
+Input Input::link(const std::string& name, ValueType t, int node) {
+  Input in;
+  in.name = name;
+  in.type = t;
+  in.linked = true;
+  in.node = node;
+  return in;
+}
+
 const char* type_name(ValueType t) {
   switch (t) {
     case ValueType::Float:

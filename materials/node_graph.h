@@ -50,6 +50,9 @@ struct Input {
   bool linked = false;
   int node = -1;  // source node when linked
   Value value;    // the constant when not linked
+
+  static Input constant(const std::string& name, ValueType t, float a, float b = 0, float c = 0, float d = 0);
+  static Input link(const std::string& name, ValueType t, int node);
 };
 
 struct Node {

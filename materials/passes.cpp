@@ -14,14 +14,6 @@
 namespace pmc {
 namespace {
 
-Input constant_input(const std::string& name, ValueType t, float a, float b = 0, float c = 0, float d = 0) {
-  Input in;
-  in.name = name;
-  in.type = t;
-  in.value = Value::number(t, a, b, c, d);
-  return in;
-}
-
 Input copy_input(const Input& src, const std::string& name) {
   Input in = src;
   in.name = name;
@@ -202,7 +194,7 @@ size_t fold_constants(Graph& g) {
     Input* b = n.input("in2");
     if (c == "multiply" && a && b) {
       if (all_lanes(*a, 0.0f) || all_lanes(*b, 0.0f)) {
-        replace_uses(g, i, constant_input("", n.type, 0, 0, 0, 0));
+        replace_uses(g, i, Input::constant("", n.type, 0, 0, 0, 0));
         ++removed;
       } else if (all_lanes(*b, 1.0f)) {
         pass("in1");
