@@ -148,7 +148,10 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
     } else {
       for (size_t base = r.begin(); base < r.end(); base += 16) {
         RTCRayHit16 p;
-        int valid[16];
+        // Embree reads the packet and its valid mask with aligned 512-bit
+        // loads: both must be 64-byte aligned (RTCRayHit16 is; a plain int
+        // array is not, and crashed under AddressSanitizer's stack layout).
+        alignas(64) int valid[16];
         for (int k = 0; k < 16; ++k) {
           size_t i = base + k;
           valid[k] = i < r.end() ? -1 : 0;

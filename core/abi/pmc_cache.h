@@ -48,15 +48,29 @@
 
 /* ---- virtual mip level and texel indices --------------------------------- */
 
-/* Integer virtual mip level from the footprint gradients; always finite and
- * clamped. Degenerate footprints (zero-area uv triangles, no cone) use the
- * finest level so distinct points never share a coarse texel by accident. */
+/* Integer virtual mip level floor(-log2(m) + bias), m = min(|g1|, |g2|), from
+ * the footprint gradients; always finite and clamped. Degenerate footprints
+ * (zero-area uv triangles, no cone, |g| overflowing or underflowing float)
+ * use the finest level so distinct points never share a coarse texel by
+ * accident. Lengths are sqrt(x^2 + y^2) on both sides (an overflow-safe
+ * library length() on the device would disagree with the host at 1e30).
+ * With an integral bias (the usual case) the level comes exactly from m's
+ * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
+ * a library log2 cost about as much as the rest of a lookup on PoCL. */
 PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
-  float l1 = length(g1), l2 = length(g2);
+  float l1 = sqrt(g1.x * g1.x + g1.y * g1.y), l2 = sqrt(g2.x * g2.x + g2.y * g2.y);
   float m = fmin(l1, l2);
   if (!(m > 0.0f) || !isfinite(m)) m = fmax(l1, l2);
+  float b = isfinite(bias) ? bias : 0.0f;
+  if (m > 0.0f && isfinite(m) && b == floor(b) && fabs(b) <= 64.0f) {
+    int bits = as_int(m);
+    int biased_exponent = (bits >> 23) & 0xff; /* 0: subnormal, -log2(m) > 126 */
+    int level = biased_exponent == 0 ? 127 : (127 - biased_exponent) - ((bits & 0x7fffff) != 0 ? 1 : 0);
+    level += (int)b;
+    return level < PMC_LAMBDA_MIN ? PMC_LAMBDA_MIN : (level > PMC_LAMBDA_MAX ? PMC_LAMBDA_MAX : level);
+  }
   float lambda = (m > 0.0f && isfinite(m)) ? -log2(m) : (float)PMC_LAMBDA_MAX;
-  lambda += isfinite(bias) ? bias : 0.0f;
+  lambda += b;
   if (!(lambda > (float)PMC_LAMBDA_MIN)) lambda = (float)PMC_LAMBDA_MIN; /* also NaN */
   if (lambda > (float)PMC_LAMBDA_MAX) lambda = (float)PMC_LAMBDA_MAX;
   return (int)floor(lambda);

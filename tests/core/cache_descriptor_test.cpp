@@ -181,6 +181,35 @@ TEST(CacheDescriptor, HardFootprintsGiveAFiniteClampedLevel) {
       << "one NaN axis: the other";
 }
 
+// The integral-bias path reads the level off m's exponent bits: it must equal
+// floor(-log2(m) + bias) computed in long double, at powers of two and the
+// floats next to them, for every bias; a fractional bias agrees too (library
+// log2 there: away from level boundaries).
+TEST(CacheDescriptor, LevelFromExponentBitsIsExactFloorOfMinusLog2) {
+  auto expected = [](float m, float bias) {
+    long double x = std::floor(-std::log2((long double)m) + (long double)bias);
+    return int(std::min<long double>(PMC_LAMBDA_MAX, std::max<long double>(PMC_LAMBDA_MIN, x)));
+  };
+  for (int e = -60; e <= 60; ++e) {
+    const float p = std::ldexp(1.0f, e);
+    for (float m : {p, std::nextafter(p, 0.0f), std::nextafter(p, 1e30f), p * 1.5f})
+      for (float bias : {0.0f, 1.0f, -1.0f, 2.0f, -16.0f, 24.0f, 64.0f, -64.0f}) {
+        ASSERT_EQ(pmc_cache_lambda(make_float2(m, 0), make_float2(0, m), bias), expected(m, bias))
+            << "m = " << m << " bias " << bias;
+      }
+  }
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<float> expo(-30.0f, 30.0f);
+  for (int i = 0; i < 20000; ++i) {
+    const float m = std::exp2(expo(rng));
+    ASSERT_EQ(pmc_cache_lambda(make_float2(m, 0), make_float2(0, 2.0f * m), 0.0f), expected(m, 0.0f)) << m;
+    const float frac = 0.5f;
+    const long double x = -std::log2((long double)m) + frac;
+    if (std::fabs(x - std::round(x)) > 1e-4L)  // not at a boundary: float log2 rounds the same way
+      ASSERT_EQ(pmc_cache_lambda(make_float2(m, 0), make_float2(0, m), frac), expected(m, frac)) << m;
+  }
+}
+
 // floor(u * 2^lambda) computed exactly in long double.
 long double exact_texel(float u, int lambda) { return std::floor((long double)u * std::ldexp(1.0L, lambda)); }
 

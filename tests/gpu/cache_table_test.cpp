@@ -27,7 +27,9 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <limits>
 #include <map>
+#include <random>
 #include <set>
 #include <string>
 #include <vector>
@@ -327,6 +329,69 @@ TEST(CacheTable, HostLookupAndInsertSemantics) {
   EXPECT_EQ(v, 55u);
   ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
   EXPECT_EQ(v, 0u);
+}
+
+// The descriptor on the device: level, texel indices, texel hash and group
+// base computed by an OpenCL kernel equal the host's bit for bit, on ordinary
+// and hard inputs (grazing and degenerate gradients, negative, huge, infinite
+// and NaN uvs, fractional and non-finite biases, jitter). A device whose
+// log2/length or float-to-long conversion differed from the host's would
+// split one texel into two keys across the host reference and the kernels.
+const char* kDescriptorKernel = R"CL(
+#include "pmc_cache.h"
+__kernel void descriptors(__global const float* in, __global long* out, uint n) {
+  uint i = get_global_id(0);
+  if (i >= n) return;
+  __global const float* p = in + 10 * i;
+  PmcCacheTexel t = pmc_cache_texel_of(make_float2(p[0], p[1]), make_float2(p[2], p[3]),
+                                       make_float2(p[4], p[5]), p[6], make_float2(p[7], p[8]), (uint)p[9]);
+  __global long* o = out + 5 * i;
+  o[0] = t.lambda;
+  o[1] = t.tx;
+  o[2] = t.ty;
+  o[3] = (long)t.hash;
+  o[4] = (long)t.base;
+}
+)CL";
+
+TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> uvs = {0.0f, 0.25f, -0.3f, 0.999999f, 1.0f, -1.0f, 1e7f, -1e7f, 3e38f, inf, -inf, nan};
+  std::vector<float> grads = {1e-3f, 0.01f, 0.37f, 1.0f, 3e-7f, 0.0f, 1e18f, 1e30f, inf, nan};
+  std::vector<float> biases = {0.0f, 1.0f, -2.0f, 0.5f, -1.25f, 64.0f, 1e30f, nan};
+  std::mt19937 rng(71);
+  std::uniform_real_distribution<float> jit(-0.5f, 0.5f);
+  std::vector<float> in;
+  for (float u : uvs)
+    for (float g : grads)
+      for (float bias : biases) {
+        const float v = uvs[(in.size() / 10) % uvs.size()];
+        const float g2 = grads[(in.size() / 10 + 3) % grads.size()];
+        in.insert(in.end(),
+                  {u, v, g, 0.5f * g, -0.2f * g2, g2, bias, jit(rng), jit(rng), float(in.size() % 7)});
+      }
+  const uint32_t n = uint32_t(in.size() / 10);
+  const ClContext& cl = test::cl();
+  ClProgram prog = ClProgram::from_text(cl, "cache_descriptor_test.cl", kDescriptorKernel);
+  ClBuffer in_buf = cl.buffer(in.size() * 4, in.data()), out_buf = cl.buffer(size_t(n) * 5 * 8);
+  cl_kernel k = prog.kernel("descriptors");
+  set_kernel_args(k, in_buf, out_buf, cl_uint(n));
+  enqueue_1d(cl.queue(), k, n);
+  std::vector<int64_t> out(size_t(n) * 5);
+  cl.read(out_buf, 0, out.size() * 8, out.data());
+  for (uint32_t i = 0; i < n; ++i) {
+    const float* p = &in[size_t(i) * 10];
+    PmcCacheTexel t =
+        pmc_cache_texel_of(make_float2(p[0], p[1]), make_float2(p[2], p[3]), make_float2(p[4], p[5]), p[6],
+                           make_float2(p[7], p[8]), uint32_t(p[9]));
+    const int64_t* o = &out[size_t(i) * 5];
+    ASSERT_EQ(o[0], t.lambda) << "uv " << p[0] << "," << p[1] << " g " << p[2] << "," << p[3] << " / " << p[4]
+                              << "," << p[5] << " bias " << p[6];
+    ASSERT_EQ(o[1], t.tx) << "u " << p[0] << " level " << t.lambda << " jitter " << p[7];
+    ASSERT_EQ(o[2], t.ty) << "v " << p[1] << " level " << t.lambda << " jitter " << p[8];
+    ASSERT_EQ(uint64_t(o[3]), t.hash);
+    ASSERT_EQ(uint64_t(o[4]), t.base);
+  }
 }
 
 TEST(CacheTable, FingerprintIsNeverZero) {
