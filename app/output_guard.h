@@ -1,12 +1,52 @@
 // output_guard.h — "no half-written output": files a command promised are
-// removed again if the command fails before it completes.
+// removed again if the command fails before it completes; and output paths
+// are checked before any work starts, so a typo in a folder name fails in a
+// second, not after a long render.
 #pragma once
 
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "core/error.h"
+
 namespace pmc {
+
+// Fails (pmc::Error naming `option`) unless `path` can be created: its folder
+// exists and is writable, the path is not a folder, and when
+// `extension` is given (".exr"), the path ends with it (any case).
+inline void check_output_path(const std::string& option, const std::string& path,
+                              const std::string& extension = "") {
+  if (path.empty()) fail(option, ": empty path");
+  namespace fs = std::filesystem;
+  const fs::path p(path);
+  if (!extension.empty()) {
+    std::string ext = p.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext != extension) fail(option, ": '", path, "' must end in ", extension);
+  }
+  std::error_code ec;
+  if (fs::is_directory(p, ec)) fail(option, ": '", path, "' is a folder");
+  const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");
+  if (!fs::is_directory(dir, ec)) fail(option, ": folder '", dir.string(), "' does not exist");
+  if (access(dir.c_str(), W_OK) != 0) fail(option, ": folder '", dir.string(), "' is not writable");
+}
+
+// Fails if two outputs of one command would land on the same file.
+inline void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
+  namespace fs = std::filesystem;
+  for (size_t i = 0; i < outputs.size(); ++i)
+    for (size_t j = i + 1; j < outputs.size(); ++j)
+      if (fs::absolute(outputs[i].second).lexically_normal() ==
+          fs::absolute(outputs[j].second).lexically_normal())
+        fail(outputs[i].first, " and ", outputs[j].first, " would both write '", outputs[i].second, "'");
+}
 
 class OutputGuard {
  public:

@@ -44,15 +44,17 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
   c["mip_bias"] = s.cache.mip_bias;
   c["lookups"] = st.cache.lookups;
   c["hits"] = st.cache.hits;
+  c["misses"] = st.cache.misses;
   c["hit_rate"] = st.cache.lookups ? double(st.cache.hits) / double(st.cache.lookups) : 0.0;
   c["inserts"] = st.cache.inserts;
+  c["already_present"] = st.cache.already_present;
   c["dropped_full"] = st.cache.dropped_full;
   c["not_encodable"] = st.cache.not_encodable;
   c["occupancy"] = st.cache.occupancy();
   c["memory_bytes"] = st.cache.memory_bytes;
   c["cells"] = st.cache.cells;
   c["entries"] = st.cache.ways;
-  c["size_reason"] = s.cache.on ? s.cache.reason : std::string("cache off");
+  c["size_reason"] = s.cache.on || !s.cache.reason.empty() ? s.cache.reason : std::string("--cache off");
   j["cache"] = c;
   return j;
 }
@@ -74,10 +76,11 @@ int run_render(const std::vector<std::string>& args) {
   ArgParser p("pmc render SCENE.obj -o OUT.exr [options]",
               "Renders an OBJ scene: Embree traces rays on the host, OpenCL shades them.\n"
               "Writes linear OUT.exr and a tone-mapped sRGB OUT.png beside it.");
-  p.option("-o", "OUT.exr", "output image (EXR); the PNG goes beside it");
+  p.option("-o", "OUT.exr",
+           "output image (linear EXR, must end in .exr); the tone-mapped PNG goes beside it");
   p.option("--stats", "OUT.json", "write render statistics as JSON");
   p.option("--hitmap", "MAP.png",
-           "cache points found per sample as a viridis heat map (0..20) + raw MAP.exr");
+           "cache points found per sample as a viridis heat map (0..20) + raw MAP.exr (must end in .png)");
   p.flag("--quiet", "no progress bar");
   declare_render_options(p);
   if (!p.parse(args)) return 0;
@@ -86,6 +89,19 @@ int run_render(const std::vector<std::string>& args) {
   const std::string obj = p.positional()[0];
   const std::string exr = p.get("-o");
   const std::string png = replace_extension(exr, ".png");
+  // Every output is checked before the scene is even loaded.
+  check_output_path("-o", exr, ".exr");
+  std::vector<std::pair<std::string, std::string>> outputs = {{"-o", exr}, {"-o (its PNG)", png}};
+  if (p.has("--hitmap")) {
+    check_output_path("--hitmap", p.get("--hitmap"), ".png");
+    outputs.push_back({"--hitmap", p.get("--hitmap")});
+    outputs.push_back({"--hitmap (its EXR)", replace_extension(p.get("--hitmap"), ".exr")});
+  }
+  if (p.has("--stats")) {
+    check_output_path("--stats", p.get("--stats"));
+    outputs.push_back({"--stats", p.get("--stats")});
+  }
+  check_distinct_outputs(outputs);
   apply_thread_option(p);
 
   ClContext cl(p.get("--device"));
@@ -104,7 +120,6 @@ int run_render(const std::vector<std::string>& args) {
   if (p.has("--hitmap")) {
     const std::string map = p.get("--hitmap");
     const std::string raw = replace_extension(map, ".exr");
-    if (raw == map) fail("--hitmap: give a .png path (the raw values go to the .exr beside it)");
     guard.track(map);
     guard.track(raw);
     write_png_display(map, heatmap_with_colorbar(out.hitmap));

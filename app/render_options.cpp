@@ -143,12 +143,12 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
   if (p.has("--cache-cells") && cells <= 0) fail("--cache-cells: must be at least 1, got ", cells);
   if (entries <= 0 || entries > 1024) fail("--cache-entries: must be in 1..1024, got ", entries);
   const uint64_t avail = available_memory_bytes();
-  if (p.has("--cache-cells")) {
-    double bytes = double(cells) * double(entries) * 8.0;
+  auto check_fits = [&](double bytes) {
     if (bytes > double(avail) * 0.8)
       fail("--cache-cells/--cache-entries: a table of ", bytes / double(1 << 20), " MiB does not fit in the ",
            double(avail) / double(1 << 20), " MiB of free memory");
-  }
+  };
+  if (p.has("--cache-cells")) check_fits(double(cells) * double(entries) * 8.0);
   if (!s.cache.on) return;
   size_t points = 0, with_points = 0;
   for (const CompiledMaterial& m : materials.program.materials) {
@@ -157,8 +157,10 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
   }
   if (points == 0) {
     s.cache.on = false;  // nothing cacheable: run the cacheless path, allocate nothing
-    if (verbose)
-      std::fprintf(stderr, "pmc: cache: no cacheable nodes in this scene's materials; cache not used\n");
+    s.cache.reason =
+        "no cacheable nodes in this scene's materials (none depends on uv alone with a sub-graph of at "
+        "least --cache-min-nodes nodes): the cacheless program runs and no table is allocated";
+    if (verbose) std::fprintf(stderr, "pmc: cache: %s\n", s.cache.reason.c_str());
     return;
   }
   if (p.has("--cache-cells")) {
@@ -166,12 +168,14 @@ void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings
     s.cache.ways = uint32_t(entries);
     s.cache.reason = "set by --cache-cells/--cache-entries";
   } else {
+    // --cache-entries alone: the cell count follows, so the table holds the same keys.
     double per_material = double(points) / double(std::max<size_t>(1, with_points));
-    CacheSize cs =
-        choose_cache_size(s.width, s.height, per_material, std::min<uint64_t>(avail / 4, 4ull << 30));
+    CacheSize cs = choose_cache_size(s.width, s.height, s.spp, per_material,
+                                     std::min<uint64_t>(avail / 4, 4ull << 30), uint32_t(entries));
     s.cache.cells = cs.cells;
-    s.cache.ways = p.has("--cache-entries") ? uint32_t(entries) : cs.entries;
+    s.cache.ways = cs.entries;
     s.cache.reason = cs.reason;
+    check_fits(double(cs.bytes()));
   }
   if (verbose)
     std::fprintf(stderr, "pmc: cache: %llu cells x %u entries = %.1f MiB (%s)\n",

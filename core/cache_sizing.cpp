@@ -7,12 +7,18 @@
 
 namespace pmc {
 
-CacheSize choose_cache_size(int width, int height, double points, uint64_t memory_limit_bytes) {
+double expected_keys_per_pixel_point(int spp) {
+  return 1.0 + 3.0 * (1.0 - 1.0 / std::sqrt(double(std::max(spp, 1))));
+}
+
+CacheSize choose_cache_size(int width, int height, int spp, double points, uint64_t memory_limit_bytes,
+                            uint32_t entries) {
   CacheSize s;
-  s.entries = 8;
+  s.entries = std::max<uint32_t>(entries, 1);
   const double pixels = double(width) * double(height);
-  const double keys = pixels * std::max(points, 1.0) * 2.0 * 2.0;  // jitter, secondary bounces
-  const double slots = keys * 2.0;                                 // load factor 1/2
+  const double factor = expected_keys_per_pixel_point(spp);
+  const double keys = pixels * std::max(points, 1.0) * factor;
+  const double slots = keys * 2.0;  // load factor 1/2
   uint64_t cells = uint64_t(std::ceil(slots / s.entries));
   cells = std::max<uint64_t>(cells, 1024);
   uint64_t pow2 = 1;  // a power of two: the cell index is a mask, not a 64-bit division
@@ -23,9 +29,11 @@ CacheSize choose_cache_size(int width, int height, double points, uint64_t memor
   while (cells > max_cells && cells > 1024) cells >>= 1;
   s.cells = cells;
   std::ostringstream os;
-  os << width << "x" << height << " pixels x " << points
-     << " cache points per material x 4 (jitter, bounces) = " << uint64_t(keys)
-     << " expected keys at load factor 1/2" << (capped ? ", capped by the memory limit" : "");
+  os.precision(3);
+  os << width << "x" << height << " pixels x " << points << " cache points per material x " << factor
+     << " (texels reached by " << spp << " spp: jitter, bilinear selection, bounces) = " << uint64_t(keys)
+     << " expected keys at load factor 1/2 in cells of " << s.entries << " entries"
+     << (capped ? ", capped by the memory limit" : "");
   s.reason = os.str();
   return s;
 }

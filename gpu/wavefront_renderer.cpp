@@ -294,6 +294,8 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     cl.read(cache_stats, 0, sizeof(counts), counts);
     st.cache.lookups = counts[PMC_CSTAT_LOOKUPS];
     st.cache.hits = counts[PMC_CSTAT_HITS];
+    st.cache.misses = counts[PMC_CSTAT_MISSES];
+    st.cache.already_present = counts[PMC_CSTAT_ALREADY_PRESENT];
     st.cache.inserts = counts[PMC_CSTAT_INSERTS];
     st.cache.dropped_full = counts[PMC_CSTAT_DROPPED_FULL];
     st.cache.not_encodable = counts[PMC_CSTAT_NOT_ENCODABLE];

@@ -36,7 +36,8 @@ struct CacheSettings {
 };
 
 struct CacheStats {
-  uint64_t lookups = 0, hits = 0, inserts = 0, dropped_full = 0, not_encodable = 0;
+  uint64_t lookups = 0, hits = 0, misses = 0, inserts = 0, already_present = 0, dropped_full = 0,
+           not_encodable = 0;
   uint64_t occupied = 0;  // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }

@@ -44,7 +44,11 @@
 #define PMC_CSTAT_INSERTS 2
 #define PMC_CSTAT_DROPPED_FULL 3
 #define PMC_CSTAT_NOT_ENCODABLE 4
+#define PMC_CSTAT_MISSES 5          /* lookups that found nothing */
+#define PMC_CSTAT_ALREADY_PRESENT 6 /* inserts that found the key (another work-item won) */
 #define PMC_CSTAT_COUNT 8
+/* Every lookup is a hit or a miss, and every miss ends in exactly one of
+ * insert, already present, dropped (cell full) or not encodable. */
 
 /* ---- virtual mip level and texel indices --------------------------------- */
 
@@ -228,8 +232,11 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
   if (!pmc_rgb9e5_encodable(r, g, b)) return PMC_RGB9E5_INVALID;
   float m = fmax(r, fmax(g, b));
   if (m < 1.52587890625e-05f * (1.0f / 512.0f)) return 0u; /* below the smallest step: zero */
-  int e = (int)floor(log2(m));                             /* m in [2^e, 2^(e+1)) */
-  if (e < -16) e = -16;
+  /* e = floor(log2(m)), exactly, from the exponent bits: m in [2^e, 2^(e+1)).
+   * (A library log2 may round just below a power of two up to it, and
+   * differs between the host and OpenCL devices.) */
+  int e = ((as_int(m) >> 23) & 0xff) - 127;
+  if (e < -16) e = -16; /* also subnormal m */
   int exp_shared = e + 1; /* mantissas < 512 */
   float scale = pmc_exp2i(9 - exp_shared);
   int mm = (int)floor(m * scale + 0.5f);

@@ -249,6 +249,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
             pc += 3u + (missed == 0u ? code[pc + 2u] : 0u);
             continue;
           }
+          cache->counts[PMC_CSTAT_MISSES] += 1u;
           if (cache->center) {
             uv_now = make_float2(pmc_cache_texel_center(texel.tx, texel.lambda),
                                  pmc_cache_texel_center(texel.ty, texel.lambda));
@@ -278,6 +279,7 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
                   pmc_cache_key_at(texel.hash, texel.base, cache->material, imm & 0x3fffu, n_stores - 1u);
               int result = pmc_cache_insert(&cache->table, key, bits);
               if (result > 0) cache->counts[PMC_CSTAT_INSERTS] += 1u;
+              if (result == 0) cache->counts[PMC_CSTAT_ALREADY_PRESENT] += 1u;
               if (result < 0) cache->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
             } else {
               cache->counts[PMC_CSTAT_NOT_ENCODABLE] += 1u;

@@ -331,6 +331,23 @@ TEST(CacheTable, HostLookupAndInsertSemantics) {
   EXPECT_EQ(v, 0u);
 }
 
+// Runs kernel `name` of `source` as name(in, out, n) over n work-items, each
+// writing `per_item` values of T; returns them.
+template <typename T>
+std::vector<T> run_per_item(const char* source, const char* name, const std::vector<float>& in, uint32_t n,
+                            size_t per_item) {
+  const ClContext& cl = test::cl();
+  ClProgram prog = ClProgram::from_text(cl, std::string(name) + "_test.cl", source);
+  ClBuffer in_buf = cl.buffer(in.size() * 4, in.data()),
+           out_buf = cl.buffer(size_t(n) * per_item * sizeof(T));
+  cl_kernel k = prog.kernel(name);
+  set_kernel_args(k, in_buf, out_buf, cl_uint(n));
+  enqueue_1d(cl.queue(), k, n);
+  std::vector<T> out(size_t(n) * per_item);
+  cl.read(out_buf, 0, out.size() * sizeof(T), out.data());
+  return out;
+}
+
 // The descriptor on the device: level, texel indices, texel hash and group
 // base computed by an OpenCL kernel equal the host's bit for bit, on ordinary
 // and hard inputs (grazing and degenerate gradients, negative, huge, infinite
@@ -371,14 +388,7 @@ TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
                   {u, v, g, 0.5f * g, -0.2f * g2, g2, bias, jit(rng), jit(rng), float(in.size() % 7)});
       }
   const uint32_t n = uint32_t(in.size() / 10);
-  const ClContext& cl = test::cl();
-  ClProgram prog = ClProgram::from_text(cl, "cache_descriptor_test.cl", kDescriptorKernel);
-  ClBuffer in_buf = cl.buffer(in.size() * 4, in.data()), out_buf = cl.buffer(size_t(n) * 5 * 8);
-  cl_kernel k = prog.kernel("descriptors");
-  set_kernel_args(k, in_buf, out_buf, cl_uint(n));
-  enqueue_1d(cl.queue(), k, n);
-  std::vector<int64_t> out(size_t(n) * 5);
-  cl.read(out_buf, 0, out.size() * 8, out.data());
+  const std::vector<int64_t> out = run_per_item<int64_t>(kDescriptorKernel, "descriptors", in, n, 5);
   for (uint32_t i = 0; i < n; ++i) {
     const float* p = &in[size_t(i) * 10];
     PmcCacheTexel t =
@@ -392,6 +402,75 @@ TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
     ASSERT_EQ(uint64_t(o[3]), t.hash);
     ASSERT_EQ(uint64_t(o[4]), t.base);
   }
+}
+
+// Value encodings on the device: encodability, the 32-bit word and the
+// decoded value equal the host's bit for bit for random and extreme values
+// (0, -0, denormals, powers of two and their neighbours, 65408 and above,
+// negatives, NaN, Inf).
+const char* kEncodingKernel = R"CL(
+#include "pmc_cache.h"
+__kernel void encodings(__global const float* in, __global uint* out, uint n) {
+  uint i = get_global_id(0);
+  if (i >= n) return;
+  __global const float* p = in + 4 * i;
+  float4 v = make_float4(p[0], p[1], p[2], p[3]);
+  __global uint* o = out + 3 * 6 * i;
+  for (uint enc = 0u; enc < 3u; ++enc) {
+    uint bits = 0xdeadbeefu;
+    int ok = pmc_cache_encode(v, enc, &bits);
+    float4 d = pmc_cache_decode(bits, enc);
+    o[6 * enc + 0] = (uint)ok;
+    o[6 * enc + 1] = bits;
+    o[6 * enc + 2] = as_uint(d.x);
+    o[6 * enc + 3] = as_uint(d.y);
+    o[6 * enc + 4] = as_uint(d.z);
+    o[6 * enc + 5] = as_uint(d.w);
+  }
+}
+)CL";
+
+TEST(CacheTable, DeviceEncodingsEqualTheHostsBitForBit) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> special = {0.0f,     -0.0f, 1e-45f, 1e-40f,   1.2e-38f, 2.9e-8f,  1.5e-5f,  0.001f,
+                                0.5f,     1.0f,  2.0f,   3.14159f, 1000.0f,  65408.0f, 65409.0f, 65504.0f,
+                                65520.0f, 1e30f, -1.0f,  -1e-30f,  inf,      -inf,     nan};
+  for (int e = -26; e <= 17; ++e) {
+    float p = std::ldexp(1.0f, e);
+    special.insert(special.end(), {p, std::nextafter(p, 0.0f), std::nextafter(p, inf), 1.5f * p});
+  }
+  std::vector<float> in;
+  std::mt19937 rng(123);
+  std::uniform_int_distribution<size_t> pick(0, special.size() - 1);
+  std::uniform_real_distribution<float> expo(-30.0f, 17.0f);
+  for (float a : special) in.insert(in.end(), {a, a, a, a});
+  for (int i = 0; i < 4000; ++i) {
+    auto value = [&] { return i % 2 ? special[pick(rng)] : std::exp2(expo(rng)); };
+    in.insert(in.end(), {value(), value(), value(), value()});
+  }
+  const uint32_t n = uint32_t(in.size() / 4);
+  const std::vector<uint32_t> out = run_per_item<uint32_t>(kEncodingKernel, "encodings", in, n, 18);
+  size_t encoded = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const float* p = &in[size_t(i) * 4];
+    float4 v = make_float4(p[0], p[1], p[2], p[3]);
+    for (uint32_t enc = 0; enc < 3; ++enc) {
+      uint32_t bits = 0xdeadbeefu;
+      int ok = pmc_cache_encode(v, enc, &bits);
+      float4 d = pmc_cache_decode(bits, enc);
+      const uint32_t* o = &out[size_t(i) * 18 + 6 * enc];
+      SCOPED_TRACE("value " + std::to_string(p[0]) + ", " + std::to_string(p[1]) + ", " +
+                   std::to_string(p[2]) + " encoding " + std::to_string(enc));
+      ASSERT_EQ(int(o[0]), ok);
+      ASSERT_EQ(o[1], bits);
+      ASSERT_EQ(o[2], pmc_float_bits(d.x));
+      ASSERT_EQ(o[3], pmc_float_bits(d.y));
+      ASSERT_EQ(o[4], pmc_float_bits(d.z));
+      ASSERT_EQ(o[5], pmc_float_bits(d.w));
+      encoded += ok;
+    }
+  }
+  EXPECT_GT(encoded, size_t(n)) << "most values must be encodable in some format";
 }
 
 TEST(CacheTable, FingerprintIsNeverZero) {

@@ -392,6 +392,31 @@ TEST(BadInput, CacheLargerThanFreeMemory) {
                  {"--cache-cells", "not an integer"});
 }
 
+// Output paths are checked before the scene is loaded: a render that could
+// not be saved fails at once with the option named, not after rendering.
+TEST(BadInput, UnwritableOrCollidingOutputsFailBeforeRendering) {
+  std::string dir = dir_with_mtl();
+  test::write_file(dir + "/scene.obj", quad_obj());
+  const std::string obj = dir + "/scene.obj";
+  auto run = [&](const std::string& args) {
+    clear_outputs(dir);
+    Outcome o;
+    o.code = test::run_pmc("render " + obj + " " + args + " --width 16 --height 16 --spp 1 --quiet", &o.log);
+    return o;
+  };
+  expect_refused(dir, run("-o " + dir + "/missing_folder/out.exr"),
+                 {"-o", "missing_folder", "does not exist"});
+  expect_refused(dir, run("-o " + dir + "/out.png"), {"-o", "out.png", ".exr"});
+  expect_refused(dir, run("-o " + dir), {"-o", "must end in .exr"});
+  expect_refused(dir, run("-o " + dir + "/out.exr --stats " + dir + "/nowhere/s.json"),
+                 {"--stats", "nowhere", "does not exist"});
+  expect_refused(dir, run("-o " + dir + "/out.exr --hitmap " + dir + "/map.exr"), {"--hitmap", ".png"});
+  // --hitmap out.png puts its raw EXR on out.exr, the image itself.
+  expect_refused(dir, run("-o " + dir + "/out.exr --hitmap " + dir + "/out.png"), {"would both write"});
+  EXPECT_FALSE(test::file_exists(dir + "/map.exr"));
+  EXPECT_FALSE(test::file_exists(dir + "/map.png"));
+}
+
 TEST(BadInput, UnknownDevice) {
   std::string dir = dir_with_mtl();
   test::write_file(dir + "/scene.obj", quad_obj());
