@@ -113,9 +113,26 @@ bool ArgParser::get_vec3(const std::string& name, float out[3]) const {
   return true;
 }
 
+ArgParser::Spec& ArgParser::spec(const std::string& name) {
+  for (Spec& s : specs_)
+    if (s.name == name) return s;
+  fail("internal: no option ", name, " declared");
+}
+
+void ArgParser::redescribe(const std::string& name, const std::string& value_name, const std::string& help,
+                           const std::string& default_text) {
+  Spec& s = spec(name);
+  s.value_name = value_name;
+  s.help = help;
+  s.default_text = default_text;
+}
+
+void ArgParser::hide(const std::string& name) { spec(name).hidden = true; }
+
 void ArgParser::print_help() const {
   std::printf("usage: %s\n\n%s\n\noptions:\n", usage_.c_str(), summary_.c_str());
   for (const Spec& s : specs_) {
+    if (s.hidden) continue;
     std::string left = s.name + (s.takes_value ? " " + s.value_name : "");
     std::string help = s.help;
     if (!s.default_text.empty()) help += " (default: " + s.default_text + ")";

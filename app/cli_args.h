@@ -20,6 +20,12 @@ class ArgParser {
   void option(const std::string& name, const std::string& value_name, const std::string& help,
               const std::string& default_text = "", bool repeatable = false);
   void flag(const std::string& name, const std::string& help);
+  // A subcommand that gives a shared option another meaning says so here:
+  // the option keeps parsing, --help shows the new text. hide() leaves it
+  // out of --help (for options the subcommand refuses with its own message).
+  void redescribe(const std::string& name, const std::string& value_name, const std::string& help,
+                  const std::string& default_text = "");
+  void hide(const std::string& name);
   // Returns false if --help was given (help already printed).
   bool parse(const std::vector<std::string>& args);
 
@@ -37,10 +43,11 @@ class ArgParser {
  private:
   struct Spec {
     std::string name, value_name, help, default_text;
-    bool takes_value = true, repeatable = false;
+    bool takes_value = true, repeatable = false, hidden = false;
   };
   std::string usage_, summary_;
   std::vector<Spec> specs_;
+  Spec& spec(const std::string& name);
   std::map<std::string, std::vector<std::string>> values_;
   std::vector<std::string> positional_;
 };

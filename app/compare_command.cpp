@@ -7,10 +7,22 @@
 // --reference-spp N, rendered cacheless with another seed) it also measures
 // each render against the reference, so the cache's bias can be told apart
 // from the noise both renders share.
+//
+// Bad input fails before anything is rendered and leaves nothing behind:
+// the options, the reference (its file and its size) and the scene are
+// checked and both renders prepared before --out-dir is created; if a render
+// or a write fails after that, the files written (OutputGuard) and the
+// folders created (OutDir) are removed again. `compare` always renders cache
+// off and on, so its --help does not list --cache and the option is refused.
+#include <unistd.h>
+
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "app/commands.h"
 #include "app/output_guard.h"
@@ -28,31 +40,77 @@ nlohmann::json error_json(const ImageError& e) {
   return {{"rmse", e.rmse}, {"relmse", e.relmse}, {"psnr", e.psnr}, {"max_abs_error", e.max_abs}};
 }
 
+// Reads --reference and checks it against the render's size, before
+// anything is rendered. An alpha channel is dropped; fewer than three
+// channels are refused.
+Image read_reference(const std::string& path, int width, int height) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) fail("--reference: '", path, "' does not exist");
+  if (std::filesystem::is_directory(path, ec)) fail("--reference: '", path, "' is a directory, not an image");
+  Image img;
+  try {
+    img = read_image(path);
+  } catch (const Error& e) {
+    fail("--reference: ", e.what());
+  }
+  if (img.channels < 3)
+    fail("--reference: '", path, "' has ", img.channels, " channel", img.channels == 1 ? "" : "s",
+         "; expected an RGB image");
+  if (img.width != width || img.height != height)
+    fail("--reference: '", path, "' is ", img.width, "x", img.height, " but the renders are ", width, "x",
+         height, " (--width/--height)");
+  if (img.channels > 3) {
+    std::vector<float> rgb(size_t(width) * size_t(height) * 3);
+    for (size_t i = 0; i < size_t(width) * size_t(height); ++i)
+      for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = img.pixels[i * size_t(img.channels) + c];
+    img.pixels = std::move(rgb);
+    img.channels = 3;
+  }
+  return img;
+}
+
 }  // namespace
 
 int run_compare(const std::vector<std::string>& args) {
   ArgParser p(
-      "pmc compare SCENE.obj --out-dir DIR [render options]",
-      "Renders SCENE cacheless and cached with the same seed and samples and writes both images, the\n"
-      "difference x5, the cache hit map, metrics.json and report.md to DIR.");
-  p.option("--out-dir", "DIR", "where the images, metrics.json and report.md go");
-  p.option("--reference", "REF.exr", "also measure both renders against this image");
+      "pmc compare SCENE.obj --out-dir DIR [render options] [--reference REF.exr | --reference-spp N]",
+      "Renders SCENE cacheless and cached with the same seed and samples and writes both images,\n"
+      "their difference (x --diff-scale), the cache hit map, metrics.json and report.md to DIR.\n"
+      "It always renders both, so --cache is not an option here; the other cache options set up\n"
+      "the cached render.");
+  p.option("--out-dir", "DIR",
+           "where the images, metrics.json and report.md go (created when the inputs are valid)");
+  p.option(
+      "--reference", "REF.exr",
+      "also measure both renders against this image (--width x --height, RGB; checked before rendering)");
   p.option("--reference-spp", "N", "render a cacheless reference with N samples (another seed)");
-  p.option("--diff-scale", "S", "scale of the difference image", "5");
+  p.option("--diff-scale", "S", "scale of the difference image (positive)", "5");
   p.flag("--quiet", "no progress bars");
   declare_render_options(p);
+  p.hide("--cache");  // refused below: compare always renders both
   if (!p.parse(args)) return 0;
   if (p.positional().size() != 1) fail("compare: expected exactly one SCENE.obj (see --help)");
   if (!p.has("--out-dir")) fail("compare: missing --out-dir DIR");
   if (p.has("--reference") && p.has("--reference-spp"))
     fail("compare: give --reference or --reference-spp, not both");
-  if (p.has("--cache")) fail("compare: --cache is chosen by compare itself (it renders both)");
+  if (p.has("--cache"))
+    fail("compare: --cache is not an option of compare (it always renders cache off and on)");
   const std::string obj = p.positional()[0], dir = p.get("--out-dir");
+  OutDir out_dir(dir);  // checked now, created once the renders are prepared
   const float diff_scale = p.get_float("--diff-scale", 5.0f);
+  if (!(diff_scale > 0.0f)) fail("--diff-scale: must be positive, got ", p.get("--diff-scale"));
+  const int reference_spp = p.get_int("--reference-spp", 0);
+  if (p.has("--reference-spp") && reference_spp <= 0)
+    fail("--reference-spp: must be at least 1, got ", reference_spp);
   const bool quiet = p.has("--quiet");
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) fail("--out-dir: cannot create '", dir, "': ", ec.message());
+  Image reference;
+  const bool have_reference = p.has("--reference") || p.has("--reference-spp");
+  if (p.has("--reference")) {
+    // The size render_settings_from() will use; a bad --width/--height is its to report.
+    const RenderSettings defaults;
+    const int width = p.get_int("--width", defaults.width), height = p.get_int("--height", defaults.height);
+    if (width > 0 && height > 0) reference = read_reference(p.get("--reference"), width, height);
+  }
   apply_thread_option(p);
   ClContext cl(p.get("--device"));
 
@@ -65,22 +123,17 @@ int run_compare(const std::vector<std::string>& args) {
     return out;
   };
   std::unique_ptr<RenderJob> off_job = prepare_render(p, obj, cl, "off", false);
-  RenderOutput off = render(*off_job, off_job->settings, "cache off");
   std::unique_ptr<RenderJob> on_job = prepare_render(p, obj, cl, "on", !quiet);
-  RenderOutput on = render(*on_job, on_job->settings, "cache on ");
 
-  Image reference;
-  bool have_reference = false;
-  if (p.has("--reference")) {
-    reference = read_image(p.get("--reference"));
-    have_reference = true;
-  } else if (p.has("--reference-spp")) {
+  // Every input is valid: from here on a failure removes what was created.
+  out_dir.create();
+  RenderOutput off = render(*off_job, off_job->settings, "cache off");
+  RenderOutput on = render(*on_job, on_job->settings, "cache on ");
+  if (p.has("--reference-spp")) {
     RenderSettings rs = off_job->settings;
-    rs.spp = p.get_int("--reference-spp", 0);
-    if (rs.spp <= 0) fail("--reference-spp: must be at least 1");
+    rs.spp = reference_spp;
     rs.seed = rs.seed + 0x9e3779b9u;  // independent noise
     reference = render(*off_job, rs, "reference").image;
-    have_reference = true;
   }
 
   OutputGuard guard;
@@ -96,7 +149,7 @@ int run_compare(const std::vector<std::string>& args) {
   write_png_display(path("difference.png"), difference_image(on.image, off.image, diff_scale));
   write_png_display(path("hitmap.png"), heatmap_with_colorbar(on.hitmap));
   write_exr(path("hitmap.exr"), on.hitmap);
-  if (have_reference && p.has("--reference-spp")) write_exr(path("reference.exr"), reference);
+  if (p.has("--reference-spp")) write_exr(path("reference.exr"), reference);
 
   const ImageError e = compare_images(on.image, off.image);
   const CacheStats& cs = on.stats.cache;
@@ -126,9 +179,16 @@ int run_compare(const std::vector<std::string>& args) {
                 {"cells", cs.cells},
                 {"entries", cs.ways},
                 {"mip_bias", on_job->settings.cache.mip_bias},
-                {"eval", on_job->settings.cache.center ? "center" : "hit"}};
+                {"eval", on_job->settings.cache.center ? "center" : "hit"},
+                {"filter", on_job->settings.cache.bilinear ? "bilinear" : "nearest"}};
+  m["diff_scale"] = diff_scale;
   m["nan_pixels"] = {{"off", off.stats.nan_pixels}, {"on", on.stats.nan_pixels}};
   if (have_reference) {
+    if (p.has("--reference"))
+      m["reference"] = {{"file", p.get("--reference")}};
+    else
+      m["reference"] = {
+          {"file", "reference.exr"}, {"spp", reference_spp}, {"seed", off_job->settings.seed + 0x9e3779b9u}};
     m["cached_vs_reference"] = error_json(compare_images(on.image, reference));
     m["cacheless_vs_reference"] = error_json(compare_images(off.image, reference));
   }
@@ -152,13 +212,23 @@ int run_compare(const std::vector<std::string>& args) {
       << "| relMSE | " << e.relmse << " |\n| max abs error | " << e.max_abs << " |\n"
       << "| cache hit rate | " << m["hit_rate"].get<double>() << " |\n"
       << "| cache memory (MiB) | " << double(cs.memory_bytes) / double(1 << 20) << " |\n";
-    if (have_reference)
-      r << "| relMSE cached vs reference | " << m["cached_vs_reference"]["relmse"].get<double>() << " |\n"
-        << "| relMSE cacheless vs reference | " << m["cacheless_vs_reference"]["relmse"].get<double>()
-        << " |\n";
+    if (have_reference) {
+      const nlohmann::json &on_ref = m["cached_vs_reference"], &off_ref = m["cacheless_vs_reference"];
+      r << "| relMSE cached vs reference | " << on_ref["relmse"].get<double>() << " |\n"
+        << "| relMSE cacheless vs reference | " << off_ref["relmse"].get<double>() << " |\n"
+        << "| PSNR cached vs reference (dB) | " << on_ref["psnr"].get<double>() << " |\n"
+        << "| PSNR cacheless vs reference (dB) | " << off_ref["psnr"].get<double>() << " |\n\n"
+        << "Reference: ";
+      if (p.has("--reference"))
+        r << p.get("--reference") << "\n";
+      else
+        r << "reference.exr, cacheless, " << reference_spp << " spp, seed "
+          << m["reference"]["seed"].get<uint32_t>() << "\n";
+    }
     if (!r) fail(dir, "/report.md: writing failed");
   }
   guard.commit();
+  out_dir.commit();
   std::fprintf(
       stderr,
       "pmc compare: off %.2fs, on %.2fs (x%.2f), PSNR %.2f dB, hit rate %.1f%%, cache %.1f MiB -> %s\n",

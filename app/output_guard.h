@@ -38,6 +38,51 @@ inline void check_output_path(const std::string& option, const std::string& path
   if (access(dir.c_str(), W_OK) != 0) fail(option, ": folder '", dir.string(), "' is not writable");
 }
 
+// --out-dir: checked when constructed, before any work starts (an existing
+// writable folder, or one that can be made under the nearest existing,
+// writable folder), created only once the inputs are valid by create(), and
+// unless committed the folders create() made are removed again (when empty:
+// the files in them are an OutputGuard's).
+class OutDir {
+ public:
+  explicit OutDir(std::string dir) : dir_(std::move(dir)) {
+    namespace fs = std::filesystem;
+    if (dir_.empty()) fail("--out-dir: empty path");
+    fs::path path = fs::path(dir_).lexically_normal();
+    if (path.filename().empty() && path.has_parent_path()) path = path.parent_path();
+    std::error_code ec;
+    fs::path existing = path;
+    while (!existing.empty() && !fs::exists(existing, ec)) {
+      missing_.push_back(existing);
+      existing = existing.parent_path();
+    }
+    if (existing.empty()) existing = ".";
+    if (!fs::is_directory(existing, ec)) {
+      if (missing_.empty()) fail("--out-dir: '", dir_, "' is not a folder");
+      fail("--out-dir: cannot create '", dir_, "': '", existing.string(), "' is not a folder");
+    }
+    if (access(existing.c_str(), W_OK) != 0)
+      fail("--out-dir: folder '", existing.string(), "' is not writable");
+  }
+  OutDir(const OutDir&) = delete;
+  OutDir& operator=(const OutDir&) = delete;
+  void create() {
+    std::error_code ec;
+    if (!missing_.empty()) std::filesystem::create_directories(missing_.front(), ec);
+    created_ = missing_;
+    if (ec) fail("--out-dir: cannot create '", dir_, "': ", ec.message());
+  }
+  void commit() { created_.clear(); }
+  ~OutDir() {
+    std::error_code ec;
+    for (const std::filesystem::path& q : created_) std::filesystem::remove(q, ec);
+  }
+
+ private:
+  std::string dir_;
+  std::vector<std::filesystem::path> missing_, created_;  // deepest first
+};
+
 // Fails if two outputs of one command would land on the same file.
 inline void check_distinct_outputs(const std::vector<std::pair<std::string, std::string>>& outputs) {
   namespace fs = std::filesystem;

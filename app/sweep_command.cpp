@@ -6,12 +6,31 @@
 // cacheless render and against a high-sample reference. With
 // --convergence-spp it also renders cache off and on at each sample count,
 // measuring relMSE against the reference: the equal-time question a user
-// asks ("for the same time, is the cached image better?"). The plots come
-// from scripts/plot_sweep.py.
+// asks ("for the same time, is the cached image better?"). The cached
+// convergence rows use the grid's first combination. The plots come from
+// scripts/plot_sweep.py.
+//
+// The render options of `pmc render` are accepted and apply to every row,
+// but the cache options that a sweep varies take lists here: --mip-bias,
+// --cache-eval, --cache-cells and --cache-entries are aliases of the sweep's
+// --mip-biases, --cache-evals, --cells and --entries. So that prepare_render()
+// (which reads them as single values) never sees a list, the jobs are
+// prepared from a second parse of the command line without them; the sweep
+// sets each row's cache settings itself, and the CSV columns are the settings
+// a row was rendered with. --cache-filter sets the filter of every
+// center-mode row; --cache-min-nodes shapes the one cached program all
+// cached rows share.
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "app/commands.h"
@@ -25,24 +44,134 @@
 namespace pmc {
 namespace {
 
-std::vector<std::string> split_list(const std::string& s, const std::string& option) {
+// A list option's value and the name it was given under (for messages).
+struct ListArg {
+  std::string option, value;
+};
+
+// `name` or its render-option alias `alias`, not both; `fallback` when neither.
+ListArg list_arg(const ArgParser& p, const std::string& name, const std::string& alias,
+                 const std::string& fallback) {
+  if (p.has(name) && p.has(alias))
+    fail("sweep: ", alias, " is the same list as ", name, "; give one of them, not both");
+  if (p.has(alias)) return {alias, p.get(alias)};
+  return {name, p.get(name, fallback)};
+}
+
+// "a,b,c": items without spaces around them; empty items are errors.
+std::vector<std::string> split_list(const ListArg& a, const char* example) {
   std::vector<std::string> out;
-  std::stringstream ss(s);
   std::string item;
-  while (std::getline(ss, item, ','))
-    if (!item.empty()) out.push_back(item);
-  if (out.empty()) fail(option, ": expected a comma-separated list");
+  std::stringstream ss(a.value);
+  bool bad = a.value.empty() || a.value.back() == ',';
+  while (!bad && std::getline(ss, item, ',')) {
+    const size_t b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
+    if (b == std::string::npos)
+      bad = true;
+    else
+      out.push_back(item.substr(b, e - b + 1));
+  }
+  if (bad) fail(a.option, ": '", a.value, "' is not a comma-separated list (e.g. ", example, ")");
   return out;
 }
 
+// "'x'" or, in a longer list, "'x' in 'a,x,b'".
+std::string quoted_item(const ListArg& a, const std::string& item) {
+  return "'" + item + "'" + (item == a.value ? "" : " in '" + a.value + "'");
+}
+
 template <typename T>
-std::vector<T> parse_list(const std::string& s, const std::string& option) {
-  std::vector<T> out;
-  for (const std::string& item : split_list(s, option)) {
-    std::istringstream is(item);
-    T v{};
-    if (!(is >> v) || !is.eof()) fail(option, ": '", item, "' is not a number");
+void refuse_duplicates(const ListArg& a, const std::vector<T>& values,
+                       const std::vector<std::string>& items) {
+  for (size_t i = 0; i < values.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (values[i] == values[j])
+        fail(a.option, ": '", items[i], "' is listed twice in '", a.value, "' (each value gives one row)");
+}
+
+std::vector<long long> int_list(const ListArg& a, const char* example) {
+  const std::vector<std::string> items = split_list(a, example);
+  std::vector<long long> out;
+  for (const std::string& item : items) {
+    errno = 0;
+    char* end = nullptr;
+    const long long v = std::strtoll(item.c_str(), &end, 10);
+    if (*end != '\0' || errno == ERANGE)
+      fail(a.option, ": ", quoted_item(a, item), " is not an integer (expected a comma-separated list, e.g. ",
+           example, ")");
     out.push_back(v);
+  }
+  refuse_duplicates(a, out, items);
+  return out;
+}
+
+std::vector<double> number_list(const ListArg& a, const char* example) {
+  const std::vector<std::string> items = split_list(a, example);
+  std::vector<double> out;
+  for (const std::string& item : items) {
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (*end != '\0' || !std::isfinite(v))
+      fail(a.option, ": ", quoted_item(a, item),
+           " is not a finite number (expected a comma-separated list, e.g. ", example, ")");
+    out.push_back(v);
+  }
+  refuse_duplicates(a, out, items);
+  return out;
+}
+
+// A cached row's evaluation mode, named as in the CSV's cache_eval column.
+struct Mode {
+  bool center = true, bilinear = true;
+  std::string name() const { return center ? (bilinear ? "center" : "center-nearest") : "hit"; }
+};
+
+// --cache-evals after --cache-filter: the filter applies to every center-mode row.
+std::vector<Mode> modes_from(const ListArg& a, const ArgParser& p) {
+  const std::vector<std::string> items = split_list(a, "hit,center");
+  const std::string filter = p.get("--cache-filter");
+  if (p.has("--cache-filter") && filter != "nearest" && filter != "bilinear")
+    fail("--cache-filter: expected nearest or bilinear, got '", filter, "'");
+  std::vector<Mode> out;
+  std::vector<std::string> names;
+  for (const std::string& item : items) {
+    Mode m;
+    if (item == "hit")
+      m = {false, false};
+    else if (item == "center")
+      m = {true, true};
+    else if (item == "center-nearest")
+      m = {true, false};
+    else
+      fail(a.option, ": expected hit, center and/or center-nearest, got '", item, "'");
+    if (filter == "bilinear" && !(item == "center"))
+      fail("--cache-filter bilinear: applies to center-mode rows only, but ", a.option, " lists '", item,
+           "' (a hit-mode texel has no centre value to interpolate; center-nearest is the nearest filter)");
+    if (filter == "nearest") m.bilinear = false;
+    out.push_back(m);
+    names.push_back(m.name());
+  }
+  for (size_t i = 0; i < names.size(); ++i)
+    if (std::count(names.begin(), names.begin() + i, names[i]))
+      fail(a.option, ": '", a.value, "' gives two ", names[i], " rows",
+           p.has("--cache-filter") ? " (--cache-filter nearest makes center rows center-nearest)" : "");
+  return out;
+}
+
+// The command line without the options the sweep reads as lists, for
+// prepare_render(); the sweep sets those per row. (A value that looks like
+// an option name is not expected here: the full parse accepted `args`.)
+std::vector<std::string> without_sweep_lists(const std::vector<std::string>& args) {
+  static const std::set<std::string> lists = {"--mip-bias",      "--cache-eval",   "--cache-cells",
+                                              "--cache-entries", "--cache-filter", "--cache"};
+  std::vector<std::string> out;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string name = args[i].substr(0, args[i].find('='));
+    if (!lists.count(name)) {
+      out.push_back(args[i]);
+    } else if (name.size() == args[i].size()) {
+      ++i;  // its value
+    }
   }
   return out;
 }
@@ -50,64 +179,117 @@ std::vector<T> parse_list(const std::string& s, const std::string& option) {
 }  // namespace
 
 int run_sweep(const std::vector<std::string>& args) {
+  auto declare = [](ArgParser& p) {
+    p.option("--out-dir", "DIR", "where sweep.csv goes");
+    p.option("--cells", "LIST", "cache cell counts, e.g. 4096,65536,1048576 (alias: --cache-cells)",
+             "the scene's automatic size");
+    p.option("--entries", "LIST", "entries per cell, e.g. 1,4,8 (alias: --cache-entries)", "8");
+    p.option("--mip-biases", "LIST", "mip biases, e.g. -1,0,1,2 (alias: --mip-bias)", "0");
+    p.option(
+        "--cache-evals", "LIST",
+        "cache modes: hit, center (center + bilinear filter) and/or center-nearest; the CSV's cache_eval "
+        "column (alias: --cache-eval)",
+        "center");
+    p.option("--reference-spp", "N", "samples of the cacheless reference", "16 x --spp");
+    p.option("--convergence-spp", "LIST",
+             "sample counts for equal-time curves, e.g. 1,2,4,8,16: cache off and on (with the grid's first "
+             "combination) at each");
+    p.option("--repeat", "N",
+             "timing rounds; each renders every setting once (round-robin), times are medians", "1");
+    p.flag("--quiet", "no progress bars");
+    declare_render_options(p);
+  };
   ArgParser p(
-      "pmc sweep SCENE.obj --out-dir DIR [--cells LIST] [--entries LIST] [--mip-biases LIST] [options]",
-      "Renders SCENE with every combination of cache settings and writes sweep.csv (time, hit rate,\n"
-      "memory, error vs cacheless and vs a reference). scripts/plot_sweep.py turns it into plots.");
-  p.option("--out-dir", "DIR", "where sweep.csv goes");
-  p.option("--cells", "LIST", "cache cell counts, e.g. 4096,65536,1048576", "the scene's automatic size");
-  p.option("--entries", "LIST", "entries per cell, e.g. 1,4,8", "8");
-  p.option("--mip-biases", "LIST", "mip biases, e.g. -1,0,1,2", "0");
-  p.option("--cache-evals", "LIST",
-           "cache modes: hit, center (center + bilinear filter) and/or center-nearest; the CSV's cache_eval "
-           "column",
-           "center");
-  p.option("--reference-spp", "N", "samples of the cacheless reference", "16 x --spp");
-  p.option("--convergence-spp", "LIST", "sample counts for equal-time curves, e.g. 1,2,4,8,16");
-  p.option("--repeat", "N", "timing rounds; each renders every setting once (round-robin), times are medians",
-           "1");
-  p.flag("--quiet", "no progress bars");
-  declare_render_options(p);
+      "pmc sweep SCENE.obj --out-dir DIR [--cells LIST] [--entries LIST] [--mip-biases LIST] "
+      "[--cache-evals LIST] [options]",
+      "Renders SCENE cacheless once and cached with every combination of --cells x --entries x\n"
+      "--mip-biases x --cache-evals (same seed and samples) and writes sweep.csv: time, hit rate,\n"
+      "memory, error vs cacheless and vs a reference. Each row's cells, entries, mip_bias and\n"
+      "cache_eval columns are the settings it was rendered with. The convergence_on rows of\n"
+      "--convergence-spp use the grid's first combination (the first value of each list).\n"
+      "The render options apply to every row; the cache options that the sweep varies take\n"
+      "lists here. scripts/plot_sweep.py turns sweep.csv into plots.");
+  declare(p);
+  p.redescribe(
+      "--cache", "on",
+      "sweep always renders the cacheless rows and the cached ones: 'on' changes nothing, 'off' is an "
+      "error");
+  p.redescribe("--cache-cells", "LIST", "same as --cells (give one of the two)");
+  p.redescribe("--cache-entries", "LIST", "same as --entries (give one of the two)");
+  p.redescribe("--mip-bias", "LIST", "same as --mip-biases (give one of the two)");
+  p.redescribe("--cache-eval", "LIST", "same as --cache-evals (give one of the two)");
+  p.redescribe("--cache-filter", "nearest|bilinear",
+               "filter of every center-mode row, convergence_on included: nearest turns 'center' rows into "
+               "center-nearest ones; bilinear refuses 'hit' and 'center-nearest'",
+               "as --cache-evals names it");
+  p.redescribe("--cache-min-nodes", "N", "smallest sub-graph worth a cache point, for every cached row",
+               std::to_string(kDefaultCacheMinNodes));
   if (!p.parse(args)) return 0;
   if (p.positional().size() != 1) fail("sweep: expected exactly one SCENE.obj (see --help)");
   if (!p.has("--out-dir")) fail("sweep: missing --out-dir DIR");
   const std::string obj = p.positional()[0], dir = p.get("--out-dir");
+  OutDir out_dir(dir);  // checked now, created once the renders are prepared
   const int repeat = p.get_int("--repeat", 1);
   if (repeat < 1) fail("--repeat: must be at least 1");
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) fail("--out-dir: cannot create '", dir, "': ", ec.message());
+  if (p.has("--reference-spp") && p.get_int("--reference-spp", 0) <= 0)
+    fail("--reference-spp: must be at least 1");
+  if (p.has("--cache")) {
+    const std::string cache = p.get("--cache");
+    if (cache == "off")
+      fail("--cache off: sweep compares cache settings; the cacheless rows are always rendered");
+    if (cache != "on") fail("--cache: expected on or off, got '", cache, "'");
+  }
+
+  // The lists, checked before anything is loaded or rendered.
+  const ListArg cells_arg = list_arg(p, "--cells", "--cache-cells", "");
+  const ListArg entries_arg = list_arg(p, "--entries", "--cache-entries", "8");
+  const ListArg bias_arg = list_arg(p, "--mip-biases", "--mip-bias", "0");
+  const ListArg eval_arg = list_arg(p, "--cache-evals", "--cache-eval", "center");
+  std::vector<long long> cells;
+  if (p.has("--cells") || p.has("--cache-cells")) cells = int_list(cells_arg, "4096,65536");
+  for (long long c : cells)
+    if (c <= 0) fail(cells_arg.option, ": cell counts must be positive, got ", c);
+  const std::vector<long long> entries = int_list(entries_arg, "1,4,8");
+  for (long long e : entries)
+    if (e <= 0 || e > 1024) fail(entries_arg.option, ": entries per cell must be in 1..1024, got ", e);
+  const std::vector<double> biases = number_list(bias_arg, "-1,0,1,2");
+  for (double b : biases)
+    if (std::fabs(b) > 32.0) fail(bias_arg.option, ": mip biases must be within -32..32, got ", b);
+  const std::vector<Mode> modes = modes_from(eval_arg, p);
+  std::vector<int> convergence;
+  if (p.has("--convergence-spp")) {
+    const ListArg conv_arg{"--convergence-spp", p.get("--convergence-spp")};
+    for (long long spp : int_list(conv_arg, "1,2,4,8,16")) {
+      if (spp <= 0 || spp > 2147483647LL)
+        fail("--convergence-spp: sample counts must be positive, got ", spp);
+      convergence.push_back(int(spp));
+    }
+  }
+
+  // The render options as prepare_render() reads them: single values only.
+  ArgParser render_args("", "");
+  declare(render_args);
+  render_args.parse(without_sweep_lists(args));
   apply_thread_option(p);
   ClContext cl(p.get("--device"));
   const bool quiet = p.has("--quiet");
-
-  std::unique_ptr<RenderJob> off_job = prepare_render(p, obj, cl, "off", false);
-  std::unique_ptr<RenderJob> on_job = prepare_render(p, obj, cl, "on", !quiet);
+  std::unique_ptr<RenderJob> off_job = prepare_render(render_args, obj, cl, "off", false);
+  std::unique_ptr<RenderJob> on_job = prepare_render(render_args, obj, cl, "on", !quiet);
   RenderSettings base = off_job->settings;
   RenderSettings ref_settings = base;
   ref_settings.spp = p.get_int("--reference-spp", base.spp * 16);
   if (ref_settings.spp <= 0) fail("--reference-spp: must be at least 1");
   ref_settings.seed = base.seed + 0x9e3779b9u;
-
-  std::vector<long long> cells = p.has("--cells")
-                                     ? parse_list<long long>(p.get("--cells"), "--cells")
-                                     : std::vector<long long>{(long long)on_job->settings.cache.cells};
-  std::vector<long long> entries = parse_list<long long>(p.get("--entries", "8"), "--entries");
-  std::vector<float> biases = parse_list<float>(p.get("--mip-biases", "0"), "--mip-biases");
-  std::vector<std::string> evals = split_list(p.get("--cache-evals", "center"), "--cache-evals");
+  if (cells.empty()) cells.push_back((long long)on_job->settings.cache.cells);
+  const double avail = double(available_memory_bytes());
   for (long long c : cells)
-    if (c <= 0) fail("--cells: cell counts must be positive");
-  for (long long e : entries)
-    if (e <= 0 || e > 1024) fail("--entries: must be in 1..1024");
-  for (const std::string& e : evals)
-    if (e != "hit" && e != "center" && e != "center-nearest")
-      fail("--cache-evals: expected hit, center and/or center-nearest, got '", e, "'");
-  std::vector<int> convergence;
-  if (p.has("--convergence-spp"))
-    for (int spp : parse_list<int>(p.get("--convergence-spp"), "--convergence-spp")) {
-      if (spp <= 0) fail("--convergence-spp: sample counts must be positive");
-      convergence.push_back(spp);
-    }
+    for (long long e : entries)
+      if (double(c) * double(e) * 8.0 > avail * 0.8)
+        fail(cells_arg.option, "/", entries_arg.option, ": a table of ", c, " cells x ", e, " entries (",
+             double(c) * double(e) * 8.0 / double(1 << 20), " MiB) does not fit in the ",
+             avail / double(1 << 20), " MiB of free memory");
+
+  out_dir.create();
 
   // Every render of the sweep, in CSV order. Timing runs round-robin: each of
   // the --repeat rounds renders every row once (alternating direction), so
@@ -124,34 +306,40 @@ int run_sweep(const std::vector<std::string>& args) {
   rows.push_back({"cacheless", "off", "cache off", base, false, {}, {}});
   const bool on_available = on_job->settings.cache.on;
   if (!on_available) warn(obj + ": no material has a cache point; only cacheless rows are written");
-  auto cached_settings = [&](const std::string& mode) {
+  auto cached_settings = [&](long long c, long long e, double b, const Mode& m) {
     RenderSettings s = on_job->settings;
-    s.cache.center = mode != "hit";
-    s.cache.bilinear = mode == "center";
+    s.cache.cells = uint64_t(c);
+    s.cache.ways = uint32_t(e);
+    s.cache.mip_bias = float(b);
+    s.cache.center = m.center;
+    s.cache.bilinear = m.bilinear;
     return s;
+  };
+  auto describe = [](const RenderSettings& s, const Mode& m) {
+    std::ostringstream label;
+    label << "cells " << s.cache.cells << " x " << s.cache.ways << " bias " << s.cache.mip_bias << " "
+          << m.name();
+    return label.str();
   };
   if (on_available)
     for (long long c : cells)
       for (long long e : entries)
-        for (float b : biases)
-          for (const std::string& ev : evals) {
-            RenderSettings s = cached_settings(ev);
-            s.cache.cells = uint64_t(c);
-            s.cache.ways = uint32_t(e);
-            s.cache.mip_bias = b;
-            std::ostringstream label;
-            label << "cells " << c << " x " << e << " bias " << b << " " << ev;
-            rows.push_back({"setting", ev, label.str(), s, true, {}, {}});
+        for (double b : biases)
+          for (const Mode& m : modes) {
+            RenderSettings s = cached_settings(c, e, b, m);
+            rows.push_back({"setting", m.name(), describe(s, m), s, true, {}, {}});
           }
+  // The cached convergence rows: the grid's first combination.
+  const RenderSettings convergence_on = cached_settings(cells[0], entries[0], biases[0], modes[0]);
   for (int spp : convergence)
     for (int on = 0; on < (on_available ? 2 : 1); ++on) {
-      RenderSettings s = on ? on_job->settings : base;
+      RenderSettings s = on ? convergence_on : base;
       s.spp = spp;
-      const std::string mode =
-          on ? (s.cache.center ? (s.cache.bilinear ? "center" : "center-nearest") : "hit") : "off";
+      const std::string label = on ? "on " + std::to_string(spp) + " spp, " + describe(s, modes[0])
+                                   : "off " + std::to_string(spp) + " spp";
       rows.push_back({on ? "convergence_on" : "convergence_off",
-                      mode,
-                      std::string(on ? "on " : "off ") + std::to_string(spp) + " spp",
+                      on ? modes[0].name() : "off",
+                      label,
                       s,
                       on != 0,
                       {},
@@ -192,23 +380,26 @@ int run_sweep(const std::vector<std::string>& args) {
     const CacheStats& cs = row.out.stats.cache;
     const ImageError vs_ref = compare_images(row.out.image, reference);
     const double hit_rate = cs.lookups ? double(cs.hits) / double(cs.lookups) : 0.0;
-    if (row.kind == "cacheless") {
-      csv << "cacheless,0,0,0,off," << s.spp << "," << row.out.stats.render_seconds << ",0,0,999,0,"
-          << vs_ref.relmse << "\n";
-    } else if (row.kind == "setting") {
-      const ImageError vs_off = compare_images(row.out.image, cacheless.image);
-      csv << "setting," << s.cache.cells << "," << s.cache.ways << "," << s.cache.mip_bias << "," << row.mode
-          << "," << s.spp << "," << row.out.stats.render_seconds << "," << hit_rate << "," << cs.memory_bytes
-          << "," << vs_off.psnr << "," << vs_off.relmse << "," << vs_ref.relmse << "\n";
-    } else {
-      csv << row.kind << "," << s.cache.cells << "," << s.cache.ways << "," << s.cache.mip_bias << ","
-          << row.mode << "," << s.spp << "," << row.out.stats.render_seconds << "," << hit_rate << ","
-          << cs.memory_bytes << ",,," << vs_ref.relmse << "\n";
+    if (!row.cached) {
+      csv << row.kind << ",0,0,0,off," << s.spp << "," << row.out.stats.render_seconds << ",0,0,"
+          << (row.kind == "cacheless" ? "999,0," : ",,") << vs_ref.relmse << "\n";
+      continue;
     }
+    csv << row.kind << "," << s.cache.cells << "," << s.cache.ways << "," << s.cache.mip_bias << ","
+        << row.mode << "," << s.spp << "," << row.out.stats.render_seconds << "," << hit_rate << ","
+        << cs.memory_bytes << ",";
+    if (row.kind == "setting") {
+      const ImageError vs_off = compare_images(row.out.image, cacheless.image);
+      csv << vs_off.psnr << "," << vs_off.relmse << ",";
+    } else {
+      csv << ",,";
+    }
+    csv << vs_ref.relmse << "\n";
   }
   csv.close();
   if (!csv) fail(csv_path, ": writing failed");
   guard.commit();
+  out_dir.commit();
   std::fprintf(stderr, "pmc sweep: wrote %s\n", csv_path.c_str());
   return 0;
 }

@@ -99,12 +99,14 @@ TEST(CiCompare, UsageErrorsExitWith2) {
     std::string args;
     const char* mentions;
   } cases[] = {
-      {scene, "--min-psnr"},                                       // threshold missing
-      {"--min-psnr 30", "SCENE"},                                  // scene missing
-      {scene + " --min-psnr abc", "--min-psnr"},                   // not a number
-      {scene + " --min-psnr 30 --max-relmse -1", "--max-relmse"},  // negative
-      {scene + " --min-psnr 30 --cache on", "--cache"},            // compare renders both
-      {scene + " --min-psnr 30 --width 0", "--width"},             // pmc's own check
+      {scene, "--min-psnr"},                                                       // threshold missing
+      {"--min-psnr 30", "SCENE"},                                                  // scene missing
+      {scene + " --min-psnr abc", "--min-psnr"},                                   // not a number
+      {scene + " --min-psnr 30 --max-relmse -1", "--max-relmse"},                  // negative
+      {scene + " --min-psnr 30 --cache on", "--cache"},                            // compare renders both
+      {scene + " --min-psnr 30 --width 0", "--width"},                             // pmc's own check
+      {scene + " --min-psnr 30 --reference /nonexistent/ref.exr", "--reference"},  // checked before rendering
+      {scene + " --min-psnr 30 --diff-scale -1", "--diff-scale"},
       {scene + " --min-psnr 30 --no-such-option 1", "no-such-option"},
   };
   for (const auto& c : cases) {

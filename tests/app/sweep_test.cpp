@@ -8,7 +8,12 @@
 // cacheless rows, errors finite; a coarser mip level gives more hits than a
 // finer one (fewer, larger texels); center-mode rows are deterministic, so a
 // second sweep with the same seed gives the same errors. The plot script
-// turns the CSV into its three PNGs. Bad lists exit with 2.
+// turns the CSV into its three PNGs. The cache options of `pmc render` are
+// aliases of the lists (--mip-bias LIST = --mip-biases LIST, ...) and give
+// the same CSV; the convergence_on rows use the grid's first combination and
+// their columns say so; --cache-filter and --cache-min-nodes reach every
+// cached row. Bad lists, conflicting options and --cache off exit with 2,
+// name the option and leave no out-dir behind.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -52,13 +57,16 @@ std::vector<CsvRow> read_csv(const std::string& path) {
 
 double num(const CsvRow& r, const std::string& k) { return std::stod(r.at(k)); }
 
-// The brick teapot, small: 64x48 pixels, 2 samples.
-std::string teapot() {
+// The brick teapot, 2 samples, no image size.
+std::string teapot_scene() {
   return test::shared_scene("materialx/geometry/teapot.obj") + " --mtlx " +
          test::shared_scene("materialx/standard_surface_brick_procedural.mtlx") +
          " --material M_BrickPattern --env 1,1,1 --camera-from 0.75,1.0,2.45 --camera-at -0.09,0.05,-0.01"
-         " --width 64 --height 48 --spp 2 --quiet";
+         " --spp 2 --quiet";
 }
+
+// The brick teapot, small: 64x48 pixels, 2 samples.
+std::string teapot() { return teapot_scene() + " --width 64 --height 48"; }
 
 TEST(Sweep, WritesOneRowPerSettingAndThePlotsFollow) {
   const std::string dir = test::temp_dir();
@@ -125,6 +133,146 @@ TEST(Sweep, WritesOneRowPerSettingAndThePlotsFollow) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
   for (const char* f : {"cache_size_time.png", "mip_bias_error.png", "convergence.png"})
     EXPECT_TRUE(test::file_exists(plots + "/" + f)) << f;
+}
+
+// A small, fast sweep: 32x24, reference at 2 samples.
+std::string small_teapot() { return teapot_scene() + " --width 32 --height 24 --reference-spp 2"; }
+
+std::vector<CsvRow> rows_of(const std::vector<CsvRow>& rows, const std::string& kind) {
+  std::vector<CsvRow> out;
+  for (const CsvRow& r : rows)
+    if (r.at("kind") == kind) out.push_back(r);
+  return out;
+}
+
+TEST(Sweep, RenderCacheOptionsAreAliasesOfTheLists) {
+  const std::string dir = test::temp_dir();
+  const std::string common = "sweep " + small_teapot() + " --convergence-spp 1 --out-dir ";
+  std::string log;
+  ASSERT_EQ(test::run_pmc(common + dir +
+                              "/alias --mip-bias -2,1 --cache-eval center,hit --cache-cells 64 "
+                              "--cache-entries 2",
+                          &log),
+            0)
+      << log;
+  ASSERT_EQ(test::run_pmc(common + dir +
+                              "/lists --mip-biases -2,1 --cache-evals center,hit --cells 64 "
+                              "--entries 2",
+                          &log),
+            0)
+      << log;
+  const std::vector<CsvRow> alias = read_csv(dir + "/alias/sweep.csv"),
+                            lists = read_csv(dir + "/lists/sweep.csv");
+  ASSERT_EQ(alias.size(), 1u + 2 * 2 + 2) << "cacheless + biases x modes + convergence off and on";
+  ASSERT_EQ(alias.size(), lists.size());
+  for (size_t i = 0; i < alias.size(); ++i) {
+    for (const char* k : {"kind", "cells", "entries", "mip_bias", "cache_eval", "spp", "memory_bytes"})
+      EXPECT_EQ(alias[i].at(k), lists[i].at(k)) << i << " " << k;
+    if (alias[i].at("cache_eval") == "center")  // deterministic
+      EXPECT_EQ(alias[i].at("relmse_vs_reference"), lists[i].at("relmse_vs_reference")) << i;
+  }
+  std::map<std::string, int> seen;
+  for (const CsvRow& r : rows_of(alias, "setting")) {
+    EXPECT_EQ(r.at("cells"), "64");
+    EXPECT_EQ(r.at("entries"), "2");
+    EXPECT_EQ(num(r, "memory_bytes"), 64 * 2 * 8);
+    seen[r.at("mip_bias") + " " + r.at("cache_eval")] += 1;
+  }
+  EXPECT_EQ(seen,
+            (std::map<std::string, int>{{"-2 center", 1}, {"-2 hit", 1}, {"1 center", 1}, {"1 hit", 1}}));
+  // convergence_on: the first combination (64 cells x 2, bias -2, center), and its columns say so.
+  const std::vector<CsvRow> on = rows_of(alias, "convergence_on");
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_EQ(on[0].at("cells"), "64");
+  EXPECT_EQ(on[0].at("entries"), "2");
+  EXPECT_EQ(num(on[0], "mip_bias"), -2.0);
+  EXPECT_EQ(on[0].at("cache_eval"), "center");
+  EXPECT_EQ(num(on[0], "memory_bytes"), 64 * 2 * 8) << "the table it actually used";
+  EXPECT_GT(num(on[0], "hit_rate"), 0.0);
+}
+
+TEST(Sweep, CacheFilterAndMinNodesReachEveryCachedRow) {
+  const std::string dir = test::temp_dir();
+  std::string log;
+  // --cache-filter nearest: center rows read the nearest texel, the convergence rows too.
+  ASSERT_EQ(
+      test::run_pmc("sweep " + small_teapot() +
+                        " --cache-evals center,hit --cache-filter nearest --convergence-spp 1 --out-dir " +
+                        dir + "/nearest",
+                    &log),
+      0)
+      << log;
+  const std::vector<CsvRow> rows = read_csv(dir + "/nearest/sweep.csv");
+  const std::vector<CsvRow> settings = rows_of(rows, "setting"), on = rows_of(rows, "convergence_on");
+  ASSERT_EQ(settings.size(), 2u);
+  EXPECT_EQ(settings[0].at("cache_eval"), "center-nearest");
+  EXPECT_EQ(settings[1].at("cache_eval"), "hit");
+  ASSERT_EQ(on.size(), 1u);
+  EXPECT_EQ(on[0].at("cache_eval"), "center-nearest");
+  // Without lists the grid is the defaults: the automatic size, 8 entries, bias 0.
+  EXPECT_EQ(on[0].at("cells"), settings[0].at("cells"));
+  EXPECT_EQ(on[0].at("entries"), "8");
+  EXPECT_EQ(num(on[0], "mip_bias"), 0.0);
+  EXPECT_GT(num(on[0], "cells"), 0.0);
+
+  // --cache-min-nodes above any sub-graph: no cache point, so no cached row at all.
+  ASSERT_EQ(test::run_pmc("sweep " + small_teapot() +
+                              " --cache-min-nodes 100000 --convergence-spp 1 --out-dir " + dir + "/nocache",
+                          &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("no material has a cache point"), std::string::npos) << log;
+  std::map<std::string, int> kinds;
+  for (const CsvRow& r : read_csv(dir + "/nocache/sweep.csv")) kinds[r.at("kind")] += 1;
+  EXPECT_EQ(kinds, (std::map<std::string, int>{{"cacheless", 1}, {"convergence_off", 1}}));
+}
+
+TEST(Sweep, ConflictingOrMalformedCacheOptionsAreRefused) {
+  const std::string tmp = test::temp_dir(), dir = tmp + "/new/out";
+  const struct {
+    std::string args;
+    std::vector<std::string> says;
+  } cases[] = {
+      {"--mip-bias 0,1 --mip-biases 1", {"--mip-bias", "--mip-biases"}},
+      {"--cache-eval hit --cache-evals center", {"--cache-eval", "--cache-evals"}},
+      {"--cache-cells 64 --cells 128", {"--cache-cells", "--cells"}},
+      {"--cache-entries 2 --entries 4", {"--cache-entries", "--entries"}},
+      {"--mip-bias '0;1'", {"--mip-bias", "'0;1'", "comma-separated"}},
+      {"--mip-biases 0,x", {"--mip-biases", "'x'", "comma-separated"}},
+      {"--mip-bias 1,,2", {"--mip-bias", "comma-separated"}},
+      {"--cells 64,", {"--cells", "comma-separated"}},
+      {"--cache-cells 6.5", {"--cache-cells", "not an integer"}},
+      {"--cache-entries 0", {"--cache-entries", "1..1024"}},
+      {"--mip-bias 40", {"--mip-bias", "-32..32"}},
+      {"--cells 64,64", {"--cells", "twice"}},
+      {"--convergence-spp 1,two", {"--convergence-spp"}},
+      {"--cache off", {"--cache off", "the cacheless rows are always rendered"}},
+      {"--cache maybe", {"--cache"}},
+      {"--cache-evals hit --cache-filter bilinear", {"--cache-filter", "hit"}},
+      {"--cache-evals center,center-nearest --cache-filter nearest", {"--cache-evals", "center-nearest"}},
+      {"--cache-filter blurry", {"--cache-filter"}},
+      {"--reference-spp 0", {"--reference-spp"}},
+  };
+  for (const auto& c : cases) {
+    std::string log;
+    EXPECT_EQ(test::run_pmc("sweep " + small_teapot() + " " + c.args + " --out-dir " + dir, &log), 2)
+        << c.args << "\n"
+        << log;
+    for (const std::string& s : c.says)
+      EXPECT_NE(log.find(s), std::string::npos) << c.args << ": " << s << "\n" << log;
+    EXPECT_FALSE(test::file_exists(tmp + "/new")) << c.args << ": out-dir created";
+  }
+}
+
+TEST(Sweep, HelpDescribesTheListsAndTheConvergenceSetting) {
+  std::string help;
+  ASSERT_EQ(test::run_pmc("sweep --help", &help), 0) << help;
+  for (const char* s :
+       {"--mip-bias LIST", "--cache-eval LIST", "--cache-cells LIST", "--cache-entries LIST", "--cells LIST",
+        "--mip-biases LIST", "first combination", "--cache-filter", "--cache-min-nodes", "'off' is an error"})
+    EXPECT_NE(help.find(s), std::string::npos) << s << "\n" << help;
+  for (const char* s : {"--mip-bias B", "--cache-eval hit|center", "--cache-cells N", "--cache on|off"})
+    EXPECT_EQ(help.find(s), std::string::npos) << s << " is the render option's line\n" << help;
 }
 
 TEST(Sweep, BadListsAreRefused) {
