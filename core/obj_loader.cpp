@@ -23,14 +23,22 @@ std::string dirname_of(const std::string& path) {
   return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
 }
 
-// First line of tinyobj's warnings that mentions `needle`, or "".
-std::string warning_line(const std::string& warnings, const std::string& needle) {
-  size_t at = warnings.find(needle);
-  if (at == std::string::npos) return {};
-  size_t begin = warnings.rfind('\n', at);
-  begin = begin == std::string::npos ? 0 : begin + 1;
-  size_t end = warnings.find('\n', at);
-  return warnings.substr(begin, end == std::string::npos ? std::string::npos : end - begin);
+// First line of tinyobj's warnings that starts with `prefix`, or "". Only
+// line starts count: tinyobj quotes names from the files in the middle of its
+// lines (`usemtl X` -> "material [ 'X' ] not found in .mtl", an MTL material
+// with both d and Tr -> "... defined for \"X\". ..."), so an MTL material
+// called "Degenerated face found" must not read as that warning (fuzz_mtl
+// found this). tinyobj ends its degenerate-face warning with "\n.", so one
+// leading '.' is skipped.
+std::string warning_line(const std::string& warnings, const std::string& prefix) {
+  for (size_t begin = 0; begin < warnings.size();) {
+    size_t end = warnings.find('\n', begin);
+    if (end == std::string::npos) end = warnings.size();
+    size_t at = begin + (warnings[begin] == '.' ? 1 : 0);
+    if (warnings.compare(at, prefix.size(), prefix) == 0) return warnings.substr(at, end - at);
+    begin = end + 1;
+  }
+  return {};
 }
 
 // tinyobjloader's number parser reads "nan" and "inf" as 0, which would move
@@ -118,7 +126,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   // tinyobj drops a face with fewer than 3 corners (a file cut mid-line) with only this warning.
   if (!warning_line(warnings, "Degenerated face found").empty())
     fail(path, ": a face has fewer than 3 corners (is the file truncated?)");
-  std::string unknown = warning_line(warnings, "not found in .mtl");
+  std::string unknown = warning_line(warnings, "material [ ");
   if (!unknown.empty()) warn(path + ": " + unknown + "; those faces use the default material");
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();

@@ -339,6 +339,23 @@ TEST(ObjLoader, UndefinedMaterialUsesDefault) {
   EXPECT_EQ(s.triangles[2].material, 0);
 }
 
+// tinyobjloader quotes material names inside its warnings; a material named
+// like one of the warnings pmc reacts to must not be read as that warning
+// (fuzz_mtl found both: the OBJ was refused as truncated / missing its MTL).
+TEST(ObjLoader, MaterialNamedLikeAWarningIsJustAName) {
+  std::string dir = temp_dir();
+  write_file(dir + "/m.mtl",
+             "newmtl Degenerated face found\nd 0.5\nTr 0.5\nKd 1 0 0\n"
+             "newmtl Failed to load material file\nd 1\nTr 0\nKd 0 1 0\n");
+  write_file(dir + "/a.obj", "mtllib m.mtl\n" + std::string(kTriangle) +
+                                 "usemtl Degenerated face found\nf 1 2 3\n"
+                                 "usemtl Failed to load material file\nf 1 3 2\n");
+  // Before the fix: "a face has fewer than 3 corners (is the file truncated?)".
+  // (tinyobj's usemtl reads one word, so the faces get the default material.)
+  Scene s = load_obj(dir + "/a.obj");
+  EXPECT_EQ(s.triangles.size(), 2u);
+}
+
 TEST(ObjLoader, FaceIndexOutOfRangeThrows) {
   std::string dir = temp_dir();
   struct Case {

@@ -4,22 +4,30 @@
 // test suite. Each function returns "" when the input was handled properly
 // (loaded, or refused with pmc::Error) and a description of the problem
 // otherwise; a crash or sanitizer report is, of course, also a finding.
+// Targets: check_obj (fuzz_obj), check_mtlx (fuzz_mtlx), check_mtl (fuzz_mtl).
 #pragma once
 
+#include <OpenImageIO/imageio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "core/abi/pmc_interp.h"
 #include "core/error.h"
+#include "core/lights.h"
 #include "core/obj_loader.h"
 #include "core/texture.h"
 #include "materials/compiler.h"
+#include "materials/cutout.h"
+#include "materials/material_set.h"
 #include "materials/mtlx_reader.h"
 
 namespace pmc::fuzz {
@@ -94,7 +102,10 @@ inline std::string check_obj(const uint8_t* data, size_t size) {
 // so an image node compiles to its default value, as MaterialX specifies
 // for a missing file.
 
-inline void run_program(const MaterialProgram& program, const CompiledMaterial& m, bool cached) {
+// `textures` is the scene's texture set (host_textures) when the program
+// samples images; without it every IMAGE returns its default.
+inline void run_program(const MaterialProgram& program, const CompiledMaterial& m, bool cached,
+                        const PmcTextureSet* textures = nullptr) {
   std::vector<uint64_t> entries(64 * 4, 0);
   PmcCacheContext cache{};
   cache.table.entries = entries.data();
@@ -112,7 +123,7 @@ inline void run_program(const MaterialProgram& program, const CompiledMaterial& 
     in.tangent = make_float3(1, 0, 0);
     in.bitangent = make_float3(0, 1, 0);
     in.footprint = 0.01f;
-    PmcTextureSet ts{};
+    PmcTextureSet ts = textures ? *textures : PmcTextureSet{};
     float stack[PMC_STACK_SIZE];
     float params[PMC_P_COUNT];
     pmc_surface_defaults(params, in.normal);
@@ -153,6 +164,203 @@ inline std::string check_mtlx(const uint8_t* data, size_t size) {
         if (program.code.size() != words) return "a refused material left code behind";
       }
     }
+  }
+  return "";
+}
+
+// ---- MTL -------------------------------------------------------------------
+// The input is written as scene.mtl next to a fixed scene.obj (below) in a
+// per-process temp folder and loaded with pmc::load_obj (textures not
+// loaded, as the renderer does); then build_material_set — MTL entry ->
+// network (mtl_to_graph) -> passes -> compiler, the renderer's own path —
+// runs three times: cache off, cache on with the default threshold, and
+// cache on with a threshold of 2 nodes so that map_Kd (times Kd) becomes a
+// cache point. Each used material's program runs on the host interpreter
+// (run_program, with the scene's textures), and the cut-out tester and the
+// light table are built from the set as the renderer builds them.
+//
+// Texture paths: only three fixture images in the folder are real (tex.png
+// RGB 4x2, alpha.png RGBA 3x3, textures/grey.png grey 2x2). Every other
+// map_Kd / map_d path is rewritten, before the networks are built, to a
+// name in a folder that does not exist: a fuzzed MTL must not make pmc open
+// /dev/stdin or a FIFO (mtl_to_graph opens map_d, the compiler loads every
+// live image).
+//
+// Stricter than "no crash": the OBJ is valid and its MTL always exists, so
+// no MTL may make load_obj refuse it; MTL values are plain numbers, so the
+// only acceptable refusal of the material set is an unreadable texture of a
+// material that faces use. And what the renderer takes from the set must
+// match the MTL: a material is a cut-out exactly when it has a map_d, and
+// its light-table emission is max(0, Ke) wherever Ke is finite.
+
+inline constexpr const char* kMissingTextureDir = "/nonexistent-pmc-fuzz/";
+
+inline void write_fixture_png(const std::string& path, int w, int h, int channels) {
+  std::vector<uint8_t> px(size_t(w) * size_t(h) * size_t(channels));
+  for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(29 + 97 * i);  // alpha above and below 0.5
+  std::unique_ptr<OIIO::ImageOutput> out = OIIO::ImageOutput::create(path);
+  OIIO::ImageSpec spec(w, h, channels, OIIO::TypeDesc::UINT8);
+  if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, px.data()) || !out->close())
+    std::abort();  // the harness itself is broken, not the input
+}
+
+// The folder goes away at a normal exit (the end of a fuzz run, the test
+// suite); a crash leaves it for a look at the last input.
+inline const std::string& mtl_folder() {
+  struct Folder {
+    std::string path;
+    ~Folder() {
+      std::error_code ec;
+      std::filesystem::remove_all(path, ec);
+    }
+  };
+  static const Folder folder = [] {
+    std::string d =
+        std::filesystem::temp_directory_path().string() + "/pmc_fuzz_mtl_" + std::to_string(getpid());
+    std::filesystem::create_directories(d + "/textures");
+    write_fixture_png(d + "/tex.png", 4, 2, 3);
+    write_fixture_png(d + "/alpha.png", 3, 3, 4);
+    write_fixture_png(d + "/textures/grey.png", 2, 2, 1);
+    // Faces without a material, with uvs and normals, uvs only, normals
+    // only; `usemtl` names the seeds define (and `unknown`, which none do).
+    std::ofstream(d + "/scene.obj") << "mtllib scene.mtl\n"
+                                       "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0.5 0.5 1\n"
+                                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                                       "vn 0 0 1\nvn 0 -0.7071 0.7071\n"
+                                       "f 1/1/1 2/2/1 3/3/1\n"
+                                       "usemtl red\nf 1/1/1 2/2/1 3/3/1 4/4/1\n"
+                                       "usemtl lamp\nf 1/1/2 2/2/2 5/3/2\n"
+                                       "usemtl glass\nf 2/2/1 3/3/1 5/4/1\n"
+                                       "usemtl wood\nf 1/1/1 3/3/1 4/4/1\n"
+                                       "usemtl leaf\nf 1/1/1 2/2/1 4/4/1\nf 2//2 3//2 5//2\n"
+                                       "usemtl metal\nf 3/3/1 4/4/1 5/1/1\n"
+                                       "usemtl brick\nf 4/4 1/1 5/2\n"
+                                       "usemtl Material.001\nf 1/1/1 4/4/1 5/3/1\n"
+                                       "usemtl unknown\nf 2/2/1 4/4/1 5/3/1\n";
+    return Folder{d};  // a prvalue: no temporary whose destructor would remove it
+  }();
+  return folder.path;
+}
+
+inline const char* const kFixtureTextures[] = {"tex.png", "alpha.png", "textures/grey.png"};
+
+// The fixtures decoded once, in both colour spaces, for every input's scene
+// to start from: TexturePool::load then finds them in its cache. (Reading a
+// PNG through OpenImageIO allocates a large conversion buffer that
+// AddressSanitizer clears on every load: 20 ms an input, most of the time.)
+inline const TexturePool& fixture_textures() {
+  static const TexturePool pool = [] {
+    TexturePool p;
+    for (const char* fixture : kFixtureTextures)
+      for (bool srgb : {true, false}) p.load(mtl_folder() + "/" + fixture, srgb, "fuzz harness");
+    return p;
+  }();
+  return pool;
+}
+
+// A fixture's path as load_obj resolved it, else a name that cannot exist.
+inline std::string harmless_texture(const std::string& resolved) {
+  if (resolved.empty()) return resolved;
+  for (const char* fixture : kFixtureTextures)
+    if (resolved == mtl_folder() + "/" + fixture) return resolved;
+  std::string name = resolved.substr(std::min(resolved.size(), mtl_folder().size() + 1));
+  std::replace(name.begin(), name.end(), '/', '_');
+  return kMissingTextureDir + name;
+}
+
+inline std::string check_material_set(const Scene& scene, const MaterialSet& set, bool cached) {
+  const size_t n = scene.materials.size();
+  if (set.infos.size() != n || set.compiled.size() != n) return "per-material arrays of the wrong size";
+  if (set.graphs.size() != set.program.materials.size()) return "graphs and programs out of step";
+  std::vector<char> used(n, 0);
+  for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
+  const PmcTextureSet textures = set.host_textures(scene);
+  for (size_t i = 0; i < n; ++i) {
+    const MtlMaterial& mm = scene.materials[i];
+    const PmcMaterialInfo& info = set.infos[i];
+    if (info.entry >= set.program.code.size()) return "material entry outside the program";
+    if (!used[i]) {
+      if (set.compiled[i] != -1) return "an unused material was compiled";
+      if (set.program.code[info.entry] != pmc_op_header(PMC_OP_END, 1, 0, 0)) return "unused entry is no END";
+      continue;
+    }
+    if (set.compiled[i] < 0 || size_t(set.compiled[i]) >= set.program.materials.size())
+      return "used material without a program";
+    const CompiledMaterial& cm = set.program.materials[size_t(set.compiled[i])];
+    if (cm.entry != info.entry) return "material info and program disagree on the entry";
+    if (size_t(cm.entry) + cm.code_words > set.program.code.size()) return "program runs past the code";
+    if (cm.peak_stack > PMC_STACK_SIZE) return "peak stack beyond PMC_STACK_SIZE";
+    if (((info.flags & PMC_MAT_CUTOUT) != 0) != !mm.map_d.empty())
+      return "cut-out flag does not follow map_d (material '" + mm.name + "')";
+    for (int k = 0; k < 3; ++k)
+      if (std::isfinite(mm.ke[k]) && info.emission[k] != std::max(0.0f, mm.ke[k]))
+        return "light-table emission is not max(0, Ke) (material '" + mm.name + "')";
+    run_program(set.program, cm, cached, &textures);
+    (void)disassemble(set.program, cm);
+  }
+  // What the renderer builds from the set besides the kernels' program.
+  CutoutTester cutout(scene, set);
+  for (size_t t = 0; t < scene.triangles.size(); ++t)
+    if (cutout.cutout_triangles()[t]) {
+      (void)cutout.transparent(uint32_t(t), 0.25f, 0.25f);
+      (void)cutout.transparent(uint32_t(t), 0.9f, 0.05f);
+    }
+  std::vector<float> emission;
+  for (const PmcMaterialInfo& m : set.infos)
+    for (int k = 0; k < 3; ++k) emission.push_back(m.emission[k]);
+  LightTable lights = build_light_table(scene, emission);
+  float previous = 0.0f;
+  for (float c : lights.cdf) {
+    if (!(c >= previous && c <= 1.0f)) return "light CDF not increasing within [0, 1]";
+    previous = c;
+  }
+  if (!lights.cdf.empty() && lights.cdf.back() != 1.0f) return "light CDF does not end at 1";
+  for (float p : lights.triangle_pmf)
+    if (!(p >= 0.0f && p <= 1.0f)) return "light pick probability outside [0, 1]";
+  return "";
+}
+
+inline std::string check_mtl(const uint8_t* data, size_t size) {
+  const std::string& dir = mtl_folder();
+  {
+    std::ofstream out(dir + "/scene.mtl", std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  }
+  ObjLoadOptions load;
+  load.load_textures = false;
+  Scene scene;
+  try {
+    scene = load_obj(dir + "/scene.obj", load);
+  } catch (const Error& e) {
+    return std::string("the fixed OBJ was refused because of its MTL: ") + e.what();
+  }
+  scene.textures = fixture_textures();
+  bool may_miss_texture = false;  // a used material names a texture that does not exist
+  std::vector<char> used(scene.materials.size(), 0);
+  for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    MtlMaterial& m = scene.materials[i];
+    m.map_kd = harmless_texture(m.map_kd);
+    m.map_d = harmless_texture(m.map_d);
+    for (const std::string* map : {&m.map_kd, &m.map_d})
+      may_miss_texture = may_miss_texture || (used[i] && map->rfind(kMissingTextureDir, 0) == 0);
+  }
+  for (int config = 0; config < 3; ++config) {
+    MaterialOptions options;
+    options.compile.cache = config > 0;
+    if (config == 2) options.compile.cache_min_nodes = 2;
+    MaterialSet set;
+    try {
+      set = build_material_set(scene, options);
+    } catch (const Error& e) {
+      const std::string why = e.what();
+      if (may_miss_texture &&
+          why.find(std::string("cannot read texture '") + kMissingTextureDir) != std::string::npos)
+        return "";  // the same refusal for every configuration
+      return "an MTL material set was refused: " + why;
+    }
+    std::string problem = check_material_set(scene, set, options.compile.cache);
+    if (!problem.empty()) return problem;
   }
   return "";
 }

@@ -1,8 +1,8 @@
 // fuzz_regression_test.cpp — replays fuzzing inputs in the normal test suite.
 //
-// Every file in tests/fuzz/regressions/obj and tests/fuzz/regressions/mtlx
-// (inputs that once crashed or misled a fuzz target, kept after the fix) and
-// every seed in tests/fuzz/corpus/{obj,mtlx} goes through the same checks as
+// Every file in tests/fuzz/regressions/{obj,mtlx,mtl} (inputs that once
+// crashed or misled a fuzz target, kept after the fix) and every seed in
+// tests/fuzz/corpus/{obj,mtlx,mtl} goes through the same checks as
 // the libFuzzer targets (tests/fuzz/harness.h): the input is either loaded
 // (and compiled, and interpreted) into something the renderer can trust, or
 // refused with pmc::Error — never a crash. Under scripts/sanitize these run
@@ -53,6 +53,8 @@ void replay(const std::string& kind, std::string (*check)(const uint8_t*, size_t
 TEST(FuzzRegression, ObjInputsLoadOrFailCleanly) { replay("obj", &fuzz::check_obj); }
 
 TEST(FuzzRegression, MaterialXInputsCompileOrFailCleanly) { replay("mtlx", &fuzz::check_mtlx); }
+
+TEST(FuzzRegression, MtlInputsCompileOrFailCleanly) { replay("mtl", &fuzz::check_mtl); }
 
 }  // namespace
 }  // namespace pmc
