@@ -158,6 +158,20 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
     mm.map_d = resolve(m.alpha_texname);
     mm.map_bump = resolve(!m.bump_texname.empty() ? m.bump_texname : m.normal_texname);
     mm.map_ks = resolve(m.specular_texname);
+    // What the MTL says that pmc's network leaves out (named in mtl_to_graph's warning).
+    auto unused = [&](bool present, const std::string& what) {
+      if (present) mm.not_modelled.push_back(what);
+    };
+    unused(!m.ambient_texname.empty(), "ambient map (map_Ka " + m.ambient_texname + ")");
+    unused(!m.emissive_texname.empty(), "emission map (map_Ke " + m.emissive_texname + ")");
+    unused(!m.specular_highlight_texname.empty(),
+           "shininess map (map_Ns " + m.specular_highlight_texname + ")");
+    unused(!m.displacement_texname.empty(), "displacement map (disp " + m.displacement_texname + ")");
+    unused(!m.reflection_texname.empty(), "reflection map (refl " + m.reflection_texname + ")");
+    unused(m.roughness != 0.0 || m.metallic != 0.0 || m.sheen != 0.0 || m.clearcoat_thickness != 0.0 ||
+               !m.roughness_texname.empty() || !m.metallic_texname.empty() || !m.sheen_texname.empty(),
+           "PBR extension (Pr/Pm/Ps/Pc and their maps)");
+    unused(m.illum >= 3, "illum " + std::to_string(m.illum) + " (ray-traced reflection/refraction)");
     scene.materials.push_back(mm);
   }
   const int default_material = int(scene.materials.size());

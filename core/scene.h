@@ -39,6 +39,7 @@ struct MtlMaterial {
   std::string map_d;
   std::string map_bump;
   std::string map_ks;
+  std::vector<std::string> not_modelled;  // other MTL statements pmc ignores, for the warning
   int kd_texture = -1;  // index into Scene::textures once loaded
 };
 

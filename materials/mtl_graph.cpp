@@ -107,10 +107,13 @@ Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
     int e = g.add(ex);
     *opacity = Input::link("opacity", ValueType::Float, e);
   }
-  std::string dropped;
-  if (!m.map_bump.empty()) dropped += " bump map (" + m.map_bump + ")";
-  if (!m.map_ks.empty()) dropped += " specular map (" + m.map_ks + ")";
-  if (!dropped.empty()) warn(origin + ": not modelled:" + dropped);
+  std::vector<std::string> dropped;
+  if (!m.map_bump.empty()) dropped.push_back("bump map (" + m.map_bump + ")");
+  if (!m.map_ks.empty()) dropped.push_back("specular map (" + m.map_ks + ")");
+  dropped.insert(dropped.end(), m.not_modelled.begin(), m.not_modelled.end());
+  std::string list;
+  for (const std::string& what : dropped) list += (list.empty() ? " " : ", ") + what;
+  if (!list.empty()) warn(origin + ": not modelled:" + list);
   g.surface = g.add(surface);
   return g;
 }

@@ -5,7 +5,9 @@
 // emission, d / map_d the cut-out opacity (map_d's alpha channel if it has
 // one, else its first channel). Everything goes through the same compiler and
 // interpreter as MaterialX. What pmc cannot model (bump and normal maps from
-// MTL, specular maps ...) is named in a warning, never silently dropped.
+// MTL, specular, ambient, emission and shininess maps, the PBR extension,
+// illum models with ray-traced reflection or refraction ...) is named in one
+// warning per material, never silently dropped.
 #pragma once
 
 #include "core/scene.h"

@@ -95,6 +95,27 @@ TEST(RenderCli, BadOptionsExitWithCode2AndLeaveNoOutput) {
   EXPECT_NE(log.find("missing.obj"), std::string::npos) << log;
 }
 
+// MTL statements pmc does not model are named in one warning per material
+// (never silently dropped), and the render still succeeds.
+TEST(RenderCli, UnmodelledMtlStatementsAreNamedInAWarning) {
+  const std::string dir = test::temp_dir();
+  test::write_file(dir + "/m.mtl",
+                   "newmtl shiny\nKd 0.5 0.5 0.5\nillum 7\nmap_Ke glow.png\nmap_Ns ns.png\nbump h.png\n"
+                   "Pm 0.5\nnewmtl plain\nKd 0.2 0.3 0.4\nillum 2\n");
+  test::write_file(dir + "/a.obj",
+                   "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n"
+                   "usemtl shiny\nf 1/1 2/2 3/3\nusemtl plain\nf 2/2 4/4 3/3\n");
+  std::string log;
+  ASSERT_EQ(test::run_pmc(
+                "render " + dir + "/a.obj -o " + dir + "/o.exr --width 8 --height 8 --spp 1 --quiet", &log),
+            0)
+      << log;
+  for (const char* what : {"material 'shiny': not modelled", "bump map", "map_Ke glow.png", "map_Ns ns.png",
+                           "PBR extension", "illum 7"})
+    EXPECT_NE(log.find(what), std::string::npos) << what << " in:\n" << log;
+  EXPECT_EQ(log.find("'plain': not modelled"), std::string::npos) << "plain Kd/illum 2 is modelled:\n" << log;
+}
+
 TEST(InfoCli, ListsDevices) {
   std::string log;
   ASSERT_EQ(test::run_pmc("info --devices", &log), 0) << log;
