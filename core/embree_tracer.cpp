@@ -12,6 +12,14 @@
 
 #include "core/error.h"
 
+#if defined(__SANITIZE_THREAD__)
+#define PMC_UNDER_TSAN 1
+#elif defined(__has_feature)
+#if __has_feature(thread_sanitizer)
+#define PMC_UNDER_TSAN 1
+#endif
+#endif
+
 namespace pmc {
 namespace {
 
@@ -21,6 +29,21 @@ static_assert(offsetof(PmcRay, id) == offsetof(RTCRay, id), "PmcRay.id");
 static_assert(offsetof(PmcRay, dir_x) == offsetof(RTCRay, dir_x), "PmcRay.dir_x");
 
 constexpr size_t kGrain = 256;  // rays per task
+
+// Runs `fn` over [0, count) in batches of about kGrain rays on TBB's workers.
+// In a ThreadSanitizer build the batches run one after another on the
+// calling thread instead: parallel_for's task hand-offs synchronise inside
+// libtbb, which is not instrumented, so TSan reports every task as racing
+// with its spawner (scripts/sanitize). The concurrency TSan checks there is
+// that of application threads calling one tracer at once.
+template <typename Fn>
+void for_each_batch(size_t count, const Fn& fn) {
+#ifdef PMC_UNDER_TSAN
+  for (size_t b = 0; b < count; b += kGrain) fn(tbb::blocked_range<size_t>(b, std::min(count, b + kGrain)));
+#else
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), fn);
+#endif
+}
 
 void embree_error(void*, RTCError code, const char* message) {
   // Called from Embree threads: report, the failing call's result is checked by the caller.
@@ -125,7 +148,7 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
     hit.prim = found ? scene_prim(p, rh.hit.geomID, rh.hit.primID) : -1;
   };
   RTCScene scene = scene_;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+  for_each_batch(count, [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = coherent ? RTC_INTERSECT_CONTEXT_FLAG_COHERENT : RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
@@ -180,7 +203,7 @@ void EmbreeTracer::intersect(const PmcRay* rays, PmcHit* hits, size_t count, boo
 void EmbreeTracer::occluded(const PmcRay* rays, uint8_t* occluded, size_t count) const {
   const TraceMode mode = mode_;
   RTCScene scene = scene_;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+  for_each_batch(count, [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_INCOHERENT;
