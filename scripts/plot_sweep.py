@@ -144,8 +144,6 @@ def plot_cache_size(plt, rows, out):
             mib = (r["memory_bytes"] or 0) / 2**20
             print(f"  {r['cells']:<10d} {entries:<8d} {r['time_seconds']:8.3f}  {100 * (r['hit_rate'] or 0):7.1f}%"
                   f"  {mib:10.2f}")
-            ax.annotate(f"{mib:.2g} MiB" if mib < 1 else f"{mib:.0f} MiB", (r["cells"] * r["entries"],
-                        r["time_seconds"]), textcoords="offset points", xytext=(4, 4), fontsize=7, color="grey")
     if cacheless:
         t = sorted(r["time_seconds"] for r in cacheless)[len(cacheless) // 2]
         ax.axhline(t, color="black", linestyle="--", linewidth=1, label=f"cache off ({t:.2f} s)")
@@ -153,7 +151,7 @@ def plot_cache_size(plt, rows, out):
     spp = sel[0]["spp"] if sel else 0
     for a in (ax, ax2):
         a.set_xscale("log", base=2)
-        a.set_xlabel("cache size: cells x entries (total entries; 8 bytes each)")
+        a.set_xlabel("cache size: cells x entries (8 bytes each: 2^17 entries = 1 MiB)")
         a.grid(True, which="both", alpha=0.3)
         a.legend(fontsize=8)
     ax.set_ylabel("render time (s)")
