@@ -16,6 +16,7 @@
 // off and on, so its --help does not list --cache and the option is refused.
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -47,6 +48,14 @@ Image read_reference(const std::string& path, int width, int height) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) fail("--reference: '", path, "' does not exist");
   if (std::filesystem::is_directory(path, ec)) fail("--reference: '", path, "' is a directory, not an image");
+  // The errors are measured on linear radiance: an 8-bit PNG (tone-mapped,
+  // sRGB) would compare display values with radiance and look hugely wrong.
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = char(std::tolower((unsigned char)c));
+  if (ext != ".exr")
+    fail("--reference: '", path,
+         "' is not an EXR: compare measures linear radiance, so give it the .exr "
+         "of a render (a PNG holds tone-mapped display values)");
   Image img;
   try {
     img = read_image(path);
@@ -85,7 +94,7 @@ int run_compare(const std::vector<std::string>& args) {
       "also measure both renders against this image (--width x --height, RGB; checked before rendering)");
   p.option("--reference-spp", "N", "render a cacheless reference with N samples (another seed)");
   p.option("--diff-scale", "S", "scale of the difference image (positive)", "5");
-  p.flag("--quiet", "no progress bars");
+  p.flag("--quiet", "no progress bars and no cache-size lines (the summary and warnings still print)");
   declare_render_options(p);
   p.hide("--cache");  // refused below: compare always renders both
   if (!p.parse(args)) return 0;
@@ -173,8 +182,13 @@ int run_compare(const std::vector<std::string>& args) {
   m["cache"] = {{"enabled", on_job->settings.cache.on},
                 {"lookups", cs.lookups},
                 {"hits", cs.hits},
+                {"misses", cs.misses},
                 {"inserts", cs.inserts},
+                {"already_present", cs.already_present},
                 {"dropped_full", cs.dropped_full},
+                {"not_encodable", cs.not_encodable},
+                {"memory_bytes", cs.memory_bytes},
+                {"size_reason", on_job->settings.cache.reason},
                 {"occupancy", cs.occupancy()},
                 {"cells", cs.cells},
                 {"entries", cs.ways},

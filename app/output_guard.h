@@ -97,8 +97,10 @@ class OutputGuard {
  public:
   void track(const std::string& path) { paths_.push_back(path); }
   void commit() { paths_.clear(); }
-  ~OutputGuard() {
-    for (const std::string& p : paths_) std::remove(p.c_str());
+  ~OutputGuard() {  // files only: a folder of that name is the user's, never ours
+    std::error_code ec;
+    for (const std::string& p : paths_)
+      if (std::filesystem::is_regular_file(p, ec)) std::remove(p.c_str());
   }
 
  private:

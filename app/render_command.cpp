@@ -81,7 +81,7 @@ int run_render(const std::vector<std::string>& args) {
   p.option("--stats", "OUT.json", "write render statistics as JSON");
   p.option("--hitmap", "MAP.png",
            "cache points found per sample as a viridis heat map (0..20) + raw MAP.exr (must end in .png)");
-  p.flag("--quiet", "no progress bar");
+  p.flag("--quiet", "no progress bar and no cache-size line (the summary and warnings still print)");
   declare_render_options(p);
   if (!p.parse(args)) return 0;
   if (p.positional().size() != 1) fail("render: expected exactly one SCENE.obj (see --help)");
@@ -91,9 +91,11 @@ int run_render(const std::vector<std::string>& args) {
   const std::string png = replace_extension(exr, ".png");
   // Every output is checked before the scene is even loaded.
   check_output_path("-o", exr, ".exr");
+  check_output_path("-o (its PNG)", png);
   std::vector<std::pair<std::string, std::string>> outputs = {{"-o", exr}, {"-o (its PNG)", png}};
   if (p.has("--hitmap")) {
     check_output_path("--hitmap", p.get("--hitmap"), ".png");
+    check_output_path("--hitmap (its EXR)", replace_extension(p.get("--hitmap"), ".exr"));
     outputs.push_back({"--hitmap", p.get("--hitmap")});
     outputs.push_back({"--hitmap (its EXR)", replace_extension(p.get("--hitmap"), ".exr")});
   }

@@ -36,7 +36,9 @@ void declare_render_options(ArgParser& p) {
   p.option("--height", "H", "image height in pixels", "360");
   p.option("--spp", "N", "samples per pixel", "16");
   p.option("--max-depth", "D", "maximum number of surface hits per path", "8");
-  p.option("--seed", "S", "random seed; equal seeds give identical images", "0");
+  p.option("--seed", "S",
+           "random seed; equal seeds give identical images (with the cache: in --cache-eval center, not hit)",
+           "0");
   p.option("--threads", "T", "host and PoCL worker threads", "all cores");
   p.option("--device", "NAME", "OpenCL device or platform name substring (see 'pmc info --devices')",
            "first GPU, else CPU");

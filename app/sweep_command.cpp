@@ -182,7 +182,8 @@ int run_sweep(const std::vector<std::string>& args) {
   auto declare = [](ArgParser& p) {
     p.option("--out-dir", "DIR", "where sweep.csv goes");
     p.option("--cells", "LIST", "cache cell counts, e.g. 4096,65536,1048576 (alias: --cache-cells)",
-             "the scene's automatic size");
+             "the scene's automatic size: per --entries value, the cells that keep its total entries, as "
+             "pmc render --cache-entries does");
     p.option("--entries", "LIST", "entries per cell, e.g. 1,4,8 (alias: --cache-entries)", "8");
     p.option("--mip-biases", "LIST", "mip biases, e.g. -1,0,1,2 (alias: --mip-bias)", "0");
     p.option(
@@ -196,7 +197,7 @@ int run_sweep(const std::vector<std::string>& args) {
              "combination) at each");
     p.option("--repeat", "N",
              "timing rounds; each renders every setting once (round-robin), times are medians", "1");
-    p.flag("--quiet", "no progress bars");
+    p.flag("--quiet", "no progress bars and no cache-size lines (warnings still print)");
     declare_render_options(p);
   };
   ArgParser p(
@@ -280,11 +281,21 @@ int run_sweep(const std::vector<std::string>& args) {
   ref_settings.spp = p.get_int("--reference-spp", base.spp * 16);
   if (ref_settings.spp <= 0) fail("--reference-spp: must be at least 1");
   ref_settings.seed = base.seed + 0x9e3779b9u;
-  if (cells.empty()) cells.push_back((long long)on_job->settings.cache.cells);
+  // Without --cells, each entries value gets the cell count that keeps the
+  // automatic table's total entries (what `pmc render --cache-entries E` picks).
+  const uint64_t auto_total =
+      on_job->settings.cache.cells * std::max<uint64_t>(1, on_job->settings.cache.ways);
+  auto cells_for = [&](long long c, long long e) -> long long {
+    if (c > 0) return c;
+    uint64_t want = (auto_total + uint64_t(e) - 1) / uint64_t(e), pow2 = 1024;
+    while (pow2 < want) pow2 <<= 1;
+    return (long long)pow2;
+  };
+  if (cells.empty()) cells.push_back(-1);  // automatic
   const double avail = double(available_memory_bytes());
-  for (long long c : cells)
+  for (long long c0 : cells)
     for (long long e : entries)
-      if (double(c) * double(e) * 8.0 > avail * 0.8)
+      if (const long long c = cells_for(c0, e); double(c) * double(e) * 8.0 > avail * 0.8)
         fail(cells_arg.option, "/", entries_arg.option, ": a table of ", c, " cells x ", e, " entries (",
              double(c) * double(e) * 8.0 / double(1 << 20), " MiB) does not fit in the ",
              avail / double(1 << 20), " MiB of free memory");
@@ -308,7 +319,7 @@ int run_sweep(const std::vector<std::string>& args) {
   if (!on_available) warn(obj + ": no material has a cache point; only cacheless rows are written");
   auto cached_settings = [&](long long c, long long e, double b, const Mode& m) {
     RenderSettings s = on_job->settings;
-    s.cache.cells = uint64_t(c);
+    s.cache.cells = uint64_t(cells_for(c, e));
     s.cache.ways = uint32_t(e);
     s.cache.mip_bias = float(b);
     s.cache.center = m.center;

@@ -44,18 +44,20 @@ std::string warning_line(const std::string& warnings, const std::string& prefix)
 // tinyobjloader's number parser reads "nan" and "inf" as 0, which would move
 // such a vertex to the origin without a word. Re-read the `v` lines that hold
 // letters and store NaN/inf where strtod sees one, so those triangles are
-// skipped like any other non-finite position.
-void restore_non_finite_positions(const std::string& path, std::vector<float>& positions) {
+// skipped like any other non-finite position. `vn`/`vt` components spelled
+// nan/inf are 0 already (the value the loader repairs them to); they are
+// returned as a count, for the warning.
+size_t restore_non_finite_positions(const std::string& path, std::vector<float>& positions) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return;  // tinyobj read no vertices either
+  if (!std::filesystem::is_regular_file(path, ec)) return 0;  // tinyobj read no vertices either
   const uintmax_t size = std::filesystem::file_size(path, ec);
   std::ifstream in(path, std::ios::binary);
-  if (ec || !in) return;
+  if (ec || !in) return 0;
   std::string text(size_t(size), '\0');
   in.read(text.data(), std::streamsize(text.size()));
   text.resize(size_t(in.gcount()));
   std::vector<std::pair<size_t, float>> fixes;  // (component, value)
-  size_t vertex = 0;
+  size_t vertex = 0, spelled_attributes = 0;
   for (size_t begin = 0; begin < text.size();) {
     // tinyobj splits lines at \r, \n and \r\n.
     const char* line_start = text.data() + begin;
@@ -81,11 +83,27 @@ void restore_non_finite_positions(const std::string& path, std::vector<float>& p
         }
       }
       ++vertex;
+    } else if (at + 2 < end && text[at] == 'v' && (text[at + 1] == 'n' || text[at + 1] == 't') &&
+               (text[at + 2] == ' ' || text[at + 2] == '\t')) {
+      std::string line = text.substr(at + 3, end - at - 3);
+      const char* s = line.c_str();
+      for (int c = 0; c < (text[at + 1] == 'n' ? 3 : 2); ++c) {
+        char* stop = nullptr;
+        double d = std::strtod(s, &stop);
+        if (stop == s) break;
+        // Spelled out (nan, inf): tinyobj stored 0. Overflowing digits (1e39)
+        // became inf there and are counted where they are repaired.
+        bool spelled = false;
+        for (const char* q = s; q < stop; ++q) spelled = spelled || std::strchr("nNiI", *q) != nullptr;
+        if (!std::isfinite(d) && spelled) ++spelled_attributes;
+        s = stop;
+      }
     }
     begin = end + 1;
   }
-  if (3 * vertex != positions.size()) return;  // counted differently from tinyobj: leave as is
+  if (3 * vertex != positions.size()) return spelled_attributes;  // counted differently from tinyobj
   for (const auto& [component, value] : fixes) positions[component] = value;
+  return spelled_attributes;
 }
 
 }  // namespace
@@ -133,7 +151,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   Scene scene;
   scene.obj_path = path;
   scene.positions.assign(attrib.vertices.begin(), attrib.vertices.end());
-  restore_non_finite_positions(path, scene.positions);
+  const size_t spelled_non_finite = restore_non_finite_positions(path, scene.positions);
   scene.normals.assign(attrib.normals.begin(), attrib.normals.end());
   scene.uvs.assign(attrib.texcoords.begin(), attrib.texcoords.end());
   const long nv = long(attrib.vertices.size() / 3);
@@ -232,7 +250,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
 
   // Non-finite normals and uvs are repaired in the kernel (geometric normal, uv 0);
   // make them finite here so nothing downstream sees NaN.
-  size_t repaired = 0;
+  size_t repaired = spelled_non_finite;
   for (float& x : scene.normals)
     if (!std::isfinite(x)) x = 0.0f, ++repaired;
   for (float& x : scene.uvs)

@@ -99,20 +99,26 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
   bool float_source =
       spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF;
   std::vector<uint8_t> rgba(size_t(w) * h * 4);
+  size_t non_finite = 0;
   for (size_t i = 0; i < size_t(w) * h; ++i) {
     float c[4];
+    bool bad = false;
     for (int k = 0; k < 4; ++k) {
       int src = k < 3 ? (nch >= 3 ? k : 0) : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
       float v = src < 0 ? 1.0f : px[i * nch + src];
-      if (!std::isfinite(v)) v = 0.0f;  // NaN/Inf texels become black
+      if (!std::isfinite(v)) v = 0.0f, bad = true;  // NaN/Inf channels become 0 (black)
       c[k] = v;
     }
+    non_finite += bad ? 1 : 0;
     for (int k = 0; k < 4; ++k) {
       float v = c[k];
       if (float_source && srgb && k < 3) v = linear_to_srgb(std::max(0.0f, std::min(1.0f, v)));
       rgba[i * 4 + k] = to_byte(v);
     }
   }
+  if (non_finite > 0)
+    warn(used_by + ": texture '" + path + "': " + std::to_string(non_finite) + " of " +
+         std::to_string(size_t(w) * h) + " texels hold NaN or Inf; those channels are read as 0 (black)");
   int index = add(path, w, h, std::move(rgba), srgb);
   by_key_[key] = index;
   return index;

@@ -124,6 +124,9 @@ TEST(Compare, WritesBothRendersDifferenceHitMapMetricsAndReport) {
   const nlohmann::json& cache = m["cache"];
   EXPECT_TRUE(cache["enabled"].get<bool>());
   EXPECT_GT(cache["hits"].get<double>(), 0.0);
+  EXPECT_EQ(cache["hits"].get<uint64_t>() + cache["misses"].get<uint64_t>(),
+            cache["lookups"].get<uint64_t>());
+  EXPECT_FALSE(cache["size_reason"].get<std::string>().empty());
   EXPECT_EQ(m["cache_memory_bytes"].get<double>(),
             cache["cells"].get<double>() * cache["entries"].get<double>() * 8.0)
       << "cells x entries x 8 bytes";
@@ -202,7 +205,8 @@ std::string fresh_out_dir() { return test::temp_dir() + "/new/out"; }
 std::string parent(const std::string& dir) { return std::filesystem::path(dir).parent_path().string(); }
 
 TEST(Compare, BadReferenceIsRefusedBeforeRendering) {
-  const std::string tmp = test::temp_dir(), ref = tmp + "/ref.exr", text = tmp + "/notes.txt";
+  const std::string tmp = test::temp_dir(), ref = tmp + "/ref.exr", text = tmp + "/notes.exr",
+                    png = tmp + "/ref.png";  // written beside ref.exr: tone-mapped display values
   std::string log;
   ASSERT_EQ(test::run_pmc("render " + teapot() + kSmall + " --cache off -o " + ref, &log), 0) << log;
   test::write_file(text, "not an image\n");
@@ -213,6 +217,7 @@ TEST(Compare, BadReferenceIsRefusedBeforeRendering) {
       {" --width 32 --height 24 --reference " + tmp + "/missing.exr", tmp + "/missing.exr", "does not exist"},
       {" --width 32 --height 24 --reference " + text, text, "cannot read image"},
       {" --width 32 --height 24 --reference " + tmp, tmp, "directory"},
+      {" --width 32 --height 24 --reference " + png, png, "not an EXR"},
   };
   for (const auto& c : cases) {
     const std::string dir = tmp + "/new/out";

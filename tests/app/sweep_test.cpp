@@ -227,6 +227,22 @@ TEST(Sweep, CacheFilterAndMinNodesReachEveryCachedRow) {
   EXPECT_EQ(kinds, (std::map<std::string, int>{{"cacheless", 1}, {"convergence_off", 1}}));
 }
 
+// Without --cells each --entries value keeps the automatic table's total
+// entries (as `pmc render --cache-entries E` does): 1 entry per cell gets 8x
+// the cells of 8 entries per cell.
+TEST(Sweep, EntriesWithoutCellsKeepTheAutomaticTotal) {
+  const std::string dir = test::temp_dir();
+  std::string log;
+  ASSERT_EQ(test::run_pmc("sweep " + small_teapot() + " --entries 8,1 --out-dir " + dir + "/e", &log), 0)
+      << log;
+  const std::vector<CsvRow> settings = rows_of(read_csv(dir + "/e/sweep.csv"), "setting");
+  ASSERT_EQ(settings.size(), 2u);
+  EXPECT_EQ(settings[0].at("entries"), "8");
+  EXPECT_EQ(settings[1].at("entries"), "1");
+  EXPECT_EQ(num(settings[1], "cells"), 8.0 * num(settings[0], "cells"));
+  EXPECT_EQ(num(settings[1], "memory_bytes"), num(settings[0], "memory_bytes"));
+}
+
 TEST(Sweep, ConflictingOrMalformedCacheOptionsAreRefused) {
   const std::string tmp = test::temp_dir(), dir = tmp + "/new/out";
   const struct {

@@ -38,16 +38,26 @@ namespace pmc::fuzz {
 // loaded: a fuzzed file could name a device such as /dev/stdin through an
 // MTL, and reading that would hang.
 
+// A per-process temp folder that goes away at a normal exit (the end of a
+// fuzz run, the test suite); a crash leaves it for a look at the last input.
+struct ProcessFolder {
+  std::string path;
+  ~ProcessFolder() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 inline const std::string& obj_folder() {
-  static const std::string dir = [] {
+  static const ProcessFolder folder = [] {
     std::string d =
         std::filesystem::temp_directory_path().string() + "/pmc_fuzz_obj_" + std::to_string(getpid());
     std::filesystem::create_directories(d);
     std::ofstream(d + "/scene.mtl") << "newmtl red\nKd 0.8 0.1 0.1\nKs 0.2 0.2 0.2\nNs 50\n"
                                        "newmtl lamp\nKe 5 5 5\nnewmtl glass\nd 0.5\n";
-    return d;
+    return ProcessFolder{d};  // a prvalue: no temporary whose destructor would remove it
   }();
-  return dir;
+  return folder.path;
 }
 
 inline std::string check_obj(const uint8_t* data, size_t size) {
@@ -204,17 +214,8 @@ inline void write_fixture_png(const std::string& path, int w, int h, int channel
     std::abort();  // the harness itself is broken, not the input
 }
 
-// The folder goes away at a normal exit (the end of a fuzz run, the test
-// suite); a crash leaves it for a look at the last input.
 inline const std::string& mtl_folder() {
-  struct Folder {
-    std::string path;
-    ~Folder() {
-      std::error_code ec;
-      std::filesystem::remove_all(path, ec);
-    }
-  };
-  static const Folder folder = [] {
+  static const ProcessFolder folder = [] {
     std::string d =
         std::filesystem::temp_directory_path().string() + "/pmc_fuzz_mtl_" + std::to_string(getpid());
     std::filesystem::create_directories(d + "/textures");
@@ -237,7 +238,7 @@ inline const std::string& mtl_folder() {
                                        "usemtl brick\nf 4/4 1/1 5/2\n"
                                        "usemtl Material.001\nf 1/1/1 4/4/1 5/3/1\n"
                                        "usemtl unknown\nf 2/2/1 4/4/1 5/3/1\n";
-    return Folder{d};  // a prvalue: no temporary whose destructor would remove it
+    return ProcessFolder{d};  // a prvalue: no temporary whose destructor would remove it
   }();
   return folder.path;
 }

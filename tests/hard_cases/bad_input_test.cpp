@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -415,6 +416,22 @@ TEST(BadInput, UnwritableOrCollidingOutputsFailBeforeRendering) {
   expect_refused(dir, run("-o " + dir + "/out.exr --hitmap " + dir + "/out.png"), {"would both write"});
   EXPECT_FALSE(test::file_exists(dir + "/map.exr"));
   EXPECT_FALSE(test::file_exists(dir + "/map.png"));
+  // The PNG beside -o, and the EXR beside --hitmap, are outputs too: a folder
+  // of that name fails at once, and stays (it is the user's, not ours).
+  const std::string sub = dir + "/sub";
+  std::filesystem::create_directories(sub + "/out.png");
+  std::filesystem::create_directories(sub + "/map.exr");
+  Outcome o = run("-o " + sub + "/out.exr");
+  EXPECT_EQ(o.code, 2) << o.log;
+  EXPECT_NE(o.log.find("-o (its PNG)"), std::string::npos) << o.log;
+  EXPECT_NE(o.log.find("is a folder"), std::string::npos) << o.log;
+  o = run("-o " + sub + "/img.exr --hitmap " + sub + "/map.png");
+  EXPECT_EQ(o.code, 2) << o.log;
+  EXPECT_NE(o.log.find("--hitmap (its EXR)"), std::string::npos) << o.log;
+  EXPECT_TRUE(std::filesystem::is_directory(sub + "/out.png"));
+  EXPECT_TRUE(std::filesystem::is_directory(sub + "/map.exr"));
+  EXPECT_FALSE(test::file_exists(sub + "/out.exr"));
+  EXPECT_FALSE(test::file_exists(sub + "/img.exr"));
 }
 
 TEST(BadInput, UnknownDevice) {

@@ -358,6 +358,9 @@ TEST(Numerical, NonFinitePositionsWarnOnceWithTheCount) {
   EXPECT_EQ(log.find("skipped", first + 1), std::string::npos) << "one warning, not one per face:\n" << log;
   EXPECT_NE(log.find("skipped 4 faces"), std::string::npos) << log;
   EXPECT_NE(log.find("nonfinite.obj"), std::string::npos) << log;
+  // Normals and uvs are repaired, with one warning and the count: 3 + 1 + 1
+  // normal components (nan nan nan, inf, 1e39), 1 + 1 + 2 uv components.
+  EXPECT_NE(log.find("replaced 9 non-finite normal/uv components"), std::string::npos) << log;
   EXPECT_NE(log.find("warning"), std::string::npos) << log;
   Image img = read_image(dir + "/out.exr");
   EXPECT_EQ(test::non_finite(img), 0u);
@@ -397,6 +400,17 @@ TEST(Numerical, NanAndInfTexelsInAFloatExrTexture) {
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   const std::string obj = dir + "/exr.obj";
   render_all_clean({RenderCase{obj, {}, ""}, RenderCase{obj, {dir + "/materials.mtlx"}, "M_tiled"}}, s);
+  // The choice is announced once, with the count: every texel of this
+  // texture has a NaN or Inf channel.
+  std::string log;
+  ASSERT_EQ(
+      test::run_pmc("render " + obj + " -o " + dir + "/out.exr --width 16 --height 16 --spp 1 --quiet", &log),
+      0)
+      << log;
+  const size_t at = log.find("16 of 16 texels hold NaN or Inf");
+  EXPECT_NE(at, std::string::npos) << log;
+  EXPECT_NE(log.find("bad.exr"), std::string::npos) << log;
+  EXPECT_EQ(log.find("texels hold NaN", at + 40), std::string::npos) << "one warning per texture:\n" << log;
 }
 
 // ---------------------------------------------------------------- extreme radiance
