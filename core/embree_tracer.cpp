@@ -11,14 +11,7 @@
 #include <vector>
 
 #include "core/error.h"
-
-#if defined(__SANITIZE_THREAD__)
-#define PMC_UNDER_TSAN 1
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define PMC_UNDER_TSAN 1
-#endif
-#endif
+#include "core/sanitizers.h"
 
 namespace pmc {
 namespace {

@@ -236,7 +236,7 @@ PMC_FN pmc_u32 pmc_encode_rgb9e5(float r, float g, float b) {
    * (A library log2 may round just below a power of two up to it, and
    * differs between the host and OpenCL devices.) */
   int e = ((as_int(m) >> 23) & 0xff) - 127;
-  if (e < -16) e = -16; /* also subnormal m */
+  if (e < -16) e = -16;   /* also subnormal m */
   int exp_shared = e + 1; /* mantissas < 512 */
   float scale = pmc_exp2i(9 - exp_shared);
   int mm = (int)floor(m * scale + 0.5f);
@@ -325,9 +325,6 @@ PMC_FN float4 pmc_cache_decode(pmc_u32 bits, pmc_u32 enc) {
 PMC_FN pmc_u64 pmc_cas64(PMC_CACHE_PTR p, pmc_u64 expected, pmc_u64 desired) {
   return atom_cmpxchg(p, expected, desired);
 }
-PMC_FN void pmc_stat_add(__global volatile ulong* stats, int which) {
-  if (stats) atom_inc(&stats[which]);
-}
 PMC_FN pmc_u64 pmc_load64(PMC_CACHE_PTR p) { return *p; }
 #else
 #define PMC_CACHE_PTR pmc_u64*
@@ -335,6 +332,7 @@ PMC_FN pmc_u64 pmc_cas64(pmc_u64* p, pmc_u64 expected, pmc_u64 desired) {
   __atomic_compare_exchange_n(p, &expected, desired, false, __ATOMIC_ACQ_REL, __ATOMIC_ACQUIRE);
   return expected; /* the previous value, as OpenCL's atom_cmpxchg returns */
 }
+/* Host-side counter bump (the kernels count privately and sum per work-group). */
 PMC_FN void pmc_stat_add(pmc_u64* stats, int which) {
   if (stats) __atomic_fetch_add(&stats[which], 1ull, __ATOMIC_RELAXED);
 }

@@ -120,6 +120,17 @@ typedef struct PmcHitPoint {
   uint cache_points;   /* how many (the cells to prefetch) */
 } PmcHitPoint;
 
+/* The material cache's table as this frame sized it. */
+static inline PmcCacheTable pmc_frame_cache_table(__constant PmcFrame* frame,
+                                                  __global volatile ulong* entries) {
+  PmcCacheTable t;
+  t.entries = entries;
+  t.cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
+  t.ways = frame->cache_ways;
+  t.pad = 0u;
+  return t;
+}
+
 /* What shading one ray asks the queues for. */
 typedef struct PmcShadeOut {
   float3 next_org, next_dir;                 /* the continuation ray, if `next` */
@@ -262,9 +273,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
   PmcCacheContext cache;
   PmcCacheContext* cache_ptr = 0;
   if (frame->cache_on && hp->cache_points > 0u) {
-    cache.table.entries = cache_entries;
-    cache.table.cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
-    cache.table.ways = frame->cache_ways;
+    cache.table = pmc_frame_cache_table(frame, cache_entries);
     cache.g1 = hp->g1;
     cache.g2 = hp->g2;
     cache.bias = frame->mip_bias;
@@ -424,13 +433,10 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   barrier(CLK_LOCAL_MEM_FENCE);
 
   if (hp.surface && hp.texel.ready) {
-    ulong cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
+    const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
     uint n = min(hp.cache_points, 8u);
-    for (uint k = 0u; k < n; ++k) {
-      ulong h1 = hp.texel.base + (ulong)k;
-      ulong cell = (cells & (cells - 1ul)) == 0ul ? (h1 & (cells - 1ul)) : (h1 % cells);
-      (void)cache_entries[cell * (ulong)frame->cache_ways]; /* volatile: the load happens */
-    }
+    for (uint k = 0u; k < n; ++k) /* cell of the k-th point (pmc_cache_key_at); volatile: the load happens */
+      (void)cache_entries[pmc_cache_cell(&table, hp.texel.base + (ulong)k) * (ulong)table.ways];
   }
   barrier(CLK_LOCAL_MEM_FENCE);
 

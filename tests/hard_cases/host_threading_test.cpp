@@ -31,16 +31,9 @@
 #include <vector>
 
 #include "core/abi/pmc_cache.h"
+#include "core/sanitizers.h"
 #include "materials/cutout.h"
 #include "tests/hard_cases/hard_support.h"
-
-#if defined(__SANITIZE_THREAD__)
-#define PMC_UNDER_TSAN 1
-#elif defined(__has_feature)
-#if __has_feature(thread_sanitizer)
-#define PMC_UNDER_TSAN 1
-#endif
-#endif
 
 namespace pmc {
 namespace {
