@@ -15,7 +15,7 @@ namespace pmc {
 namespace {
 
 std::string read_disk_source(const std::string& root, const std::string& name) {
-  for (const char* dir : {"/core/abi/", "/gpu/kernels/", "/materials/abi/"}) {
+  for (const char* dir : {"/core/abi/", "/core/device/", "/gpu/kernels/"}) {
     std::ifstream in(root + dir + name);
     if (in) {
       std::ostringstream os;
@@ -23,7 +23,8 @@ std::string read_disk_source(const std::string& root, const std::string& name) {
       return os.str();
     }
   }
-  fail("PMC_KERNEL_DIR=", root, ": kernel source '", name, "' not found under core/abi or gpu/kernels");
+  fail("PMC_KERNEL_DIR=", root, ": kernel source '", name,
+       "' not found under core/abi, core/device or gpu/kernels");
 }
 
 void expand_text(const std::string& name, const std::string& text, std::set<std::string>& seen,
@@ -47,7 +48,10 @@ void expand_text(const std::string& name, const std::string& text, std::set<std:
       size_t q0 = line.find('"');
       size_t q1 = q0 == std::string::npos ? q0 : line.find('"', q0 + 1);
       if (q1 != std::string::npos) {
-        expand(line.substr(q0 + 1, q1 - q0 - 1), seen, out);
+        // Files are known by base name ("../abi/pmc_vec.h" is pmc_vec.h): the
+        // relative path is for the C++ compiler, which reads them in place.
+        std::string included = line.substr(q0 + 1, q1 - q0 - 1);
+        expand(included.substr(included.find_last_of('/') + 1), seen, out);
         out << "#line " << line_no + 1 << " \"" << name << "\"\n";
         continue;
       }

@@ -1,8 +1,8 @@
 // program.h — OpenCL programs from sources embedded in the binary.
 //
-// At build time CMake embeds every core/abi/*.h and gpu/kernels/*.cl file
-// (gpu/embed_sources.cmake). At run time the quoted #includes are expanded
-// here, with #line directives so compiler messages name the right file and
+// At build time CMake embeds every core/abi/*.h, core/device/*.h and
+// gpu/kernels/*.cl file (gpu/embed_sources.cmake). At run time the quoted #includes are expanded
+// here (by base name), with #line directives so compiler messages name the right file and
 // line; set PMC_KERNEL_DIR=<repository root> to read the files from disk
 // instead while developing. A failed build throws pmc::Error carrying the
 // compiler's log.

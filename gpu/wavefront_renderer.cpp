@@ -6,7 +6,7 @@
 #include <cmath>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
+#include "core/device/pmc_cache.h"
 #include "core/error.h"
 #include "core/lights.h"
 #include "gpu/program.h"

@@ -4,7 +4,7 @@
 #include <functional>
 #include <set>
 
-#include "core/abi/pmc_cache.h"
+#include "core/device/pmc_cache.h"
 #include "materials/passes.h"
 
 namespace pmc {

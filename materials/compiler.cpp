@@ -8,7 +8,7 @@
 #include <map>
 #include <sstream>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "core/error.h"
 #include "materials/node_library.h"
 

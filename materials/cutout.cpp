@@ -1,10 +1,12 @@
 // cutout.cpp — opacity at a candidate hit, via the CPU interpreter.
 #include "materials/cutout.h"
 
+#include "materials/cpu_interpreter.h"
+
 namespace pmc {
 
 CutoutTester::CutoutTester(const Scene& scene, const MaterialSet& materials)
-    : scene_(scene), materials_(materials), textures_(materials.host_textures(scene)) {
+    : scene_(scene), materials_(materials), textures_(host_texture_set(scene, materials)) {
   flags_.assign(scene.triangles.size(), 0);
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     int m = scene.triangles[i].material;
@@ -37,7 +39,7 @@ bool CutoutTester::transparent(uint32_t prim, float u, float v) const {
   in.bitangent = make_float3(0, 1, 0);
   in.footprint = 0.0f;  // the finest mip: masks keep their edges
   float params[PMC_P_COUNT];
-  materials_.evaluate(textures_, t.material, in, params);
+  evaluate_material(materials_, textures_, t.material, in, params);
   float opacity =
       (params[PMC_P_OPACITY] + params[PMC_P_OPACITY + 1] + params[PMC_P_OPACITY + 2]) * (1.0f / 3.0f);
   return !(opacity >= 0.5f);

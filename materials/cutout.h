@@ -8,6 +8,7 @@
 #pragma once
 
 #include "core/alpha_test.h"
+#include "core/device/pmc_texture.h"
 #include "core/scene.h"
 #include "materials/material_set.h"
 

@@ -3,6 +3,7 @@
 
 #include <map>
 
+#include "core/abi/pmc_bytecode.h"
 #include "core/error.h"
 #include "materials/mtl_graph.h"
 #include "materials/mtlx_reader.h"
@@ -69,23 +70,6 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
                          uint32_t(bytes[4 * i + 2]) << 16 | uint32_t(bytes[4 * i + 3]) << 24;
   set.srgb_lut = srgb_decode_table();
   return set;
-}
-
-void MaterialSet::evaluate(const PmcTextureSet& textures, int scene_material, const PmcShadingInputs& in,
-                           float params[PMC_P_COUNT]) const {
-  float stack[PMC_STACK_SIZE];
-  pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(program.code.data(), infos[size_t(scene_material)].entry, &in, &textures, stack, params,
-                 nullptr);
-}
-
-PmcTextureSet MaterialSet::host_textures(const Scene& scene) const {
-  PmcTextureSet ts{};
-  ts.textures = scene.textures.textures().data();
-  ts.texels = texel_words.data();
-  ts.srgb_lut = srgb_lut.data();
-  ts.count = uint32_t(scene.textures.size());
-  return ts;
 }
 
 }  // namespace pmc

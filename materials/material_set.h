@@ -4,15 +4,15 @@
 // `usemtl NAME` takes the MaterialX `surfacematerial` called NAME from the
 // --mtlx documents, else its own MTL entry turned into a network. Only used
 // materials are compiled and only their textures loaded. The result holds
-// what the kernels need (the bytecode, a PmcMaterialInfo per material) and a
-// host-side evaluator for the CPU reference and cut-out opacity.
+// what the kernels need (the bytecode, a PmcMaterialInfo per material); the
+// host's reference interpreter of it is materials/cpu_interpreter.h.
 #pragma once
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/abi/pmc_types.h"
 #include "core/scene.h"
 #include "materials/compiler.h"
 
@@ -31,11 +31,6 @@ struct MaterialSet {
   std::vector<Graph> graphs;           // optimised graphs, parallel to program.materials
   std::vector<uint32_t> texel_words;   // the scene's texel pool as 32-bit RGBA words
   std::vector<float> srgb_lut;
-
-  // Host evaluation of one material (the CPU reference interpreter).
-  void evaluate(const PmcTextureSet& textures, int scene_material, const PmcShadingInputs& in,
-                float params[PMC_P_COUNT]) const;
-  PmcTextureSet host_textures(const Scene& scene) const;
 };
 
 MaterialSet build_material_set(Scene& scene, const MaterialOptions& options);

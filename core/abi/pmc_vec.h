@@ -1,7 +1,7 @@
 /* pmc_vec.h — the small vector vocabulary shared by host C++ and OpenCL C.
  *
- * Shading math (BSDFs, sampling, random numbers, ray cones) is written once in
- * the headers of core/abi and compiled twice: by the C++ compiler for tests and
+ * Shading math (BSDFs, sampling, random numbers, ray cones: the device library
+ * in core/device) is written once and compiled twice: by the C++ compiler for tests and
  * the CPU reference paths, and by the OpenCL compiler for the kernels. OpenCL C
  * has float2/float3 with arithmetic operators built in; on the host this file
  * provides look-alike types with the same operators and the handful of

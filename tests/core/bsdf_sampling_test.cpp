@@ -1,4 +1,4 @@
-// bsdf_sampling_test.cpp — statistical checks of the BSDF in core/abi/pmc_bsdf.h.
+// bsdf_sampling_test.cpp — statistical checks of the BSDF in core/device/pmc_bsdf.h.
 //
 // The path tracer weights every bounce by eval*cos/pdf and combines BSDF and
 // light sampling with MIS, so a pdf that is not normalised, or a sampler that
@@ -22,7 +22,7 @@
 #include <random>
 #include <vector>
 
-#include "core/abi/pmc_bsdf.h"
+#include "core/device/pmc_bsdf.h"
 
 namespace {
 

@@ -1,5 +1,5 @@
-// cache_descriptor_test.cpp — the cache descriptor (core/abi/pmc_cache.h,
-// core/abi/pmc_raycone.h): virtual mip level, texel indices, keys.
+// cache_descriptor_test.cpp — the cache descriptor (core/device/pmc_cache.h,
+// core/device/pmc_raycone.h): virtual mip level, texel indices, keys.
 //
 // A descriptor is (material, node, lambda, texel x, texel y); lambda comes
 // from the ray-cone uv gradients. Hard inputs must give a finite lambda in
@@ -26,8 +26,8 @@
 #include <unordered_set>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
-#include "core/abi/pmc_raycone.h"
+#include "core/device/pmc_cache.h"
+#include "core/device/pmc_raycone.h"
 
 namespace pmc {
 namespace {

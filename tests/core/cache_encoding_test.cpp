@@ -1,5 +1,5 @@
 // cache_encoding_test.cpp — the 32-bit value encodings of the material cache
-// (core/abi/pmc_cache.h, host C++ compile of the header the kernels use).
+// (core/device/pmc_cache.h, host C++ compile of the header the kernels use).
 //
 // A cache hit returns decode(encode(v)) instead of v, so the encodings bound
 // the error a hit can add. Checked on random values (a fresh seed each run,
@@ -39,7 +39,7 @@
 #include <random>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
+#include "core/device/pmc_cache.h"
 
 namespace pmc {
 namespace {

@@ -1,5 +1,5 @@
-// node_math_test.cpp — MaterialX noise and pattern nodes (core/abi/pmc_noise.h,
-// core/abi/pmc_patterns.h) against answers computed independently here.
+// node_math_test.cpp — MaterialX noise and pattern nodes (core/device/pmc_noise.h,
+// core/device/pmc_patterns.h) against answers computed independently here.
 //
 //  * The integer hash is Bob Jenkins' lookup3 (hashword, initval 13): its
 //    mix/final are checked against lookup3.c's published driver5 vectors
@@ -31,8 +31,8 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_noise.h"
-#include "core/abi/pmc_patterns.h"
+#include "core/device/pmc_noise.h"
+#include "core/device/pmc_patterns.h"
 #include "gpu/program.h"
 #include "tests/test_support.h"
 

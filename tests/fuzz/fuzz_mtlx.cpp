@@ -1,6 +1,6 @@
 // fuzz_mtlx.cpp — libFuzzer target for MaterialX reading and compilation
 // (materials/mtlx_reader.cpp, passes.cpp, cache_plan.cpp, compiler.cpp) and
-// the bytecode interpreter (core/abi/pmc_interp.h) on what the compiler
+// the bytecode interpreter (core/device/pmc_interp.h) on what the compiler
 // emits; the checks live in harness.h (check_mtlx). Bad input must end in
 // pmc::Error; a crash, a sanitizer report or an uncaught exception is a
 // finding.

@@ -20,12 +20,13 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "core/error.h"
 #include "core/lights.h"
 #include "core/obj_loader.h"
 #include "core/texture.h"
 #include "materials/compiler.h"
+#include "materials/cpu_interpreter.h"
 #include "materials/cutout.h"
 #include "materials/material_set.h"
 #include "materials/mtlx_reader.h"
@@ -112,7 +113,7 @@ inline std::string check_obj(const uint8_t* data, size_t size) {
 // so an image node compiles to its default value, as MaterialX specifies
 // for a missing file.
 
-// `textures` is the scene's texture set (host_textures) when the program
+// `textures` is the scene's texture set (host_texture_set) when the program
 // samples images; without it every IMAGE returns its default.
 inline void run_program(const MaterialProgram& program, const CompiledMaterial& m, bool cached,
                         const PmcTextureSet* textures = nullptr) {
@@ -275,7 +276,7 @@ inline std::string check_material_set(const Scene& scene, const MaterialSet& set
   if (set.graphs.size() != set.program.materials.size()) return "graphs and programs out of step";
   std::vector<char> used(n, 0);
   for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
-  const PmcTextureSet textures = set.host_textures(scene);
+  const PmcTextureSet textures = host_texture_set(scene, set);
   for (size_t i = 0; i < n; ++i) {
     const MtlMaterial& mm = scene.materials[i];
     const PmcMaterialInfo& info = set.infos[i];

@@ -1,4 +1,4 @@
-// cache_table_test.cpp — the material cache's hash table (core/abi/pmc_cache.h)
+// cache_table_test.cpp — the material cache's hash table (core/device/pmc_cache.h)
 // under contention on a real OpenCL device (PoCL on CI), and its semantics
 // single-threaded on the host (the same header compiled as C++).
 //
@@ -34,7 +34,7 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
+#include "core/device/pmc_cache.h"
 #include "gpu/program.h"
 #include "tests/test_support.h"
 

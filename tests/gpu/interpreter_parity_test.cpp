@@ -1,4 +1,4 @@
-// interpreter_parity_test.cpp — the material interpreter (core/abi/pmc_interp.h)
+// interpreter_parity_test.cpp — the material interpreter (core/device/pmc_interp.h)
 // on the OpenCL device against the same source compiled for the host.
 //
 // The renderer shades on the device; constant folding, the CPU reference and
@@ -32,7 +32,7 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "core/texture.h"
 #include "gpu/program.h"
 #include "tests/test_support.h"

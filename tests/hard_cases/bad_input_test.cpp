@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "tests/hard_cases/hard_support.h"
 
 namespace pmc {

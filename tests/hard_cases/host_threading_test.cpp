@@ -6,7 +6,7 @@
 //    on one tracer (all three query styles, with and without a cut-out
 //    filter that runs the CPU material interpreter inside Embree's callback)
 //    must give exactly the single-caller answers.
-//  * The material cache table (core/abi/pmc_cache.h compiled as C++, 64-bit
+//  * The material cache table (core/device/pmc_cache.h compiled as C++, 64-bit
 //    CAS via __atomic): threads inserting colliding descriptors into a few
 //    small cells must leave one value per key (the first inserted one),
 //    entries that fill from the front and no torn words; lookups after a
@@ -30,7 +30,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
+#include "core/device/pmc_cache.h"
 #include "core/sanitizers.h"
 #include "materials/cutout.h"
 #include "tests/hard_cases/hard_support.h"

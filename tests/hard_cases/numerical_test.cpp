@@ -31,9 +31,9 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_cache.h"
-#include "core/abi/pmc_geometry.h"
-#include "core/abi/pmc_raycone.h"
+#include "core/device/pmc_cache.h"
+#include "core/device/pmc_geometry.h"
+#include "core/device/pmc_raycone.h"
 #include "tests/hard_cases/hard_support.h"
 
 namespace pmc {

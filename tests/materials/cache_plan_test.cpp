@@ -27,7 +27,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "core/texture.h"
 #include "materials/compiler.h"
 #include "materials/node_graph.h"

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "core/error.h"
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"

@@ -31,6 +31,7 @@
 #include "core/obj_loader.h"
 #include "gpu/wavefront_renderer.h"
 #include "materials/compiler.h"
+#include "materials/cpu_interpreter.h"
 #include "materials/material_set.h"
 #include "tests/test_support.h"
 
@@ -390,7 +391,7 @@ TEST(MtlxReader, EverySharedDocumentLoadsCompilesAndRenders) {
       // Host evaluation: finite parameters at random shading points
       // (uv and positions outside the unit square included).
       const int mat = int(scene.materials.size()) - 1;
-      PmcTextureSet ts = set.host_textures(scene);
+      PmcTextureSet ts = host_texture_set(scene, set);
       for (int i = 0; i < 64; ++i) {
         PmcShadingInputs in{};
         in.uv = make_float2(uni(rng), uni(rng));
@@ -400,7 +401,7 @@ TEST(MtlxReader, EverySharedDocumentLoadsCompilesAndRenders) {
         in.bitangent = make_float3(0, 1, 0);
         in.footprint = i % 2 ? 0.01f : 0.0f;
         float params[PMC_P_COUNT];
-        set.evaluate(ts, mat, in, params);
+        evaluate_material(set, ts, mat, in, params);
         for (int k = 0; k < PMC_P_COUNT; ++k)
           ASSERT_TRUE(std::isfinite(params[k])) << "param " << k << " at uv " << in.uv.x << " " << in.uv.y;
       }

@@ -7,7 +7,7 @@
 // order (amplitude read as the position) fails these tests.
 #include <gtest/gtest.h>
 
-#include "core/abi/pmc_interp.h"
+#include "core/device/pmc_interp.h"
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
 

@@ -11,7 +11,7 @@
 #ifndef PMC_BSDF_H
 #define PMC_BSDF_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 #define PMC_MIN_ALPHA 0.002f
 

@@ -28,7 +28,7 @@
 #ifndef PMC_CACHE_H
 #define PMC_CACHE_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 #define PMC_LAMBDA_MIN (-16)
 #define PMC_LAMBDA_MAX 40

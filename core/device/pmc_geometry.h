@@ -16,7 +16,7 @@
 #ifndef PMC_GEOMETRY_H
 #define PMC_GEOMETRY_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 PMC_FN float pmc_offset_1(float p, float n, float s) {
   const float origin = s * (1.0f / 32.0f);

@@ -12,7 +12,7 @@
 #define PMC_INTERP_H
 
 #include "pmc_bsdf.h"
-#include "pmc_bytecode.h"
+#include "../abi/pmc_bytecode.h"
 #include "pmc_cache.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"

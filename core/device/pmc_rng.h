@@ -10,7 +10,7 @@
 #ifndef PMC_RNG_H
 #define PMC_RNG_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 PMC_FN pmc_u32 pmc_hash_u32(pmc_u32 x) {
   x ^= x >> 16;

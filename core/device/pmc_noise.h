@@ -47,7 +47,7 @@
 #ifndef PMC_NOISE_H
 #define PMC_NOISE_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 #define PMC_NOISE_FLT_MAX 3.40282347e38f
 #define PMC_NOISE_MAX_OCTAVES 16

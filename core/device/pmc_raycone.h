@@ -13,7 +13,7 @@
 #ifndef PMC_RAYCONE_H
 #define PMC_RAYCONE_H
 
-#include "pmc_vec.h"
+#include "../abi/pmc_vec.h"
 
 /* uv gradients along the footprint's axes. `ng` is the unit geometric normal,
  * `dir` the unit ray direction, `radius` the cone radius at the hit. */

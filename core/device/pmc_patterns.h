@@ -31,8 +31,8 @@
 #ifndef PMC_PATTERNS_H
 #define PMC_PATTERNS_H
 
-#include "pmc_bytecode.h"
-#include "pmc_vec.h"
+#include "../abi/pmc_bytecode.h"
+#include "../abi/pmc_vec.h"
 
 #define PMC_PATTERN_FLT_MAX 3.40282347e38f
 

@@ -12,8 +12,8 @@
 #ifndef PMC_TEXTURE_H
 #define PMC_TEXTURE_H
 
-#include "pmc_bytecode.h"
-#include "pmc_types.h"
+#include "../abi/pmc_bytecode.h"
+#include "../abi/pmc_types.h"
 
 typedef struct PmcTextureSet {
   PMC_GLOBAL const PmcTexture* textures;
