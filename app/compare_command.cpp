@@ -28,11 +28,11 @@
 #include "app/commands.h"
 #include "app/output_guard.h"
 #include "app/progress.h"
-#include "app/render_job.h"
 #include "app/render_options.h"
 #include "core/error.h"
 #include "core/heatmap.h"
 #include "core/image_metrics.h"
+#include "gpu/render_session.h"
 
 namespace pmc {
 namespace {
@@ -112,37 +112,35 @@ int run_compare(const std::vector<std::string>& args) {
   if (p.has("--reference-spp") && reference_spp <= 0)
     fail("--reference-spp: must be at least 1, got ", reference_spp);
   const bool quiet = p.has("--quiet");
+  RenderConfig config = render_config_from(p, obj);
   Image reference;
   const bool have_reference = p.has("--reference") || p.has("--reference-spp");
-  if (p.has("--reference")) {
-    // The size render_settings_from() will use; a bad --width/--height is its to report.
-    const RenderSettings defaults;
-    const int width = p.get_int("--width", defaults.width), height = p.get_int("--height", defaults.height);
-    if (width > 0 && height > 0) reference = read_reference(p.get("--reference"), width, height);
-  }
-  apply_thread_option(p);
-  ClContext cl(p.get("--device"));
+  if (p.has("--reference")) reference = read_reference(p.get("--reference"), config.width, config.height);
+  std::unique_ptr<ClContext> cl = open_device(config);
 
-  auto render = [&](RenderJob& job, const RenderSettings& s, const char* label) {
+  auto render = [&](RenderSession& session, const RenderSettings& s, const char* label) {
     ProgressBar bar(label, !quiet);
-    RenderOutput out = job.renderer->render(s, [&](int d, int t, uint64_t r) { bar.update(d, t, r); });
+    RenderOutput out = session.render(s, [&](int d, int t, uint64_t r) { bar.update(d, t, r); });
     bar.finish();
     if (out.stats.nan_pixels)
       warn(std::string(label) + ": " + std::to_string(out.stats.nan_pixels) + " non-finite pixels");
     return out;
   };
-  std::unique_ptr<RenderJob> off_job = prepare_render(p, obj, cl, "off", false);
-  std::unique_ptr<RenderJob> on_job = prepare_render(p, obj, cl, "on", !quiet);
+  config.cache = false;
+  RenderSession off_session(config, *cl);
+  config.cache = true;
+  RenderSession on_session(config, *cl);
+  if (!quiet) print_cache_choice(on_session.settings());
 
   // Every input is valid: from here on a failure removes what was created.
   out_dir.create();
-  RenderOutput off = render(*off_job, off_job->settings, "cache off");
-  RenderOutput on = render(*on_job, on_job->settings, "cache on ");
+  RenderOutput off = render(off_session, off_session.settings(), "cache off");
+  RenderOutput on = render(on_session, on_session.settings(), "cache on ");
   if (p.has("--reference-spp")) {
-    RenderSettings rs = off_job->settings;
+    RenderSettings rs = off_session.settings();
     rs.spp = reference_spp;
     rs.seed = rs.seed + 0x9e3779b9u;  // independent noise
-    reference = render(*off_job, rs, "reference").image;
+    reference = render(off_session, rs, "reference").image;
   }
 
   OutputGuard guard;
@@ -160,15 +158,16 @@ int run_compare(const std::vector<std::string>& args) {
   write_exr(path("hitmap.exr"), on.hitmap);
   if (p.has("--reference-spp")) write_exr(path("reference.exr"), reference);
 
+  const RenderSettings& on_settings = on_session.settings();
   const ImageError e = compare_images(on.image, off.image);
   const CacheStats& cs = on.stats.cache;
   const double t_off = off.stats.render_seconds, t_on = on.stats.render_seconds;
   nlohmann::json m;
   m["scene"] = obj;
-  m["width"] = on_job->settings.width;
-  m["height"] = on_job->settings.height;
-  m["spp"] = on_job->settings.spp;
-  m["seed"] = on_job->settings.seed;
+  m["width"] = on_settings.width;
+  m["height"] = on_settings.height;
+  m["spp"] = on_settings.spp;
+  m["seed"] = on_settings.seed;
   m["time_off_seconds"] = t_off;
   m["time_on_seconds"] = t_on;
   m["speed_ratio"] = t_on > 0 ? t_off / t_on : 0.0;
@@ -177,9 +176,9 @@ int run_compare(const std::vector<std::string>& args) {
   m["relmse"] = e.relmse;
   m["psnr"] = e.psnr;
   m["max_abs_error"] = e.max_abs;
-  m["hit_rate"] = cs.lookups ? double(cs.hits) / double(cs.lookups) : 0.0;
+  m["hit_rate"] = hit_rate(cs);
   m["cache_memory_bytes"] = cs.memory_bytes;
-  m["cache"] = {{"enabled", on_job->settings.cache.on},
+  m["cache"] = {{"enabled", on_settings.cache.on},
                 {"lookups", cs.lookups},
                 {"hits", cs.hits},
                 {"misses", cs.misses},
@@ -188,21 +187,22 @@ int run_compare(const std::vector<std::string>& args) {
                 {"dropped_full", cs.dropped_full},
                 {"not_encodable", cs.not_encodable},
                 {"memory_bytes", cs.memory_bytes},
-                {"size_reason", on_job->settings.cache.reason},
+                {"size_reason", with_flags(on_settings.cache.reason)},
                 {"occupancy", cs.occupancy()},
                 {"cells", cs.cells},
                 {"entries", cs.ways},
-                {"mip_bias", on_job->settings.cache.mip_bias},
-                {"eval", on_job->settings.cache.center ? "center" : "hit"},
-                {"filter", on_job->settings.cache.bilinear ? "bilinear" : "nearest"}};
+                {"mip_bias", on_settings.cache.mip_bias},
+                {"eval", on_settings.cache.center ? "center" : "hit"},
+                {"filter", on_settings.cache.bilinear ? "bilinear" : "nearest"}};
   m["diff_scale"] = diff_scale;
   m["nan_pixels"] = {{"off", off.stats.nan_pixels}, {"on", on.stats.nan_pixels}};
   if (have_reference) {
     if (p.has("--reference"))
       m["reference"] = {{"file", p.get("--reference")}};
     else
-      m["reference"] = {
-          {"file", "reference.exr"}, {"spp", reference_spp}, {"seed", off_job->settings.seed + 0x9e3779b9u}};
+      m["reference"] = {{"file", "reference.exr"},
+                        {"spp", reference_spp},
+                        {"seed", off_session.settings().seed + 0x9e3779b9u}};
     m["cached_vs_reference"] = error_json(compare_images(on.image, reference));
     m["cacheless_vs_reference"] = error_json(compare_images(off.image, reference));
   }
@@ -214,8 +214,8 @@ int run_compare(const std::vector<std::string>& args) {
   {
     std::ofstream r(path("report.md"));
     r << "# pmc compare: " << obj << "\n\n"
-      << on_job->settings.width << "x" << on_job->settings.height << ", " << on_job->settings.spp
-      << " spp, seed " << on_job->settings.seed << ", device " << on.stats.device << "\n\n"
+      << on_settings.width << "x" << on_settings.height << ", " << on_settings.spp << " spp, seed "
+      << on_settings.seed << ", device " << on.stats.device << "\n\n"
       << "| cache off | cache on | difference x" << diff_scale << " | cache hits per sample (0-20) |\n"
       << "|---|---|---|---|\n"
       << "| ![](cache_off.png) | ![](cache_on.png) | ![](difference.png) | ![](hitmap.png) |\n\n"

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/render_options.h"
 #include "core/error.h"
 
 namespace {
@@ -40,6 +41,9 @@ int main(int argc, char** argv) {
     if (command == "sweep") return pmc::run_sweep(args);
     std::fprintf(stderr, "pmc: unknown command '%s'\n", command.c_str());
     usage();
+    return 2;
+  } catch (const pmc::ConfigError& e) {  // a setting: shown as the flag that sets it
+    std::fprintf(stderr, "pmc: error: %s\n", e.phrased(pmc::flag_name).c_str());
     return 2;
   } catch (const pmc::Error& e) {
     std::fprintf(stderr, "pmc: error: %s\n", e.what());

@@ -6,12 +6,11 @@
 #include "app/commands.h"
 #include "app/output_guard.h"
 #include "app/progress.h"
-#include "app/render_job.h"
 #include "app/render_options.h"
 #include "core/error.h"
 #include "core/heatmap.h"
 #include "core/obj_loader.h"
-#include "materials/cutout.h"
+#include "gpu/render_session.h"
 
 namespace pmc {
 namespace {
@@ -54,7 +53,8 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
   c["memory_bytes"] = st.cache.memory_bytes;
   c["cells"] = st.cache.cells;
   c["entries"] = st.cache.ways;
-  c["size_reason"] = s.cache.on || !s.cache.reason.empty() ? s.cache.reason : std::string("--cache off");
+  c["size_reason"] =
+      s.cache.on || !s.cache.reason.empty() ? with_flags(s.cache.reason) : std::string("--cache off");
   j["cache"] = c;
   return j;
 }
@@ -104,14 +104,15 @@ int run_render(const std::vector<std::string>& args) {
     outputs.push_back({"--stats", p.get("--stats")});
   }
   check_distinct_outputs(outputs);
-  apply_thread_option(p);
 
-  ClContext cl(p.get("--device"));
-  std::unique_ptr<RenderJob> job = prepare_render(p, obj, cl, "", !p.has("--quiet"));
-  const RenderSettings& settings = job->settings;
+  const RenderConfig config = render_config_from(p, obj);
+  std::unique_ptr<ClContext> cl = open_device(config);
+  RenderSession session(config, *cl);
+  const RenderSettings& settings = session.settings();
+  if (!p.has("--quiet")) print_cache_choice(settings);
   ProgressBar bar("render", !p.has("--quiet"));
-  RenderOutput out = job->renderer->render(
-      settings, [&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });
+  RenderOutput out =
+      session.render([&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });
   bar.finish();
 
   OutputGuard guard;

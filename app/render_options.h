@@ -1,27 +1,23 @@
 // render_options.h — the render options shared by every subcommand that renders.
 //
-// declare_render_options() adds --width ... --env to a parser and
-// render_settings_from() validates them (positive sizes, sane depths) into
-// RenderSettings, resolving the camera: flags, else SCENE.camera, else
-// framing the scene's bounds.
+// declare_render_options() adds --width ... --chunk-rays to a parser and
+// render_config_from() maps them onto a RenderConfig (validated). Lower
+// layers name settings by their RenderConfig names (core/error.h);
+// flag_name() and with_flags() show them as the flags that set them.
 #pragma once
 
 #include "app/cli_args.h"
-#include "gpu/wavefront_renderer.h"
-#include "materials/material_set.h"
+#include "gpu/render_config.h"
 
 namespace pmc {
 
 void declare_render_options(ArgParser& p);
-MaterialOptions material_options_from(const ArgParser& p);
-RenderSettings render_settings_from(const ArgParser& p, const Scene& scene, const std::string& obj_path);
-// Decides the cache table size (--cache-cells/--cache-entries, else from the
-// scene) once the materials are compiled; turns the cache off when no
-// material has a cache point. Prints the choice when `verbose`.
-void size_cache(const ArgParser& p, const MaterialSet& materials, RenderSettings& s, bool cache_on,
-                bool verbose);
-uint64_t available_memory_bytes();
-// Applies --threads (TBB and PoCL thread counts); call before any OpenCL use.
-void apply_thread_option(const ArgParser& p);
+RenderConfig render_config_from(const ArgParser& p, const std::string& obj);
+// "cache_entries" -> "--cache-entries".
+std::string flag_name(const std::string& setting);
+// Text with marked settings (ConfigError messages, the cache size's reason) in flag names.
+std::string with_flags(const std::string& marked);
+// The cache table chosen for a render (or why there is none), on stderr.
+void print_cache_choice(const RenderSettings& settings);
 
 }  // namespace pmc

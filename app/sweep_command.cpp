@@ -36,10 +36,11 @@
 #include "app/commands.h"
 #include "app/output_guard.h"
 #include "app/progress.h"
-#include "app/render_job.h"
 #include "app/render_options.h"
+#include "core/cache_sizing.h"
 #include "core/error.h"
 #include "core/image_metrics.h"
+#include "gpu/render_session.h"
 
 namespace pmc {
 namespace {
@@ -271,12 +272,15 @@ int run_sweep(const std::vector<std::string>& args) {
   ArgParser render_args("", "");
   declare(render_args);
   render_args.parse(without_sweep_lists(args));
-  apply_thread_option(p);
-  ClContext cl(p.get("--device"));
+  RenderConfig config = render_config_from(render_args, obj);
+  std::unique_ptr<ClContext> cl = open_device(config);
   const bool quiet = p.has("--quiet");
-  std::unique_ptr<RenderJob> off_job = prepare_render(render_args, obj, cl, "off", false);
-  std::unique_ptr<RenderJob> on_job = prepare_render(render_args, obj, cl, "on", !quiet);
-  RenderSettings base = off_job->settings;
+  config.cache = false;
+  RenderSession off_session(config, *cl);
+  config.cache = true;
+  RenderSession on_session(config, *cl);
+  if (!quiet) print_cache_choice(on_session.settings());
+  RenderSettings base = off_session.settings();
   RenderSettings ref_settings = base;
   ref_settings.spp = p.get_int("--reference-spp", base.spp * 16);
   if (ref_settings.spp <= 0) fail("--reference-spp: must be at least 1");
@@ -284,21 +288,16 @@ int run_sweep(const std::vector<std::string>& args) {
   // Without --cells, each entries value gets the cell count that keeps the
   // automatic table's total entries (what `pmc render --cache-entries E` picks).
   const uint64_t auto_total =
-      on_job->settings.cache.cells * std::max<uint64_t>(1, on_job->settings.cache.ways);
+      on_session.settings().cache.cells * std::max<uint64_t>(1, on_session.settings().cache.ways);
   auto cells_for = [&](long long c, long long e) -> long long {
-    if (c > 0) return c;
-    uint64_t want = (auto_total + uint64_t(e) - 1) / uint64_t(e), pow2 = 1024;
-    while (pow2 < want) pow2 <<= 1;
-    return (long long)pow2;
+    return c > 0 ? c : (long long)cells_for_total_entries(auto_total, uint64_t(e));
   };
   if (cells.empty()) cells.push_back(-1);  // automatic
-  const double avail = double(available_memory_bytes());
   for (long long c0 : cells)
     for (long long e : entries)
-      if (const long long c = cells_for(c0, e); double(c) * double(e) * 8.0 > avail * 0.8)
-        fail(cells_arg.option, "/", entries_arg.option, ": a table of ", c, " cells x ", e, " entries (",
-             double(c) * double(e) * 8.0 / double(1 << 20), " MiB) does not fit in the ",
-             avail / double(1 << 20), " MiB of free memory");
+      if (std::string problem = table_memory_problem(uint64_t(cells_for(c0, e)), uint64_t(e));
+          !problem.empty())
+        fail(cells_arg.option, "/", entries_arg.option, ": ", problem);
 
   out_dir.create();
 
@@ -315,10 +314,10 @@ int run_sweep(const std::vector<std::string>& args) {
   };
   std::vector<Row> rows;
   rows.push_back({"cacheless", "off", "cache off", base, false, {}, {}});
-  const bool on_available = on_job->settings.cache.on;
+  const bool on_available = on_session.settings().cache.on;
   if (!on_available) warn(obj + ": no material has a cache point; only cacheless rows are written");
   auto cached_settings = [&](long long c, long long e, double b, const Mode& m) {
-    RenderSettings s = on_job->settings;
+    RenderSettings s = on_session.settings();
     s.cache.cells = uint64_t(cells_for(c, e));
     s.cache.ways = uint32_t(e);
     s.cache.mip_bias = float(b);
@@ -357,19 +356,19 @@ int run_sweep(const std::vector<std::string>& args) {
                       {}});
     }
 
-  auto render_once = [&](RenderJob& job, const RenderSettings& s, const std::string& label) {
+  auto render_once = [&](RenderSession& session, const RenderSettings& s, const std::string& label) {
     ProgressBar bar(label, !quiet);
-    RenderOutput out = job.renderer->render(s, [&](int d, int t, uint64_t n) { bar.update(d, t, n); });
+    RenderOutput out = session.render(s, [&](int d, int t, uint64_t n) { bar.update(d, t, n); });
     bar.finish();
     return out;
   };
-  Image reference = render_once(*off_job, ref_settings, "reference").image;
+  Image reference = render_once(off_session, ref_settings, "reference").image;
   for (int r = 0; r < repeat; ++r)
     for (size_t k = 0; k < rows.size(); ++k) {
       Row& row = rows[r % 2 == 0 ? k : rows.size() - 1 - k];
       std::string label = row.label;
       if (repeat > 1) label += " (round " + std::to_string(r + 1) + "/" + std::to_string(repeat) + ")";
-      RenderOutput out = render_once(row.cached ? *on_job : *off_job, row.settings, label);
+      RenderOutput out = render_once(row.cached ? on_session : off_session, row.settings, label);
       row.times.push_back(out.stats.render_seconds);
       if (row.times.size() == 1) row.out = std::move(out);
     }
@@ -390,14 +389,13 @@ int run_sweep(const std::vector<std::string>& args) {
     const RenderSettings& s = row.settings;
     const CacheStats& cs = row.out.stats.cache;
     const ImageError vs_ref = compare_images(row.out.image, reference);
-    const double hit_rate = cs.lookups ? double(cs.hits) / double(cs.lookups) : 0.0;
     if (!row.cached) {
       csv << row.kind << ",0,0,0,off," << s.spp << "," << row.out.stats.render_seconds << ",0,0,"
           << (row.kind == "cacheless" ? "999,0," : ",,") << vs_ref.relmse << "\n";
       continue;
     }
     csv << row.kind << "," << s.cache.cells << "," << s.cache.ways << "," << s.cache.mip_bias << ","
-        << row.mode << "," << s.spp << "," << row.out.stats.render_seconds << "," << hit_rate << ","
+        << row.mode << "," << s.spp << "," << row.out.stats.render_seconds << "," << hit_rate(cs) << ","
         << cs.memory_bytes << ",";
     if (row.kind == "setting") {
       const ImageError vs_off = compare_images(row.out.image, cacheless.image);

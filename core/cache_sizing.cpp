@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <sstream>
 
 namespace pmc {
@@ -19,11 +20,7 @@ CacheSize choose_cache_size(int width, int height, int spp, double points, uint6
   const double factor = expected_keys_per_pixel_point(spp);
   const double keys = pixels * std::max(points, 1.0) * factor;
   const double slots = keys * 2.0;  // load factor 1/2
-  uint64_t cells = uint64_t(std::ceil(slots / s.entries));
-  cells = std::max<uint64_t>(cells, 1024);
-  uint64_t pow2 = 1;  // a power of two: the cell index is a mask, not a 64-bit division
-  while (pow2 < cells) pow2 <<= 1;
-  cells = pow2;
+  uint64_t cells = table_cells_at_least(uint64_t(std::ceil(slots / s.entries)));
   const uint64_t max_cells = std::max<uint64_t>(1024, memory_limit_bytes / (8ull * s.entries));
   bool capped = cells > max_cells;
   while (cells > max_cells && cells > 1024) cells >>= 1;
@@ -36,6 +33,41 @@ CacheSize choose_cache_size(int width, int height, int spp, double points, uint6
      << (capped ? ", capped by the memory limit" : "");
   s.reason = os.str();
   return s;
+}
+
+uint64_t table_cells_at_least(uint64_t cells) {
+  uint64_t pow2 = 1024;
+  while (pow2 < cells) pow2 <<= 1;
+  return pow2;
+}
+
+uint64_t cells_for_total_entries(uint64_t total_entries, uint64_t entries) {
+  entries = std::max<uint64_t>(entries, 1);
+  return table_cells_at_least((total_entries + entries - 1) / entries);
+}
+
+uint64_t available_memory_bytes() {
+  std::ifstream in("/proc/meminfo");
+  std::string key;
+  uint64_t kb = 0;
+  while (in >> key) {
+    if (key == "MemAvailable:") {
+      in >> kb;
+      return kb * 1024;
+    }
+    std::string rest;
+    std::getline(in, rest);
+  }
+  return uint64_t(8) << 30;
+}
+
+std::string table_memory_problem(uint64_t cells, uint64_t entries) {
+  const double bytes = double(cells) * double(entries) * 8.0, avail = double(available_memory_bytes());
+  if (bytes <= avail * 0.8) return "";
+  std::ostringstream os;
+  os << "a table of " << cells << " cells x " << entries << " entries (" << bytes / double(1 << 20)
+     << " MiB) does not fit in the " << avail / double(1 << 20) << " MiB of free memory";
+  return os.str();
 }
 
 }  // namespace pmc

@@ -33,4 +33,18 @@ double expected_keys_per_pixel_point(int spp);
 CacheSize choose_cache_size(int width, int height, int spp, double cache_points_per_material,
                             uint64_t memory_limit_bytes, uint32_t entries = 8);
 
+// Cell counts are powers of two (the cell index is a mask, not a 64-bit
+// division) of at least 1024: the smallest such count >= `cells`.
+uint64_t table_cells_at_least(uint64_t cells);
+// The cells of `entries` each that hold `total_entries` (rounded up as above):
+// how a table keeps its size when its cells get wider or narrower.
+uint64_t cells_for_total_entries(uint64_t total_entries, uint64_t entries);
+
+// MemAvailable from /proc/meminfo (8 GiB where it cannot be read).
+uint64_t available_memory_bytes();
+// "" if a table of cells x entries (8 bytes each) fits in 80% of the free
+// memory, else what is wrong: "a table of C cells x E entries (X MiB) does
+// not fit in the Y MiB of free memory".
+std::string table_memory_problem(uint64_t cells, uint64_t entries);
+
 }  // namespace pmc

@@ -60,7 +60,7 @@ TraceMode parse_trace_mode(const std::string& name) {
   if (name == "stream") return TraceMode::Stream;
   if (name == "packet16") return TraceMode::Packet16;
   if (name == "single") return TraceMode::Single;
-  fail("--trace-mode: unknown mode '", name, "' (expected stream, packet16 or single)");
+  fail_config(setting("trace_mode"), ": unknown mode '", name, "' (expected stream, packet16 or single)");
 }
 
 const char* trace_mode_name(TraceMode mode) {

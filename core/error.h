@@ -1,15 +1,24 @@
 // error.h — how pmc reports bad input and broken invariants.
 //
-// Bad input (a malformed file, an impossible option) throws pmc::Error with a
-// message that names the file or option and what was wrong; `main` catches it,
-// prints it, removes half-written outputs and exits with code 2. PMC_CHECK
-// guards cheap invariants in release builds too and throws pmc::Error as well,
-// so a broken invariant is a message, not a crash.
+// Bad input (a malformed file, an impossible setting) throws pmc::Error with a
+// message that names the file or setting and what was wrong; the command line
+// prints it and exits with code 2 (the files a command had started to write
+// are removed by app/output_guard.h's OutputGuard as the error unwinds).
+// PMC_CHECK guards cheap invariants in release builds too and throws
+// pmc::Error as well, so a broken invariant is a message, not a crash.
+//
+// Layers below app/ know settings by their RenderConfig names (spp,
+// cache_entries), not by command-line flags: they throw ConfigError, whose
+// message marks each setting it names (fail_config(setting("spp"), ": must
+// be at least 1")). what() shows the plain names; app/ shows the flags.
 #pragma once
 
+#include <functional>
+#include <ostream>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace pmc {
 
@@ -27,6 +36,38 @@ template <typename... Parts>
 }
 
 void warn(const std::string& message);
+
+// A setting's name inside a ConfigError message (see above).
+struct SettingName {
+  const char* name;
+};
+inline SettingName setting(const char* name) { return {name}; }
+std::ostream& operator<<(std::ostream& os, SettingName s);
+using SettingRename = std::function<std::string(const std::string&)>;
+// Text with marked setting names, each replaced by rename(name) (by the
+// plain name without `rename`). Messages and reasons kept for later display
+// (the cache size's reason) are stored marked and shown through this.
+std::string phrase_settings(const std::string& marked, const SettingRename& rename = nullptr);
+
+class ConfigError : public Error {
+ public:
+  // `marked`: the message with settings streamed through setting().
+  explicit ConfigError(const std::string& marked);
+  // The message with each setting's name replaced by rename(name).
+  std::string phrased(const SettingRename& rename) const { return phrase_settings(marked_, rename); }
+  // The settings the message names, in order.
+  std::vector<std::string> settings() const;
+
+ private:
+  std::string marked_;
+};
+
+template <typename... Parts>
+[[noreturn]] __attribute__((noinline, cold)) void fail_config(const Parts&... parts) {
+  std::ostringstream os;
+  (os << ... << parts);
+  throw ConfigError(os.str());
+}
 
 }  // namespace pmc
 

@@ -113,7 +113,7 @@ ClContext::ClContext(const std::string& device_filter) {
     if (!pick) {
       std::string names;
       for (const ClDeviceInfo& d : devices) names += "\n  " + d.name + " (" + d.platform + ")";
-      fail("--device: no OpenCL device matches '", device_filter, "'; available:", names);
+      fail_config(setting("device"), ": no OpenCL device matches '", device_filter, "'; available:", names);
     }
   } else {
     for (const ClDeviceInfo& d : devices)

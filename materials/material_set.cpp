@@ -22,8 +22,8 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     if (!mtlx.count(options.override_material)) {
       std::string names;
       for (const auto& kv : mtlx) names += (names.empty() ? "" : ", ") + kv.first;
-      fail("--material: no material '", options.override_material,
-           "' in the --mtlx documents (they define: ", names.empty() ? "nothing" : names, ")");
+      fail_config(setting("material"), ": no material '", options.override_material, "' in the ",
+                  setting("mtlx"), " documents (they define: ", names.empty() ? "nothing" : names, ")");
     }
     MtlMaterial m;
     m.name = options.override_material;

@@ -4,15 +4,14 @@
 // white environment. Where the mask is 0 the camera must see the environment
 // (radiance exactly 1), where it is 1 the black quad (radiance exactly 0);
 // shadow rays use the same filter. Without the Embree filter the left half
-// would be black, so the test fails if cut-outs are ignored.
+// would be black, so the test fails if cut-outs are ignored (the session must
+// hand its cut-out tester to the tracer).
 #include "materials/cutout.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
-#include "core/embree_tracer.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -31,23 +30,20 @@ TEST(Cutout, MapDMaskMakesHalfTheQuadTransparent) {
   test::write_file(dir + "/q.obj",
                    "mtllib q.mtl\nv -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
                    "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nusemtl leaf\nf 1/1 2/2 3/3 4/4\n");
-  ObjLoadOptions load;
-  load.load_textures = false;
-  Scene scene = load_obj(dir + "/q.obj", load);
-  MaterialSet materials = build_material_set(scene, {});
-  CutoutTester cutout(scene, materials);
-  ASSERT_TRUE(cutout.any());
-  EmbreeTracer tracer(scene, TraceMode::Single, &cutout);
-  WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
-  RenderSettings s;
+  RenderConfig s;
+  s.scene = dir + "/q.obj";
+  s.cache = false;
   s.width = 32;
   s.height = 32;
   s.spp = 2;
   s.max_depth = 2;
-  s.env[0] = s.env[1] = s.env[2] = 1.0f;
-  s.camera.from[2] = 3.0f;
-  s.camera.fov_degrees = 30.0f;  // the quad covers the whole view
-  RenderOutput r = renderer.render(s);
+  s.env = {1.0f, 1.0f, 1.0f};
+  s.camera_from = Vec3{0.0f, 0.0f, 3.0f};
+  s.camera_at = Vec3{0.0f, 0.0f, 0.0f};
+  s.fov = 30.0f;  // the quad covers the whole view
+  RenderSession session(s, test::cl());
+  ASSERT_TRUE(CutoutTester(session.scene(), session.materials()).any());
+  RenderOutput r = session.render();
   auto px = [&](int x, int y) { return r.image.pixels[3 * size_t(y * 32 + x)]; };
   for (int y = 4; y < 28; y += 6) {
     EXPECT_FLOAT_EQ(px(4, y), 1.0f) << "left half must be transparent, row " << y;

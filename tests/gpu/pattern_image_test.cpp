@@ -26,10 +26,7 @@
 #include <cmath>
 #include <string>
 
-#include "core/embree_tracer.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
-#include "materials/material_set.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -110,21 +107,20 @@ const Image& rendered() {
     const std::string dir = test::temp_dir();
     test::write_file(dir + "/plane.obj", kPlaneObj);
     test::write_file(dir + "/pattern.mtlx", kPatternMtlx);
-    Scene scene = load_obj(dir + "/plane.obj");
-    MaterialSet materials = build_material_set(scene, MaterialOptions{{dir + "/pattern.mtlx"}, "Pattern"});
-    EmbreeTracer tracer(scene);
-    WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
-    RenderSettings s;
+    RenderConfig s;
+    s.scene = dir + "/plane.obj";
+    s.mtlx = {dir + "/pattern.mtlx"};
+    s.material = "Pattern";
+    s.cache = false;
     s.width = kSize;
     s.height = kSize;
     s.spp = kSpp;
     s.max_depth = 2;
-    s.camera.from[0] = 0, s.camera.from[1] = 0, s.camera.from[2] = 10;
-    s.camera.at[0] = 0, s.camera.at[1] = 0, s.camera.at[2] = 0;
-    s.camera.up[0] = 0, s.camera.up[1] = 1, s.camera.up[2] = 0;
+    s.camera_from = Vec3{0, 0, 10};
+    s.camera_at = Vec3{0, 0, 0};
     // tan(fov / 2) * distance = half the window: 0.04 * 10 = 0.4.
-    s.camera.fov_degrees = float(2.0 * std::atan(double(kHalfView) / 10.0) * 180.0 / M_PI);
-    RenderOutput out = renderer.render(s);
+    s.fov = float(2.0 * std::atan(double(kHalfView) / 10.0) * 180.0 / M_PI);
+    RenderOutput out = RenderSession(s, test::cl()).render();
     EXPECT_EQ(out.stats.nan_pixels, 0u);
     return out.image;
   }();

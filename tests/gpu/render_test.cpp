@@ -12,9 +12,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "core/embree_tracer.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -47,28 +45,30 @@ std::string sphere_obj(float r, int rings, int segments, const std::string& mtll
   return os.str();
 }
 
-RenderOutput render_scene(Scene& scene, const RenderSettings& s) {
-  MaterialSet materials = build_material_set(scene, {});
-  EmbreeTracer tracer(scene);
-  WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
-  return renderer.render(s);
+// `obj` with its MTL materials, no cache, seen from `from` towards `at`.
+RenderConfig config_for(const std::string& obj, Vec3 from, Vec3 at, float fov) {
+  RenderConfig c;
+  c.scene = obj;
+  c.cache = false;
+  c.camera_from = from;
+  c.camera_at = at;
+  c.fov = fov;
+  return c;
 }
+
+RenderOutput render_scene(const RenderConfig& config) { return RenderSession(config, test::cl()).render(); }
 
 TEST(Render, ClosedSphereFurnaceMatchesAnalyticRadiance) {
   const std::string dir = test::temp_dir();
   const float albedo = 0.5f, le = 1.0f;
   test::write_file(dir + "/furnace.mtl", "newmtl shell\nKd 0.5 0.5 0.5\nKs 0 0 0\nKe 1 1 1\n");
   test::write_file(dir + "/furnace.obj", sphere_obj(1.0f, 24, 48, "furnace.mtl", "shell"));
-  Scene scene = load_obj(dir + "/furnace.obj");
-  RenderSettings s;
+  RenderConfig s = config_for(dir + "/furnace.obj", {0.0f, 0.0f, 0.0f}, {1.0f, 0.1f, 0.2f}, 90.0f);
   s.width = 48;
   s.height = 32;
   s.spp = 64;
   s.max_depth = 200;  // a^200 is far below the tolerance: the truncation bias is nil
-  s.camera.from[0] = s.camera.from[1] = s.camera.from[2] = 0.0f;
-  s.camera.at[0] = 1.0f, s.camera.at[1] = 0.1f, s.camera.at[2] = 0.2f;
-  s.camera.fov_degrees = 90.0f;
-  RenderOutput out = render_scene(scene, s);
+  RenderOutput out = render_scene(s);
   const double expected = le / (1.0 - albedo);  // 2.0
   EXPECT_EQ(out.stats.nan_pixels, 0u);
   EXPECT_EQ(out.stats.bad_samples, 0u);
@@ -80,16 +80,14 @@ TEST(Render, ConvexLambertObjectInUniformEnvironmentShowsAlbedo) {
   const std::string dir = test::temp_dir();
   test::write_file(dir + "/ball.mtl", "newmtl ball\nKd 0.8 0.6 0.4\n");
   test::write_file(dir + "/ball.obj", sphere_obj(1.0f, 16, 32, "ball.mtl", "ball"));
-  Scene scene = load_obj(dir + "/ball.obj");
-  RenderSettings s;
+  // The sphere fills the centre, background at the corners.
+  RenderConfig s = config_for(dir + "/ball.obj", {0.0f, 0.0f, 4.0f}, {0.0f, 0.0f, 0.0f}, 40.0f);
   s.width = 32;
   s.height = 32;
   s.spp = 4;
   s.max_depth = 8;
-  s.env[0] = s.env[1] = s.env[2] = 2.0f;
-  s.camera.from[2] = 4.0f;
-  s.camera.fov_degrees = 40.0f;  // the sphere fills the centre, background at the corners
-  RenderOutput out = render_scene(scene, s);
+  s.env = {2.0f, 2.0f, 2.0f};
+  RenderOutput out = render_scene(s);
   // Centre pixel: on the sphere; corner pixel: background.
   const float* centre = &out.image.pixels[3 * (16 * 32 + 16)];
   EXPECT_NEAR(centre[0], 1.6f, 1e-3f);
@@ -101,18 +99,15 @@ TEST(Render, ConvexLambertObjectInUniformEnvironmentShowsAlbedo) {
 }
 
 TEST(Render, CornellBoxHasNoNanAndPlausibleBrightness) {
-  Scene scene = load_obj(test::shared_scene("cornell/cornell_box.obj"));
-  RenderSettings s;
+  // The camera of cornell_box.ecs.
+  RenderConfig s =
+      config_for(test::shared_scene("cornell/cornell_box.obj"), {278, 273, -800}, {278, 273, 0}, 37.0f);
   s.width = 80;
   s.height = 80;
   s.spp = 16;
   s.max_depth = 6;
-  s.env[0] = s.env[1] = s.env[2] = 1.0f;
-  // The camera of cornell_box.ecs.
-  float from[3] = {278, 273, -800}, at[3] = {278, 273, 0};
-  for (int i = 0; i < 3; ++i) s.camera.from[i] = from[i], s.camera.at[i] = at[i];
-  s.camera.fov_degrees = 37.0f;
-  RenderOutput out = render_scene(scene, s);
+  s.env = {1.0f, 1.0f, 1.0f};
+  RenderOutput out = render_scene(s);
   EXPECT_EQ(test::non_finite(out.image), 0u);
   EXPECT_EQ(out.stats.nan_pixels, 0u);
   // The box is lit only by the unit environment through its open front (the

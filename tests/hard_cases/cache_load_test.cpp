@@ -29,7 +29,6 @@
 
 #include <chrono>
 
-#include "core/camera.h"
 #include "core/image_metrics.h"
 #include "tests/hard_cases/hard_support.h"
 
@@ -45,43 +44,36 @@ TEST(CacheLoad, TinyAndHugeTablesOverThousandsOfSamples) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string obj = test::shared_scene("materialx/geometry/teapot.obj");
   const std::string mtlx = test::shared_scene("materialx/standard_surface_brick_procedural.mtlx");
-  ObjLoadOptions load;
-  load.load_textures = false;
-  const Scene base = load_obj(obj, load);
-  const EmbreeTracer tracer(base);
+  RenderConfig config;
+  config.scene = obj;
+  config.mtlx = {mtlx};
+  config.material = "M_BrickPattern";
+  config.width = 16;
+  config.height = 16;
+  config.spp = 2000;
+  config.max_depth = 3;
+  config.seed = 5;
+  config.env = {1.0f, 1.0f, 1.0f};
+  config.fov = 30.0f;  // framing the teapot: it fills the frame
+  config.cache_eval = CacheEval::Center;
+  config.cache_filter = CacheFilter::Nearest;
+  config.cache_min_nodes = 4;  // the brick's 21- and 7-node points: more keys under load
 
-  RenderSettings s;
-  s.width = 16;
-  s.height = 16;
-  s.spp = 2000;
-  s.max_depth = 3;
-  s.seed = 5;
-  s.env[0] = s.env[1] = s.env[2] = 1.0f;
-  s.camera = frame_bounds(base.bounds, 30.0f, 1.0f);  // the teapot fills the frame
-  s.cache.center = true;                              // pmc's default --cache-eval
-
-  auto run = [&](bool cache, uint64_t cells, uint32_t ways) {
-    Scene scene = base;
-    MaterialOptions mo{{mtlx}, "M_BrickPattern"};
-    mo.compile.cache = cache;
-    mo.compile.cache_min_nodes = 4;  // the brick's 21- and 7-node points: more keys under load
-    MaterialSet set = build_material_set(scene, mo);
-    size_t points = 0;
-    for (const CompiledMaterial& m : set.program.materials) points += m.cache_plan.points.size();
-    if (cache) EXPECT_GE(points, 2u) << "the brick material should have several cache points";
-    RenderSettings rs = s;
-    rs.cache.on = cache;
-    rs.cache.cells = cells;
-    rs.cache.ways = ways;
-    WavefrontRenderer renderer(test::cl(), scene, set, tracer);
+  auto run = [&](bool cache, int64_t cells, int64_t entries) {
+    RenderConfig c = config;
+    c.cache = cache;
+    c.cache_cells = cells;
+    c.cache_entries = entries;
+    RenderSession session(c, test::cl());
+    if (cache) EXPECT_GE(session.cache_points(), 2u) << "the brick material should have several cache points";
     LoadRun r;
     auto start = std::chrono::steady_clock::now();
-    r.out = renderer.render(rs);
+    r.out = session.render();
     r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
   };
 
-  LoadRun ref = run(false, 0, 0);
+  LoadRun ref = run(false, 1, 1);
   LoadRun tiny = run(true, 1, 1);
   LoadRun huge = run(true, uint64_t(1) << 21, 16);  // 2^25 entries, 256 MiB
 

@@ -4,9 +4,9 @@
 // * OBJ text builders (quads, boxes, a scaled test scene) that write plain
 //   numbers with full float precision;
 // * image writers (PNG / float EXR through OpenImageIO) for textures;
-// * render(): load an OBJ, bind materials (MTL or MaterialX), build the BVH
-//   and render with the progressive material cache on or off, the way
-//   `pmc render` does (minus cut-outs, which no hard case uses);
+// * render(): a RenderSession (gpu/render_session.h) of an OBJ and its
+//   materials (MTL or MaterialX) with the progressive material cache on or
+//   off, as `pmc render` renders;
 // * expect_clean(): the image has no NaN/Inf and the stats report none.
 #pragma once
 
@@ -20,11 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "core/embree_tracer.h"
 #include "core/error.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
-#include "materials/material_set.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc::hard {
@@ -193,25 +190,20 @@ struct Rendered {
   size_t cache_points = 0;
 };
 
-inline Rendered render(const RenderCase& c, RenderSettings s, bool cache) {
+// `config` with the case's scene and materials; a table of 2^14 cells x 8
+// entries unless the config names one.
+inline Rendered render(const RenderCase& c, RenderConfig config, bool cache) {
+  config.scene = c.obj;
+  config.mtlx = c.mtlx;
+  config.material = c.material;
+  config.cache = cache;
+  config.cache_min_nodes = c.cache_min_nodes;
+  if (!config.cache_cells) config.cache_cells = 1 << 14;
+  RenderSession session(config, test::cl());
   Rendered r;
-  Scene scene = load_obj(c.obj);
-  r.skipped_triangles = scene.skipped_triangles;
-  MaterialOptions mo;
-  mo.mtlx_files = c.mtlx;
-  mo.override_material = c.material;
-  mo.compile.cache = cache;
-  mo.compile.cache_min_nodes = c.cache_min_nodes;
-  MaterialSet set = build_material_set(scene, mo);
-  for (const CompiledMaterial& m : set.program.materials) r.cache_points += m.cache_plan.points.size();
-  s.cache.on = cache;
-  if (cache && s.cache.cells == 0) {
-    s.cache.cells = 1 << 14;
-    s.cache.ways = 8;
-  }
-  EmbreeTracer tracer(scene);
-  WavefrontRenderer renderer(test::cl(), scene, set, tracer);
-  r.out = renderer.render(s);
+  r.skipped_triangles = session.scene().skipped_triangles;
+  r.cache_points = session.cache_points();
+  r.out = session.render();
   return r;
 }
 
@@ -223,20 +215,22 @@ inline void expect_clean(const RenderOutput& out, const std::string& what) {
   EXPECT_TRUE(std::isfinite(test::image_mean(out.image))) << what;
 }
 
-inline void set_camera(RenderSettings& s, double fx, double fy, double fz, double ax, double ay, double az,
+inline void set_camera(RenderConfig& s, double fx, double fy, double fz, double ax, double ay, double az,
                        float fov = 45.0f) {
-  s.camera.from[0] = float(fx), s.camera.from[1] = float(fy), s.camera.from[2] = float(fz);
-  s.camera.at[0] = float(ax), s.camera.at[1] = float(ay), s.camera.at[2] = float(az);
-  s.camera.up[0] = 0, s.camera.up[1] = 1, s.camera.up[2] = 0;
-  s.camera.fov_degrees = fov;
+  s.camera_from = Vec3{float(fx), float(fy), float(fz)};
+  s.camera_at = Vec3{float(ax), float(ay), float(az)};
+  s.fov = fov;
 }
 
-inline RenderSettings small_settings(int w = 32, int h = 24, int spp = 4, int depth = 4) {
-  RenderSettings s;
+// A small image; the cache in hit mode (the renderer's own default) unless a
+// case asks for center.
+inline RenderConfig small_config(int w = 32, int h = 24, int spp = 4, int depth = 4) {
+  RenderConfig s;
   s.width = w;
   s.height = h;
   s.spp = spp;
   s.max_depth = depth;
+  s.cache_eval = CacheEval::Hit;
   return s;
 }
 

@@ -31,6 +31,8 @@
 #include <vector>
 
 #include "core/device/pmc_cache.h"
+#include "core/embree_tracer.h"
+#include "core/obj_loader.h"
 #include "core/sanitizers.h"
 #include "materials/cutout.h"
 #include "tests/hard_cases/hard_support.h"

@@ -34,6 +34,7 @@
 #include "core/device/pmc_cache.h"
 #include "core/device/pmc_geometry.h"
 #include "core/device/pmc_raycone.h"
+#include "core/obj_loader.h"
 #include "tests/hard_cases/hard_support.h"
 
 namespace pmc {
@@ -78,7 +79,7 @@ std::string label(const RenderCase& c, bool cache) {
 
 // Renders every variant with the cache off and on; all must be clean. The
 // cache must actually be exercised: lookups happen when it is on.
-void render_all_clean(const std::vector<RenderCase>& cases, const RenderSettings& s,
+void render_all_clean(const std::vector<RenderCase>& cases, const RenderConfig& s,
                       bool expect_lookups = true) {
   for (const RenderCase& c : cases)
     for (bool cache : {false, true}) {
@@ -107,7 +108,7 @@ TEST(Numerical, CameraRaysNearlyParallelToAHugePlane) {
   const double p[4][3] = {{-1000, 0, 1000}, {1000, 0, 1000}, {1000, 0, -1000}, {-1000, 0, -1000}};
   o.quad(p, -1000, -1000, 1000, 1000);
   test::write_file(dir + "/plane.obj", o.str());
-  RenderSettings s = hard::small_settings(48, 32, 4, 4);
+  RenderConfig s = hard::small_config(48, 32, 4, 4);
   hard::set_camera(s, 0, 1e-3, 0, 1, 1e-3, 0.05, 60.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   render_all_clean(material_variants(dir + "/plane.obj", dir), s);
@@ -129,7 +130,7 @@ TEST(Numerical, PathsBouncingAtGrazingAnglesBetweenTwoMirrors) {
   const double end[4][3] = {{1000, -1, -1}, {1000, -1, 1}, {1000, 1, 1}, {1000, 1, -1}};
   o.quad(end);
   test::write_file(dir + "/slab.obj", o.str());
-  RenderSettings s = hard::small_settings(32, 24, 4, 12);
+  RenderConfig s = hard::small_config(32, 24, 4, 12);
   hard::set_camera(s, -999, 0.005, 0, 0, 0.005, 0, 30.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   // The mirrors have no network; the end wall's texture chain is cached.
@@ -237,7 +238,7 @@ TEST(Numerical, DegenerateAndZeroAreaTriangles) {
   Scene scene = load_obj(dir + "/degenerate.obj");
   EXPECT_EQ(scene.skipped_triangles, 0u) << "finite degenerate triangles are kept (Embree ignores them)";
   EXPECT_EQ(scene.triangles.size(), 2u + 8u + 1u);
-  RenderSettings s = hard::small_settings(40, 40, 8, 5);
+  RenderConfig s = hard::small_config(40, 40, 8, 5);
   hard::set_camera(s, 0.01, 0.3, 3, 0, 0, 0, 60.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   render_all_clean(material_variants(dir + "/degenerate.obj", dir), s);
@@ -259,7 +260,7 @@ TEST(Numerical, ZeroAreaAndCollinearUvTriangles) {
   o.ft(a, ta, b, tb, c, tc);
   o.ft(a, ta, c, tc, d, td);
   test::write_file(dir + "/zero_uv.obj", o.str());
-  RenderSettings s = hard::small_settings(40, 24, 8, 4);
+  RenderConfig s = hard::small_config(40, 24, 8, 4);
   hard::set_camera(s, 0, 0, 4, 0, 0, 0, 50.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   render_all_clean(material_variants(dir + "/zero_uv.obj", dir), s);
@@ -287,15 +288,16 @@ TEST(Numerical, HugeAndNegativeUvs) {
   o.quad(q3, -3.5, -2.25, -0.5, 0.75);
   o.quad(q4, -1e7, -1e7, 1e7, 1e7);
   test::write_file(dir + "/huge_uv.obj", o.str());
-  RenderSettings s = hard::small_settings(64, 20, 8, 4);
+  RenderConfig s = hard::small_config(64, 20, 8, 4);
   hard::set_camera(s, 0, 0, 6, 0, 0, 0, 40.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   for (float bias : {0.0f, 8.0f}) {  // bias 8: finer levels, texel indices near 2^27
     SCOPED_TRACE("mip bias " + std::to_string(bias));
-    s.cache.mip_bias = bias;
+    s.mip_bias = bias;
     render_all_clean(material_variants(dir + "/huge_uv.obj", dir), s);
   }
-  s.cache.center = true;  // --cache-eval center re-evaluates at texel centres of huge texel indices
+  s.cache_eval = CacheEval::Center;  // re-evaluates at texel centres of huge texel indices
+  s.cache_filter = CacheFilter::Nearest;
   render_all_clean(material_variants(dir + "/huge_uv.obj", dir), s);
 }
 
@@ -337,7 +339,7 @@ TEST(Numerical, NonFiniteVertexDataIsSkippedOrRepaired) {
     EXPECT_TRUE(std::isfinite(scene.bounds.lo[i]));
     EXPECT_TRUE(std::isfinite(scene.bounds.hi[i]));
   }
-  RenderSettings s = hard::small_settings(32, 32, 8, 4);
+  RenderConfig s = hard::small_config(32, 32, 8, 4);
   hard::set_camera(s, 0.2, 0.1, 3, 0, 0, 0, 50.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   render_all_clean(material_variants(dir + "/nonfinite.obj", dir), s);
@@ -395,7 +397,7 @@ TEST(Numerical, NanAndInfTexelsInAFloatExrTexture) {
   EXPECT_EQ(t[4 * 1 + 0], 0u) << "+Inf texel channel";
   EXPECT_EQ(t[4 * 2 + 0], 0u) << "-Inf texel channel";
   EXPECT_EQ(t[4 * 0 + 1], 255u) << "3e38 is finite: it saturates";
-  RenderSettings s = hard::small_settings(32, 32, 8, 4);
+  RenderConfig s = hard::small_config(32, 32, 8, 4);
   hard::set_camera(s, 0, 0, 3, 0, 0, 0, 50.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   const std::string obj = dir + "/exr.obj";
@@ -436,7 +438,7 @@ TEST(Numerical, EmittersOfRadianceOneMillion) {
   o.quad(right);
   test::write_file(dir + "/bright.obj", o.str());
   const RenderCase c{dir + "/bright.obj", {dir + "/materials.mtlx"}, ""};
-  RenderSettings s = hard::small_settings(32, 32, 8, 5);
+  RenderConfig s = hard::small_config(32, 32, 8, 5);
   hard::set_camera(s, 0, 1.0, 3.5, 0, 0.5, 0, 70.0f);
   for (bool cache : {false, true}) {
     SCOPED_TRACE(label(c, cache));
@@ -503,7 +505,7 @@ TEST(Numerical, SceneScaleFromTenToTheMinusFourToTenToTheFive) {
   // mean by far more: e.g. shadow acne on the floor darkens a third of the image.
   const std::string dir = test::temp_dir();
   write_materials(dir);
-  RenderSettings s = hard::small_settings(32, 32, 16, 6);
+  RenderConfig s = hard::small_config(32, 32, 16, 6);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   const double n_paths = double(s.width) * s.height * s.spp;
   const double tolerance = 4.0 * std::sqrt(2.0) * 0.5 / std::sqrt(n_paths);
@@ -589,7 +591,7 @@ TEST(Numerical, CameraInsideAClosedMeshSeesNoLightFromOutside) {
     o.box(lo, hi);
     const std::string obj = dir + "/closed_" + hard::num(k) + ".obj";
     test::write_file(obj, o.str());
-    RenderSettings s = hard::small_settings(32, 32, 4, 16);
+    RenderConfig s = hard::small_config(32, 32, 4, 16);
     s.env[0] = s.env[1] = s.env[2] = 100.0f;
     hard::set_camera(s, 0.3 * k, 0.2 * k, 0.1 * k, 1.0 * k, 1.0 * k, 1.0 * k, 100.0f);  // looks into a corner
     hard::Rendered r = hard::render(RenderCase{obj, {}, ""}, s, false);
@@ -615,7 +617,7 @@ TEST(Numerical, MaximumPathDepthReachedByEveryPath) {
   double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
   o.box(lo, hi);
   test::write_file(dir + "/box.obj", o.str());
-  RenderSettings s = hard::small_settings(32, 32, 8, 3);
+  RenderConfig s = hard::small_config(32, 32, 8, 3);
   hard::set_camera(s, 0.1, -0.2, 0.3, 1, 0.5, -1, 90.0f);
   for (bool cache : {false, true}) {
     SCOPED_TRACE(cache ? "cache on" : "cache off");

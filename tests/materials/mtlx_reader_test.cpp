@@ -21,15 +21,13 @@
 #include <cmath>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
 
-#include "core/camera.h"
-#include "core/embree_tracer.h"
 #include "core/error.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
+#include "gpu/render_session.h"
 #include "materials/compiler.h"
 #include "materials/cpu_interpreter.h"
 #include "materials/material_set.h"
@@ -357,17 +355,21 @@ TEST(MtlxReader, EverySharedDocumentLoadsCompilesAndRenders) {
   std::sort(files.begin(), files.end());
   ASSERT_GE(files.size(), 5u) << "no MaterialX documents in " << dir;
 
-  ObjLoadOptions opts;
-  opts.load_textures = false;
-  const Scene base = load_obj(test::shared_scene("materialx/geometry/teapot.obj"), opts);
-  const EmbreeTracer tracer(base);  // the geometry is the same for every material
-  RenderSettings s;
-  s.width = 64;
-  s.height = 48;
-  s.spp = 2;
-  s.max_depth = 3;
-  s.env[0] = s.env[1] = s.env[2] = 1.0f;
-  s.camera = frame_bounds(base.bounds, 45.0f, float(s.width) / float(s.height));
+  RenderConfig config;  // the teapot, framed; cacheless
+  config.scene = test::shared_scene("materialx/geometry/teapot.obj");
+  config.cache = false;
+  config.width = 64;
+  config.height = 48;
+  config.spp = 2;
+  config.max_depth = 3;
+  config.env = {1.0f, 1.0f, 1.0f};
+  // The renderer builds its kernels with -DPMC_STACK_SIZE=<peak of the
+  // set>; each distinct peak costs a cold OpenCL build (seconds on PoCL,
+  // ~9 distinct peaks here). Raising the peak to one common value (a larger
+  // stack is always safe: it is what a scene with several materials gets)
+  // lets every render reuse one build. Exact-peak builds are exercised by
+  // the other render tests.
+  config.min_kernel_stack = kCommonStack;
 
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> uni(-1.0f, 2.0f);
@@ -380,18 +382,21 @@ TEST(MtlxReader, EverySharedDocumentLoadsCompilesAndRenders) {
     for (const Graph& g : graphs) {
       SCOPED_TRACE("material " + g.material);
       ++materials;
-      Scene scene = base;
-      MaterialSet set;
+      RenderConfig c = config;
+      c.mtlx = {file};
+      c.material = g.material;
+      std::unique_ptr<RenderSession> session;
       try {
-        set = build_material_set(scene, MaterialOptions{{file}, g.material});
+        session = std::make_unique<RenderSession>(c, test::cl());
       } catch (const Error& e) {
         ADD_FAILURE() << e.what();
         continue;
       }
       // Host evaluation: finite parameters at random shading points
       // (uv and positions outside the unit square included).
-      const int mat = int(scene.materials.size()) - 1;
-      PmcTextureSet ts = host_texture_set(scene, set);
+      const MaterialSet& set = session->materials();
+      const int mat = int(session->scene().materials.size()) - 1;
+      PmcTextureSet ts = host_texture_set(session->scene(), set);
       for (int i = 0; i < 64; ++i) {
         PmcShadingInputs in{};
         in.uv = make_float2(uni(rng), uni(rng));
@@ -405,18 +410,9 @@ TEST(MtlxReader, EverySharedDocumentLoadsCompilesAndRenders) {
         for (int k = 0; k < PMC_P_COUNT; ++k)
           ASSERT_TRUE(std::isfinite(params[k])) << "param " << k << " at uv " << in.uv.x << " " << in.uv.y;
       }
-      // The renderer builds its kernels with -DPMC_STACK_SIZE=<peak of the
-      // set>; each distinct peak costs a cold OpenCL build (seconds on PoCL,
-      // ~9 distinct peaks here). Raising the recorded peak to one common
-      // value (a larger stack is always safe: it is what a scene with several
-      // materials gets) lets every render reuse one build. Exact-peak builds
-      // are exercised by the other render tests.
-      for (CompiledMaterial& cm : set.program.materials)
-        if (cm.peak_stack <= kCommonStack) cm.peak_stack = kCommonStack;
       RenderOutput out;
       try {
-        WavefrontRenderer renderer(test::cl(), scene, set, tracer);
-        out = renderer.render(s);
+        out = session->render();
       } catch (const Error& e) {
         ADD_FAILURE() << e.what();
         continue;

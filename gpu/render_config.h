@@ -1,0 +1,85 @@
+// render_config.h — every choice a user makes about one render, as plain data.
+//
+// `pmc render`, `compare` and `sweep` fill a RenderConfig from their flags;
+// tests and other programs fill one directly. RenderSession
+// (gpu/render_session.h) turns it into a prepared render. validate() checks
+// each field for what it says (ranges, combinations, an explicit cache table
+// against free memory) without reading the scene or opening a device, and
+// throws ConfigError naming the fields by their names here ("spp: samples
+// per pixel must be at least 1, got 0"); app/ shows them as flags. What needs
+// the scene is resolved by the session: the camera when none is given (a
+// SCENE.camera file beside the OBJ, else framing the scene's bounds) and the
+// cache table's size when none is given (core/cache_sizing.h).
+//
+// Units: pixels, samples per pixel, surface hits per path, degrees (vertical
+// field of view), linear radiance (env), floats (kernel stack), rays.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/embree_tracer.h"
+#include "gpu/wavefront_renderer.h"
+#include "materials/cache_plan.h"
+
+namespace pmc {
+
+using Vec3 = std::array<float, 3>;
+
+// What a cache miss stores for a texel: the value at the inserting hit, or
+// at the texel's centre (then the image does not depend on the table).
+enum class CacheEval { Hit, Center };
+// The texel a lookup reads: the one under the hit, or a neighbour picked at
+// random with its bilinear weight (center mode only).
+enum class CacheFilter { Nearest, Bilinear };
+
+struct RenderConfig {
+  // The scene and its materials.
+  std::string scene;              // OBJ file
+  std::vector<std::string> mtlx;  // MaterialX documents: `usemtl NAME` binds to their material NAME
+  std::string material;           // one MaterialX material for every triangle ("": the OBJ's own)
+
+  // The image.
+  int width = 640, height = 360;  // pixels
+  int spp = 16;                   // samples per pixel
+  int max_depth = 8;              // surface hits per path, 1..1024
+  int64_t seed = 0;               // 0..2^32-1; equal seeds give identical images (cache: center mode)
+  Vec3 env = {0.0f, 0.0f, 0.0f};  // constant environment radiance
+
+  // The camera: camera_from and camera_at together (camera_up, fov), else a
+  // SCENE.camera file beside the OBJ (fov overrides its fov), else framing
+  // the scene's bounds (camera_up, fov).
+  std::optional<Vec3> camera_from, camera_at, camera_up;  // up: 0,1,0 when not given
+  std::optional<float> fov;                               // vertical, degrees, (0, 180); 45 when not given
+
+  // The progressive material cache.
+  bool cache = true;
+  std::optional<int64_t> cache_cells;  // cells; unset: sized from the scene
+  int64_t cache_entries = 8;           // entries per cell, 1..1024
+  float mip_bias = 0.0f;               // added to the virtual mip level (higher: finer), -32..32
+  CacheEval cache_eval = CacheEval::Center;
+  std::optional<CacheFilter> cache_filter;      // unset: bilinear with center, nearest with hit
+  int cache_min_nodes = kDefaultCacheMinNodes;  // smallest sub-graph worth a cache point
+
+  // The machine.
+  std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)
+  std::optional<int> threads;  // host and PoCL worker threads (unset: all cores)
+  TraceMode trace_mode = TraceMode::Single;
+  int64_t chunk_rays = 65536;     // rays per streamed chunk (0: the whole queue)
+  uint32_t min_kernel_stack = 0;  // floats; kernels get at least this stack (0: the materials' peak),
+                                  // so renders of different scenes can share one kernel build
+
+  // Throws ConfigError naming the first field that is out of range or
+  // contradicts another.
+  void validate() const;
+  CacheFilter effective_cache_filter() const;
+};
+
+// The renderer's settings for `config` (validated) that need no scene: image,
+// samples, seed, environment, chunking and the cache's mode (not its size).
+RenderSettings base_render_settings(const RenderConfig& config);
+
+}  // namespace pmc

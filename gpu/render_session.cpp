@@ -1,0 +1,128 @@
+// render_session.cpp — scene, materials, camera, cache size, BVH and renderer in one place.
+#include "gpu/render_session.h"
+
+#include <tbb/global_control.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "core/cache_sizing.h"
+#include "core/camera.h"
+#include "core/error.h"
+#include "core/obj_loader.h"
+
+namespace pmc {
+namespace {
+
+// The cache table for a program compiled with cache instructions: the
+// config's size, else one sized from the scene's cache points; none (the
+// cacheless program runs) when no material has a cache point.
+void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheSettings& cache, int width,
+                int height, int spp) {
+  size_t points = 0, with_points = 0;
+  for (const CompiledMaterial& m : materials.program.materials) {
+    points += m.cache_plan.points.size();
+    with_points += m.cache_plan.points.empty() ? 0 : 1;
+  }
+  if (points == 0) {
+    cache.on = false;  // nothing cacheable: run the cacheless path, allocate nothing
+    std::ostringstream os;
+    os << "no cacheable nodes in this scene's materials (none depends on uv alone with a sub-graph of at "
+          "least "
+       << setting("cache_min_nodes") << " nodes): the cacheless program runs and no table is allocated";
+    cache.reason = os.str();
+    return;
+  }
+  if (config.cache_cells) {
+    cache.cells = uint64_t(*config.cache_cells);
+    cache.ways = uint32_t(config.cache_entries);
+    std::ostringstream os;
+    os << "set by " << setting("cache_cells") << "/" << setting("cache_entries");
+    cache.reason = os.str();
+    return;
+  }
+  // cache_entries alone: the cell count follows, so the table holds the same keys.
+  const uint64_t avail = available_memory_bytes();
+  const double per_material = double(points) / double(std::max<size_t>(1, with_points));
+  const CacheSize cs =
+      choose_cache_size(width, height, spp, per_material, std::min<uint64_t>(avail / 4, 4ull << 30),
+                        uint32_t(config.cache_entries));
+  cache.cells = cs.cells;
+  cache.ways = cs.entries;
+  cache.reason = cs.reason;
+  if (std::string problem = table_memory_problem(cs.cells, cs.entries); !problem.empty())
+    fail_config(setting("cache_cells"), "/", setting("cache_entries"), ": ", problem);
+}
+
+}  // namespace
+
+Camera resolve_camera(const RenderConfig& c, const Scene& scene) {
+  const float fov = c.fov.value_or(45.0f);
+  Camera camera;
+  if (c.camera_from) {
+    std::copy(c.camera_from->begin(), c.camera_from->end(), camera.from);
+    std::copy(c.camera_at->begin(), c.camera_at->end(), camera.at);
+    if (c.camera_up) std::copy(c.camera_up->begin(), c.camera_up->end(), camera.up);
+    camera.fov_degrees = fov;
+  } else if (auto file = read_camera_file(std::filesystem::path(c.scene).replace_extension(".camera"))) {
+    camera = *file;
+    if (c.fov) camera.fov_degrees = fov;
+  } else {
+    camera = frame_bounds(scene.bounds, fov, float(c.width) / float(c.height));
+    if (c.camera_up) std::copy(c.camera_up->begin(), c.camera_up->end(), camera.up);
+  }
+  return camera;
+}
+
+RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : config_(config) {
+  config_.validate();
+  ObjLoadOptions load;
+  load.load_textures = false;  // the material compiler loads what live nodes read
+  scene_ = load_obj(config_.scene, load);
+  MaterialOptions mo;
+  mo.mtlx_files = config_.mtlx;
+  mo.override_material = config_.material;
+  mo.compile.cache = config_.cache;
+  mo.compile.cache_min_nodes = config_.cache_min_nodes;
+  materials_ = build_material_set(scene_, mo);
+  for (CompiledMaterial& m : materials_.program.materials)
+    m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
+  settings_ = base_render_settings(config_);
+  settings_.camera = resolve_camera(config_, scene_);
+  if (settings_.cache.on)
+    size_cache(config_, materials_, settings_.cache, config_.width, config_.height, config_.spp);
+  cutout_ = std::make_unique<CutoutTester>(scene_, materials_);
+  tracer_ =
+      std::make_unique<EmbreeTracer>(scene_, config_.trace_mode, cutout_->any() ? cutout_.get() : nullptr);
+  renderer_ = std::make_unique<WavefrontRenderer>(cl, scene_, materials_, *tracer_);
+}
+
+RenderSession::~RenderSession() = default;
+
+size_t RenderSession::cache_points() const {
+  size_t points = 0;
+  for (const CompiledMaterial& m : materials_.program.materials) points += m.cache_plan.points.size();
+  return points;
+}
+
+RenderOutput RenderSession::render(const RenderSettings& settings, const ProgressFn& progress) {
+  return renderer_->render(settings, progress);
+}
+
+std::unique_ptr<ClContext> open_device(const RenderConfig& config) {
+  if (config.threads) {
+    if (*config.threads <= 0) fail_config(setting("threads"), ": must be at least 1, got ", *config.threads);
+    static std::unique_ptr<tbb::global_control> control;
+    control = std::make_unique<tbb::global_control>(tbb::global_control::max_allowed_parallelism,
+                                                    size_t(*config.threads));
+    // PoCL's CPU driver reads these when the platform is first opened.
+    const std::string t = std::to_string(*config.threads);
+    setenv("POCL_MAX_PTHREAD_COUNT", t.c_str(), 1);
+    setenv("POCL_CPU_MAX_CU_NUM", t.c_str(), 1);
+  }
+  return std::make_unique<ClContext>(config.device);
+}
+
+}  // namespace pmc

@@ -1,0 +1,73 @@
+// render_session.h — one scene prepared for rendering from a RenderConfig.
+//
+// A session validates the config, loads the OBJ (textures are loaded by the
+// material compiler, only those live nodes read), binds and compiles its
+// materials (with cache instructions when config.cache), resolves the camera,
+// sizes the cache table (config.cache_cells, else from the scene's cache
+// points; the cache is turned off, with the reason in settings().cache.reason,
+// when no material has a cache point; the reason names settings marked as in
+// ConfigError messages: show it through phrase_settings), and builds the cut-out tester, the
+// Embree BVH and the OpenCL renderer. render() renders with the resolved
+// settings, or with settings derived from them (another spp, seed or cache
+// table over the same scene and program: what `compare` and `sweep` vary).
+// `pmc render`, `compare`, `sweep` and the tests all render through it, so a
+// cached and a cacheless render are always set up the same way.
+//
+// Errors: ConfigError for settings (see core/error.h), pmc::Error naming the
+// file for bad scenes and materials.
+#pragma once
+
+#include <memory>
+
+#include "core/embree_tracer.h"
+#include "core/scene.h"
+#include "gpu/cl_context.h"
+#include "gpu/render_config.h"
+#include "gpu/wavefront_renderer.h"
+#include "materials/cutout.h"
+#include "materials/material_set.h"
+
+namespace pmc {
+
+class RenderSession {
+ public:
+  RenderSession(const RenderConfig& config, const ClContext& cl);
+  ~RenderSession();
+  RenderSession(const RenderSession&) = delete;
+  RenderSession& operator=(const RenderSession&) = delete;
+
+  const RenderConfig& config() const { return config_; }
+  const Scene& scene() const { return scene_; }
+  const MaterialSet& materials() const { return materials_; }
+  // The resolved settings: camera, cache table size and why.
+  const RenderSettings& settings() const { return settings_; }
+  // Cache points over all compiled materials.
+  size_t cache_points() const;
+
+  RenderOutput render(const ProgressFn& progress = {}) { return render(settings_, progress); }
+  // `settings` must keep settings().cache.on (the program was compiled for it).
+  RenderOutput render(const RenderSettings& settings, const ProgressFn& progress = {});
+
+ private:
+  RenderConfig config_;
+  Scene scene_;
+  MaterialSet materials_;
+  RenderSettings settings_;
+  std::unique_ptr<CutoutTester> cutout_;
+  std::unique_ptr<EmbreeTracer> tracer_;
+  std::unique_ptr<WavefrontRenderer> renderer_;
+};
+
+// Limits the host (TBB) and PoCL worker threads to config.threads when set,
+// then opens the OpenCL device config.device names (ClContext's default
+// choice when empty). The thread limit must precede any OpenCL use, so
+// programs open their device through this.
+std::unique_ptr<ClContext> open_device(const RenderConfig& config);
+
+// The camera of `config` for `scene` (see RenderConfig).
+Camera resolve_camera(const RenderConfig& config, const Scene& scene);
+
+// Hits per lookup, 0 without lookups.
+inline double hit_rate(const CacheStats& s) { return s.lookups ? double(s.hits) / double(s.lookups) : 0.0; }
+
+}  // namespace pmc
