@@ -5,7 +5,8 @@
 #include <set>
 
 #include "core/device/pmc_cache.h"
-#include "materials/passes.h"
+#include "materials/graph_analysis.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 namespace {
@@ -27,6 +28,11 @@ bool encoding_for(ValueType t, uint32_t& enc) {
     default:
       return false;
   }
+}
+
+bool is_texcoord(const Node& n) {
+  const NodeDef* def = find_node_def(n.category);
+  return def && def->opcode == PMC_OP_TEXCOORD;
 }
 
 }  // namespace
@@ -67,7 +73,7 @@ CachePlan plan_cache(const Graph& g, int min_nodes) {
     } else if (size < min_nodes) {
       why = "sub-graph of " + std::to_string(size) + " nodes is cheaper than a lookup (threshold " +
             std::to_string(min_nodes) + ")";
-    } else if (node.input("index") && node.category == "texcoord") {
+    } else if (node.input("index") && is_texcoord(node)) {
       why = "a bare texcoord";
     } else {
       chosen.insert(n);
@@ -84,7 +90,7 @@ CachePlan plan_cache(const Graph& g, int min_nodes) {
     uint32_t d = deps[size_t(i)];
     if (d == kDepUv && !has_uv_only_consumer[size_t(i)]) {
       consider(i);
-    } else if (d != kDepUv && d != 0 && (d & kDepUv) == 0 && g.nodes[size_t(i)].category != "texcoord") {
+    } else if (d != kDepUv && d != 0 && (d & kDepUv) == 0 && !is_texcoord(g.nodes[size_t(i)])) {
       plan.not_cached.push_back({i, "depends on " + dependency_names(d)});
     } else if (d != kDepUv && (d & kDepUv)) {
       plan.not_cached.push_back({i, "depends on " + dependency_names(d) + ", not only uv"});

@@ -1,6 +1,6 @@
 // cache_plan.h — which nodes of a material the progressive cache stores.
 //
-// Bottom-up dependency bits (passes.h) say which shading-point inputs each
+// Bottom-up dependency bits (graph_analysis.h) say which shading-point inputs each
 // node reads. A node is a cache point when its whole sub-graph depends on uv
 // and nothing else (and is not constant), no consumer of it is also uv-only
 // (it is the highest such node), its value has a 32-bit encoding (float,

@@ -27,6 +27,7 @@
 
 #include "core/texture.h"
 #include "materials/cache_plan.h"
+#include "materials/emit.h"
 #include "materials/node_graph.h"
 #include "materials/passes.h"
 
@@ -62,9 +63,5 @@ const CompiledMaterial& compile_material(Graph& graph, TexturePool& textures, Ma
 
 // Human-readable listing of one material's program.
 std::string disassemble(const MaterialProgram& program, const CompiledMaterial& m);
-
-// Evaluates a node whose inputs are all constants (constant folding).
-// Returns false if the node cannot be folded (geometric, image ...).
-bool evaluate_constant(const Graph& g, const Node& n, Value& out);
 
 }  // namespace pmc

@@ -24,14 +24,18 @@
 // float and the gradient is 0 (flat, never NaN).
 #include "materials/height_normal.h"
 
-#include <functional>
 #include <map>
 
 #include "core/error.h"
-#include "materials/passes.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 namespace {
+
+bool is_texcoord(const Node& n) {
+  const NodeDef* def = find_node_def(n.category);
+  return def && def->opcode == PMC_OP_TEXCOORD;
+}
 
 int add_node(Graph& g, const std::string& category, ValueType t, std::vector<Input> inputs,
              const std::string& origin) {
@@ -55,7 +59,7 @@ class ShiftedCopier {
     if (it != copies_.end()) return it->second;
     int result = node;
     if (uses_uv(node)) {
-      if (g_.nodes[size_t(node)].category == "texcoord") {
+      if (is_texcoord(g_.nodes[size_t(node)])) {
         const Node& tc = g_.nodes[size_t(node)];
         result = add_node(g_, "add", ValueType::Vector2,
                           {Input::link("in1", ValueType::Vector2, node),
@@ -80,7 +84,7 @@ class ShiftedCopier {
     auto it = uses_uv_.find(node);
     if (it != uses_uv_.end()) return it->second;
     const Node& n = g_.nodes[size_t(node)];
-    bool uses = n.category == "texcoord";
+    bool uses = is_texcoord(n);
     for (const Input& in : n.inputs)
       if (in.linked && uses_uv(in.node)) uses = true;
     uses_uv_[node] = uses;
@@ -93,11 +97,12 @@ class ShiftedCopier {
   std::map<int, bool> uses_uv_;
 };
 
-// Rewrites node `i` (a heighttonormal) in place into the gradient network.
-void lower_one(Graph& g, int i) {
+}  // namespace
+
+void lower_height_to_normal(Graph& g, int i) {
   const Node h = g.nodes[size_t(i)];
   const Input* texcoord = h.input("texcoord");
-  if (texcoord && texcoord->linked && g.nodes[size_t(texcoord->node)].category != "texcoord")
+  if (texcoord && texcoord->linked && !is_texcoord(g.nodes[size_t(texcoord->node)]))
     fail(h.origin,
          ": heighttonormal computes the gradient with respect to the surface's uv; a texcoord "
          "input linked to '",
@@ -151,46 +156,22 @@ void lower_one(Graph& g, int i) {
   out.inputs = {Input::link("in1", V3, half), Input::constant("in2", F, 0.5f)};
 }
 
-}  // namespace
-
-void lower_height_to_normal(Graph& g) {
-  bool any = false;
-  for (const Node& n : g.nodes)
-    any = any || (!n.dead && (n.category == "heighttonormal" || n.category == "bump"));
-  if (!any) return;
-  check_acyclic(g);  // the copies below recurse through the graph
-  // bump = normalmap(heighttonormal(height), scale, normal, tangent, bitangent)
-  const size_t count = g.nodes.size();
-  for (size_t i = 0; i < count; ++i) {
-    if (g.nodes[i].dead || g.nodes[i].category != "bump") continue;
-    Node h2n;
-    h2n.category = "heighttonormal";
-    h2n.type = ValueType::Vector3;
-    h2n.origin = g.nodes[i].origin + " (heighttonormal)";
-    Input in = *g.nodes[i].input("height");
-    in.name = "in";
-    h2n.inputs = {in, Input::constant("scale", ValueType::Float, 1.0f)};
-    int h = g.add(std::move(h2n));
-    Node& b = g.nodes[i];
-    Input scale = *b.input("scale"), normal = *b.input("normal"), tangent = *b.input("tangent"),
-          bitangent = *b.input("bitangent");
-    b.category = "normalmap";
-    Input space = Input::constant("space", ValueType::String, 0.0f);
-    space.value.text = "tangent";
-    b.inputs = {Input::link("in", ValueType::Vector3, h), scale, normal, tangent, bitangent, space};
-  }
-  // Inputs first, so a heighttonormal under another one is lowered before it is copied.
-  std::vector<char> done(g.nodes.size(), 0);
-  std::function<void(int)> visit = [&](int i) {
-    if (done[size_t(i)]) return;
-    done[size_t(i)] = 1;
-    for (const Input& in : g.nodes[size_t(i)].inputs)
-      if (in.linked) visit(in.node);
-    if (g.nodes[size_t(i)].category == "heighttonormal") lower_one(g, i);
-  };
-  const size_t with_bumps = g.nodes.size();
-  for (size_t i = 0; i < with_bumps; ++i)
-    if (!g.nodes[i].dead) visit(int(i));
+void lower_bump(Graph& g, int i) {
+  Node h2n;
+  h2n.category = "heighttonormal";
+  h2n.type = ValueType::Vector3;
+  h2n.origin = g.nodes[size_t(i)].origin + " (heighttonormal)";
+  Input in = *g.nodes[size_t(i)].input("height");
+  in.name = "in";
+  h2n.inputs = {in, Input::constant("scale", ValueType::Float, 1.0f)};
+  int h = g.add(std::move(h2n));
+  Node& b = g.nodes[size_t(i)];
+  Input scale = *b.input("scale"), normal = *b.input("normal"), tangent = *b.input("tangent"),
+        bitangent = *b.input("bitangent");
+  b.category = "normalmap";
+  Input space = Input::constant("space", ValueType::String, 0.0f);
+  space.value.text = "tangent";
+  b.inputs = {Input::link("in", ValueType::Vector3, h), scale, normal, tangent, bitangent, space};
 }
 
 }  // namespace pmc

@@ -8,10 +8,13 @@ namespace pmc {
 // The uv step of heighttonormal's finite differences.
 constexpr float kHeightStep = 1.0f / 2048.0f;
 
-// Rewrites every heighttonormal and bump node of `g` into subtract /
-// multiply / combine3 / normalize / normalmap nodes over shifted copies of
-// the height sub-graph. Throws pmc::Error on a cycle or an unsupported
-// texcoord input.
-void lower_height_to_normal(Graph& g);
+// Rewrites heighttonormal node `node` in place into subtract / multiply /
+// combine3 / normalize nodes over shifted copies of its height sub-graph
+// (which must be acyclic and already lowered). Throws pmc::Error for an
+// unsupported texcoord input.
+void lower_height_to_normal(Graph& g, int node);
+// Rewrites bump node `node` in place into normalmap(heighttonormal(height)).
+void lower_bump(Graph& g, int node);
+// Both are lowering rules of the node table, applied by lowering.cpp.
 
 }  // namespace pmc

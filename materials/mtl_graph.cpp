@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "core/error.h"
-#include "materials/node_library.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 namespace {

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "core/error.h"
-#include "materials/node_library.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 namespace {

@@ -12,9 +12,11 @@
  * which is how MaterialX's "FA" variants (color3 * float) work. Every
  * operation computes on float4 lanes and writes `width` floats.
  *
- * PMC_OPCODES lists (name, minimum operands, maximum operands); the kernel
- * interpreter (pmc_interp.h), the CPU reference, the compiler and the
- * disassembler all expand this one list.
+ * PMC_OPCODES lists (name, minimum operands, maximum operands). Its expansions
+ * are the PmcOpcode enum here and the disassembler's and the parity test's name
+ * tables; the interpreter (core/device/pmc_interp.h) has one hand-written case
+ * per opcode, and which MaterialX node emits which opcode with which operand
+ * order is materials/node_table.cpp's job.
  */
 #ifndef PMC_BYTECODE_H
 #define PMC_BYTECODE_H
@@ -134,6 +136,28 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_P_COAT_COLOR 23 /* 3 */
 #define PMC_P_COAT_ROUGHNESS 26
 #define PMC_P_COUNT 28
+
+/* standard_surface inputs pmc models, each with its parameter, width and
+ * MaterialX 1.39 default: X(input, param, width, x, y, z). The device's
+ * pmc_surface_defaults() and the node table's standard_surface entry both
+ * expand this one list. */
+// clang-format off
+#define PMC_STANDARD_SURFACE(X)                                          \
+  X(base, PMC_P_BASE, 1, 1.0f, 0.0f, 0.0f)                               \
+  X(base_color, PMC_P_BASE_COLOR, 3, 0.8f, 0.8f, 0.8f)                   \
+  X(metalness, PMC_P_METALNESS, 1, 0.0f, 0.0f, 0.0f)                     \
+  X(specular, PMC_P_SPECULAR, 1, 1.0f, 0.0f, 0.0f)                       \
+  X(specular_color, PMC_P_SPECULAR_COLOR, 3, 1.0f, 1.0f, 1.0f)           \
+  X(specular_roughness, PMC_P_SPECULAR_ROUGHNESS, 1, 0.2f, 0.0f, 0.0f)   \
+  X(specular_IOR, PMC_P_SPECULAR_IOR, 1, 1.5f, 0.0f, 0.0f)               \
+  X(emission, PMC_P_EMISSION, 1, 0.0f, 0.0f, 0.0f)                       \
+  X(emission_color, PMC_P_EMISSION_COLOR, 3, 1.0f, 1.0f, 1.0f)           \
+  X(normal, PMC_P_NORMAL, 3, 0.0f, 0.0f, 0.0f)                           \
+  X(opacity, PMC_P_OPACITY, 3, 1.0f, 1.0f, 1.0f)                         \
+  X(coat, PMC_P_COAT, 1, 0.0f, 0.0f, 0.0f)                               \
+  X(coat_color, PMC_P_COAT_COLOR, 3, 1.0f, 1.0f, 1.0f)                   \
+  X(coat_roughness, PMC_P_COAT_ROUGHNESS, 1, 0.1f, 0.0f, 0.0f)
+// clang-format on
 
 /* Floats of stack per shading point: the compiler's limit. Kernels are built
  * with -DPMC_STACK_SIZE=<the scene's peak rounded up to a power of two, at

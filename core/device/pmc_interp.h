@@ -11,8 +11,8 @@
 #ifndef PMC_INTERP_H
 #define PMC_INTERP_H
 
-#include "pmc_bsdf.h"
 #include "../abi/pmc_bytecode.h"
+#include "pmc_bsdf.h"
 #include "pmc_cache.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
@@ -520,22 +520,21 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
 
 #undef PMC_ARG
 
-/* Parameter defaults of standard_surface (MaterialX 1.39). */
+/* Parameter defaults of standard_surface (PMC_STANDARD_SURFACE); the normal
+ * defaults to the shading normal. */
 PMC_FN void pmc_surface_defaults(float* p, float3 shading_normal) {
   for (int i = 0; i < PMC_P_COUNT; ++i) p[i] = 0.0f;
-  p[PMC_P_BASE] = 1.0f;
-  p[PMC_P_BASE_COLOR] = p[PMC_P_BASE_COLOR + 1] = p[PMC_P_BASE_COLOR + 2] = 0.8f;
-  p[PMC_P_SPECULAR] = 1.0f;
-  p[PMC_P_SPECULAR_COLOR] = p[PMC_P_SPECULAR_COLOR + 1] = p[PMC_P_SPECULAR_COLOR + 2] = 1.0f;
-  p[PMC_P_SPECULAR_ROUGHNESS] = 0.2f;
-  p[PMC_P_SPECULAR_IOR] = 1.5f;
-  p[PMC_P_EMISSION_COLOR] = p[PMC_P_EMISSION_COLOR + 1] = p[PMC_P_EMISSION_COLOR + 2] = 1.0f;
+#define PMC_SURFACE_DEFAULT(input, param, width, x, y, z) \
+  p[param] = x;                                           \
+  if (width > 1) {                                        \
+    p[param + 1] = y;                                     \
+    p[param + 2] = z;                                     \
+  }
+  PMC_STANDARD_SURFACE(PMC_SURFACE_DEFAULT)
+#undef PMC_SURFACE_DEFAULT
   p[PMC_P_NORMAL] = shading_normal.x;
   p[PMC_P_NORMAL + 1] = shading_normal.y;
   p[PMC_P_NORMAL + 2] = shading_normal.z;
-  p[PMC_P_OPACITY] = p[PMC_P_OPACITY + 1] = p[PMC_P_OPACITY + 2] = 1.0f;
-  p[PMC_P_COAT_COLOR] = p[PMC_P_COAT_COLOR + 1] = p[PMC_P_COAT_COLOR + 2] = 1.0f;
-  p[PMC_P_COAT_ROUGHNESS] = 0.1f;
 }
 
 PMC_FN float pmc_nonneg(float x) { return x > 0.0f && isfinite(x) ? x : 0.0f; }

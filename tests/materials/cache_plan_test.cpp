@@ -31,7 +31,7 @@
 #include "core/texture.h"
 #include "materials/compiler.h"
 #include "materials/node_graph.h"
-#include "materials/node_library.h"
+#include "materials/node_table.h"
 #include "materials/passes.h"
 
 namespace pmc {

@@ -18,7 +18,7 @@
 
 #include "core/error.h"
 #include "materials/node_graph.h"
-#include "materials/node_library.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 namespace {

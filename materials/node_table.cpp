@@ -1,6 +1,8 @@
-// node_library.cpp — the table of supported nodes (MaterialX 1.39 stdlib defaults).
-#include "materials/node_library.h"
+// node_table.cpp — the node table (node_table.h says what each field means and
+// what adding a node touches). Defaults are MaterialX 1.39 stdlib_defs.mtlx.
+#include "materials/node_table.h"
 
+#include <limits>
 #include <map>
 
 namespace pmc {
@@ -34,6 +36,11 @@ InputDef in_s(const std::string& name, const std::string& def) {
 InputDef in_geom(const std::string& name, const std::string& type, GeomDefault g) {
   return {name, type, num(0), g};
 }
+// An input the opcode does not read (a texcoord set index, a frame input).
+InputDef not_operand(InputDef d) {
+  d.operand = false;
+  return d;
+}
 InputDef in_any(const std::string& name) { return {name, "any", num(0), GeomDefault::None}; }
 
 const std::vector<std::string> kAllNumeric = {"float", "vector2", "vector3", "vector4", "color3", "color4"};
@@ -42,19 +49,37 @@ const std::vector<std::string> kFloatVec = kAllNumeric;
 std::map<std::string, NodeDef> build() {
   std::map<std::string, NodeDef> m;
   auto def = [&](const std::string& cat, std::vector<std::string> outs, std::vector<InputDef> ins, int op,
-                 unsigned imm = 0) {
-    m[cat] = NodeDef{cat, std::move(outs), std::move(ins), op, imm};
+                 unsigned imm = 0) -> NodeDef& {
+    NodeDef& d = m[cat];
+    d.category = cat;
+    d.output_types = std::move(outs);
+    d.inputs = std::move(ins);
+    d.opcode = op;
+    d.imm = imm;
+    d.emit = op >= 0 ? Emit::Opcode : Emit::Lowered;
+    return d;
+  };
+  // A node of the shading point: reads `deps`, never folded.
+  auto geometric = [](NodeDef& d, uint32_t deps) {
+    d.deps = deps;
+    d.folds = false;
   };
 
   def("constant", kAllNumeric, {in_t("value", 0)}, PMC_OP_MOVE);
-  def("dot", kAllNumeric, {in_t("in", 0)}, PMC_OP_MOVE);  // MaterialX "dot" is a pass-through
-  def("texcoord", {"vector2", "vector3"}, {in_i("index", 0)}, PMC_OP_TEXCOORD);
-  def("position", {"vector3"}, {in_s("space", "object")}, PMC_OP_POSITION);
-  def("normal", {"vector3"}, {in_s("space", "object")}, PMC_OP_NORMAL);
-  def("tangent", {"vector3"}, {in_s("space", "object"), in_i("index", 0)}, PMC_OP_TANGENT);
-  def("bitangent", {"vector3"}, {in_s("space", "object"), in_i("index", 0)}, PMC_OP_BITANGENT);
+  def("dot", kAllNumeric, {in_t("in", 0)}, PMC_OP_MOVE).algebra.pass_through =
+      "in";  // MaterialX "dot" is a pass-through
+  geometric(def("texcoord", {"vector2", "vector3"}, {not_operand(in_i("index", 0))}, PMC_OP_TEXCOORD),
+            kDepUv);
+  geometric(def("position", {"vector3"}, {in_s("space", "object")}, PMC_OP_POSITION), kDepPosition);
+  geometric(def("normal", {"vector3"}, {in_s("space", "object")}, PMC_OP_NORMAL), kDepNormal);
+  geometric(
+      def("tangent", {"vector3"}, {in_s("space", "object"), not_operand(in_i("index", 0))}, PMC_OP_TANGENT),
+      kDepTangent);
+  geometric(def("bitangent", {"vector3"}, {in_s("space", "object"), not_operand(in_i("index", 0))},
+                PMC_OP_BITANGENT),
+            kDepBitangent);
 
-  std::vector<InputDef> frame_inputs = {in_s("framerange", ""), in_i("frameoffset", 0),
+  std::vector<InputDef> frame_inputs = {in_s("framerange", ""), not_operand(in_i("frameoffset", 0)),
                                         in_s("frameendaction", "constant")};
   std::vector<InputDef> image = {{"file", "filename", text(""), GeomDefault::None},
                                  in_s("layer", ""),
@@ -64,7 +89,9 @@ std::map<std::string, NodeDef> build() {
                                  in_s("vaddressmode", "periodic"),
                                  in_s("filtertype", "linear")};
   image.insert(image.end(), frame_inputs.begin(), frame_inputs.end());
-  def("image", kAllNumeric, image, PMC_OP_IMAGE);
+  NodeDef& img = def("image", kAllNumeric, image, PMC_OP_IMAGE);
+  img.emit = Emit::Image;
+  img.folds = false;
   std::vector<InputDef> tiled = {{"file", "filename", text(""), GeomDefault::None},
                                  in_t("default", 0),
                                  in_geom("texcoord", "vector2", GeomDefault::UV0),
@@ -74,7 +101,7 @@ std::map<std::string, NodeDef> build() {
                                  in_v2("realworldtilesize", 1, 1),
                                  in_s("filtertype", "linear")};
   tiled.insert(tiled.end(), frame_inputs.begin(), frame_inputs.end());
-  def("tiledimage", kAllNumeric, tiled, -1);  // lowered to place math + IMAGE
+  def("tiledimage", kAllNumeric, tiled, -1).lower = Lower::TiledImage;  // place math + image
   def("place2d", {"vector2"},
       {in_v2("texcoord", 0, 0), in_v2("pivot", 0, 0), in_v2("scale", 1, 1), in_f("rotate", 0),
        in_v2("offset", 0, 0), in_i("operationorder", 0)},
@@ -106,15 +133,23 @@ std::map<std::string, NodeDef> build() {
       {in_geom("position", "vector3", GeomDefault::Pobject), in_f("jitter", 1), in_i("style", 0)},
       PMC_OP_WORLEY3D);
 
+  const float none = std::numeric_limits<float>::quiet_NaN();
   struct Bin {
     const char* name;
     int op;
     float in2;
+    float right_identity, left_identity;
+    bool zero_absorbs;
   };
-  for (Bin b : {Bin{"add", PMC_OP_ADD, 0}, Bin{"subtract", PMC_OP_SUB, 0}, Bin{"multiply", PMC_OP_MUL, 1},
-                Bin{"divide", PMC_OP_DIV, 1}, Bin{"modulo", PMC_OP_MOD, 1}, Bin{"power", PMC_OP_POW, 1},
-                Bin{"min", PMC_OP_MIN, 0}, Bin{"max", PMC_OP_MAX, 0}})
-    def(b.name, kAllNumeric, {in_t("in1", 0), in_t("in2", b.in2)}, b.op);
+  for (Bin b : {Bin{"add", PMC_OP_ADD, 0, 0, 0, false}, Bin{"subtract", PMC_OP_SUB, 0, 0, none, false},
+                Bin{"multiply", PMC_OP_MUL, 1, 1, 1, true}, Bin{"divide", PMC_OP_DIV, 1, 1, none, false},
+                Bin{"modulo", PMC_OP_MOD, 1, none, none, false}, Bin{"power", PMC_OP_POW, 1, 1, none, false},
+                Bin{"min", PMC_OP_MIN, 0, none, none, false}, Bin{"max", PMC_OP_MAX, 0, none, none, false}}) {
+    Algebra& a = def(b.name, kAllNumeric, {in_t("in1", 0), in_t("in2", b.in2)}, b.op).algebra;
+    a.right_identity = b.right_identity;
+    a.left_identity = b.left_identity;
+    a.zero_absorbs = b.zero_absorbs;
+  }
   struct Un {
     const char* name;
     int op;
@@ -128,13 +163,16 @@ std::map<std::string, NodeDef> build() {
   def("remap", kAllNumeric,
       {in_t("in", 0), in_t("inlow", 0), in_t("inhigh", 1), in_t("outlow", 0), in_t("outhigh", 1)},
       PMC_OP_REMAP);
-  def("dotproduct", {"float"}, {in_any("in1"), in_any("in2")}, PMC_OP_DOT);
-  def("mix", kAllNumeric, {in_t("fg", 0), in_t("bg", 0), in_t("mix", 0)}, PMC_OP_MIX);
+  def("dotproduct", {"float"}, {in_any("in1"), in_any("in2")}, PMC_OP_DOT).emit = Emit::Dot;
+  Algebra& mix = def("mix", kAllNumeric, {in_t("fg", 0), in_t("bg", 0), in_t("mix", 0)}, PMC_OP_MIX).algebra;
+  mix.selector = "mix";
+  mix.select0 = "bg";
+  mix.select1 = "fg";
   def("ifgreater", kAllNumeric, {in_f("value1", 1), in_f("value2", 0), in_t("in1", 0), in_t("in2", 0)},
       PMC_OP_IFGREATER);
   def("ifgreatereq", kAllNumeric, {in_f("value1", 1), in_f("value2", 0), in_t("in1", 0), in_t("in2", 0)},
       PMC_OP_IFGREATEREQ);
-  def("invert", kAllNumeric, {in_t("in", 0), in_t("amount", 1)}, -1);  // lowered to amount - in
+  def("invert", kAllNumeric, {in_t("in", 0), in_t("amount", 1)}, -1).lower = Lower::Invert;  // amount - in
 
   auto uv = in_geom("texcoord", "vector2", GeomDefault::UV0);
   def("ramplr", kAllNumeric, {in_t("valuel", 0), in_t("valuer", 0), uv}, PMC_OP_RAMPLR);
@@ -151,10 +189,13 @@ std::map<std::string, NodeDef> build() {
   def("luminance", {"color3", "color4"},
       {in_t("in", 0), {"lumacoeffs", "color3", num(0.2722287f, 0.6740818f, 0.0536895f), GeomDefault::None}},
       PMC_OP_LUMINANCE);
-  def("convert", kAllNumeric, {in_any("in")}, -1);
-  def("extract", {"float"}, {in_any("in"), in_i("index", 0)}, -1);
-  def("swizzle", kAllNumeric, {in_any("in"), in_s("channels", "")}, -1);
-  def("combine2", {"vector2", "color4", "vector4"}, {in_any("in1"), in_any("in2")}, -1);
+  NodeDef& convert = def("convert", kAllNumeric, {in_any("in")}, PMC_OP_MOVE);
+  convert.emit = Emit::Convert;
+  convert.algebra.pass_through = "in";
+  def("extract", {"float"}, {in_any("in"), in_i("index", 0)}, PMC_OP_SWIZZLE).emit = Emit::Extract;
+  def("swizzle", kAllNumeric, {in_any("in"), in_s("channels", "")}, PMC_OP_SWIZZLE).emit = Emit::Swizzle;
+  def("combine2", {"vector2", "color4", "vector4"}, {in_any("in1"), in_any("in2")}, PMC_OP_MOVE).emit =
+      Emit::Combine2;
   def("combine3", {"vector3", "color3"}, {in_f("in1", 0), in_f("in2", 0), in_f("in3", 0)}, PMC_OP_COMBINE);
   def("combine4", {"vector4", "color4"}, {in_f("in1", 0), in_f("in2", 0), in_f("in3", 0), in_f("in4", 0)},
       PMC_OP_COMBINE);
@@ -163,18 +204,20 @@ std::map<std::string, NodeDef> build() {
        in_f("scale", 1),
        in_geom("normal", "vector3", GeomDefault::Nworld),
        in_geom("tangent", "vector3", GeomDefault::Tworld),
-       in_geom("bitangent", "vector3", GeomDefault::Bworld),
+       not_operand(in_geom("bitangent", "vector3", GeomDefault::Bworld)),  // the opcode derives it
        in_s("space", "tangent")},
-      PMC_OP_NORMALMAP);
+      PMC_OP_NORMALMAP)
+      .folds = false;
 
   // Lowered to finite differences of shifted copies of the height sub-graph
   // (materials/height_normal.cpp); bump adds the normalmap.
-  def("heighttonormal", {"vector3"}, {in_f("in", 0), in_f("scale", 1), uv}, -1);
+  def("heighttonormal", {"vector3"}, {in_f("in", 0), in_f("scale", 1), uv}, -1).lower = Lower::HeightToNormal;
   def("bump", {"vector3"},
       {in_f("height", 0), in_f("scale", 1), in_geom("normal", "vector3", GeomDefault::Nworld),
        in_geom("tangent", "vector3", GeomDefault::Tworld),
        in_geom("bitangent", "vector3", GeomDefault::Bworld)},
-      -1);
+      -1)
+      .lower = Lower::Bump;
 
   std::vector<InputDef> shape = {uv, in_v2("uvtiling", 1, 1), in_v2("uvoffset", 0, 0), in_f("size", 0.5f),
                                  in_b("staggered", false)};
@@ -213,21 +256,18 @@ std::vector<std::string> supported_categories() {
 }
 
 std::vector<SurfaceParam> surface_params(const std::string& category) {
-  if (category == "standard_surface")
-    return {{"base", PMC_P_BASE, VT::Float, {1}},
-            {"base_color", PMC_P_BASE_COLOR, VT::Color3, {0.8f, 0.8f, 0.8f}},
-            {"metalness", PMC_P_METALNESS, VT::Float, {0}},
-            {"specular", PMC_P_SPECULAR, VT::Float, {1}},
-            {"specular_color", PMC_P_SPECULAR_COLOR, VT::Color3, {1, 1, 1}},
-            {"specular_roughness", PMC_P_SPECULAR_ROUGHNESS, VT::Float, {0.2f}},
-            {"specular_IOR", PMC_P_SPECULAR_IOR, VT::Float, {1.5f}},
-            {"emission", PMC_P_EMISSION, VT::Float, {0}},
-            {"emission_color", PMC_P_EMISSION_COLOR, VT::Color3, {1, 1, 1}},
-            {"normal", PMC_P_NORMAL, VT::Vector3, {0, 0, 0}},
-            {"opacity", PMC_P_OPACITY, VT::Color3, {1, 1, 1}},
-            {"coat", PMC_P_COAT, VT::Float, {0}},
-            {"coat_color", PMC_P_COAT_COLOR, VT::Color3, {1, 1, 1}},
-            {"coat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0.1f}}};
+  if (category == "standard_surface") {
+    // The defaults are the device's (PMC_STANDARD_SURFACE, pmc_bytecode.h).
+    std::vector<SurfaceParam> out;
+#define PMC_STANDARD_SURFACE_PARAM(input, param, width, x, y, z)                              \
+  out.push_back({#input,                                                                      \
+                 param,                                                                       \
+                 width == 1 ? VT::Float : (param == PMC_P_NORMAL ? VT::Vector3 : VT::Color3), \
+                 {x, y, z}});
+    PMC_STANDARD_SURFACE(PMC_STANDARD_SURFACE_PARAM)
+#undef PMC_STANDARD_SURFACE_PARAM
+    return out;
+  }
   if (category == "UsdPreviewSurface")
     return {{"diffuseColor", PMC_P_BASE_COLOR, VT::Color3, {0.18f, 0.18f, 0.18f}},
             {"metallic", PMC_P_METALNESS, VT::Float, {0}},

@@ -1,0 +1,120 @@
+// node_table.h — the one table of node semantics: every node pmc compiles natively.
+//
+// Each NodeDef says, for one MaterialX node category:
+//  - inputs: names, types ("T" = the node's own type, which also accepts a
+//    broadcast float), MaterialX 1.39 defaults and geometric defaults (an
+//    unconnected texcoord is UV0), listed in the order the opcode reads its
+//    operands; `operand = false` marks inputs the opcode does not read (space
+//    strings, texcoord indices, filenames);
+//  - deps: the shading-point inputs the node itself reads (texcoord -> uv),
+//    from which graph_analysis.cpp computes every node's dependency bits;
+//  - folds: whether a node whose inputs are all constant is evaluated at
+//    compile time (false for geometric nodes, images, normal maps);
+//  - algebra: the identities the folding pass applies (x*1, x+0, x*0, mix by
+//    0 or 1, pass-throughs), as data;
+//  - how it lowers: `emit` (an opcode with the inputs as operands, or one of
+//    the few emitters in emit.cpp: convert, extract, swizzle, combine2, image,
+//    dot), or `lower` (rewritten into other nodes before compiling, by
+//    lowering.cpp: invert, tiledimage, heighttonormal, bump).
+// Surface shaders (standard_surface, UsdPreviewSurface, pmc_mtl_surface) are
+// listed by surface_params(): which inputs become which BSDF parameters.
+//
+// Adding a node touches:
+//  1. this table (node_table.cpp): one def() line, with its inputs in operand order;
+//  2. the interpreter, if no existing opcode computes it: the opcode in
+//     PMC_OPCODES (core/abi/pmc_bytecode.h), its case in pmc_interp_run
+//     (core/device/pmc_interp.h), and a parity case in
+//     tests/gpu/interpreter_parity_test.cpp (device against host);
+//  3. tests/materials/node_table_test.cpp: an expected value for the node from
+//     its named inputs (an analytic formula or a direct call of the device
+//     function), which checks the operand order; the test fails for a table
+//     node without one.
+// A node MaterialX defines as a nodegraph needs no entry: the reader expands
+// it from the MaterialX library's implementation.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "core/abi/pmc_bytecode.h"
+#include "materials/node_graph.h"
+
+namespace pmc {
+
+// Shading-point dependency bits.
+enum : uint32_t { kDepUv = 1, kDepPosition = 2, kDepNormal = 4, kDepTangent = 8, kDepBitangent = 16 };
+
+enum class GeomDefault { None, UV0, Pobject, Pworld, Nworld, Nobject, Tworld, Tobject, Bworld };
+
+struct InputDef {
+  std::string name;
+  std::string type;  // "T" (the node's type), "any", "float", "vector2", ..., "string", "filename",
+                     // "integer", "boolean"
+  Value value;       // default when not geometric
+  GeomDefault geom = GeomDefault::None;
+  bool operand = true;  // read by the opcode (strings and filenames never are)
+};
+
+// How a node becomes instructions (emit.cpp).
+enum class Emit {
+  Opcode,    // `opcode` with imm `imm`, the operand inputs in table order
+  Convert,   // MOVE, or SWIZZLE when widening (MaterialX pads with 0, and 1 in the 4th lane)
+  Extract,   // SWIZZLE of one lane
+  Swizzle,   // SWIZZLE by the `channels` string
+  Combine2,  // two MOVEs of any widths side by side
+  Image,     // a texture from the pool; IMAGE
+  Dot,       // DOT with imm = the operand width
+  Lowered,   // rewritten by lowering.cpp before emission
+};
+
+// Graph rewrites before compiling (lowering.cpp), in three phases: plain
+// rewrites in node order, then bumps into normalmap(heighttonormal), then
+// heighttonormal inputs-first (it copies its height sub-graph).
+enum class Lower { None, Invert, TiledImage, Bump, HeightToNormal };
+
+// Identities the folding pass applies (passes.cpp). in1/in2 are the binary
+// operands; NaN means "no such identity".
+struct Algebra {
+  float right_identity = std::numeric_limits<float>::quiet_NaN();  // in2 == it: the node is in1
+  float left_identity = std::numeric_limits<float>::quiet_NaN();   // in1 == it: the node is in2
+  bool zero_absorbs = false;                                       // in1 or in2 == 0: the node is 0
+  const char* selector = nullptr;                                  // mix: 0 picks select0, 1 select1
+  const char* select0 = nullptr;
+  const char* select1 = nullptr;
+  const char* pass_through = nullptr;  // the node equals this input when their widths match
+};
+
+struct NodeDef {
+  std::string category;
+  std::vector<std::string> output_types;  // allowed output types
+  std::vector<InputDef> inputs;           // in operand order
+  int opcode = -1;                        // PMC_OP_*, or -1
+  unsigned imm = 0;
+  Emit emit = Emit::Opcode;
+  uint32_t deps = 0;  // kDep* bits the node itself reads
+  bool folds = true;
+  Algebra algebra;
+  Lower lower = Lower::None;
+};
+
+// The definition for `category`, or nullptr if pmc has no native one.
+const NodeDef* find_node_def(const std::string& category);
+// Resolves an input's declared type for a node of output type `node_type`.
+ValueType resolve_input_type(const InputDef& def, ValueType node_type);
+// Categories in the table (for error messages, docs and tests).
+std::vector<std::string> supported_categories();
+
+// Surface shader inputs that become surface parameters.
+struct SurfaceParam {
+  const char* input;
+  int param;  // PMC_P_*
+  ValueType type;
+  float def[3];  // the surface's own default (UsdPreviewSurface differs from standard_surface)
+};
+// Parameters of a surface category ("standard_surface", "UsdPreviewSurface",
+// "pmc_mtl_surface"); empty if the category is not a surface.
+std::vector<SurfaceParam> surface_params(const std::string& category);
+
+}  // namespace pmc

@@ -1,0 +1,368 @@
+// node_table_test.cpp — the node table (materials/node_table.h) against the interpreter.
+//
+// The table lists each node's inputs in the order its opcode reads them; the
+// interpreter (core/device/pmc_interp.h) reads operands by position. Nothing
+// else ties the two together, so here every node the table emits is compiled
+// through the table with a distinct value in every input lane, run on the
+// host interpreter, and compared with an answer computed from the inputs *by
+// name*: an analytic formula, or a direct call of the device function the
+// opcode wraps with the named arguments in their documented places. Swapping
+// any two inputs of different roles changes the answer. A node without an
+// expected answer here fails the completeness test, so a new node cannot be
+// added to the table without one.
+#include "materials/node_table.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+#include <string>
+#include <tuple>
+
+#include "core/device/pmc_interp.h"
+#include "materials/emit.h"
+
+namespace pmc {
+namespace {
+
+using Named = std::map<std::string, float4>;
+struct Shading {
+  float2 uv = make_float2(0.3125f, 0.6875f);
+  float3 p = make_float3(1.25f, -0.75f, 2.5f);
+  float3 n = make_float3(0.0f, 0.6f, 0.8f);
+  float3 t = make_float3(1.0f, 0.0f, 0.0f);
+  float3 b = make_float3(0.0f, 0.8f, -0.6f);
+};
+using Expected = std::function<float4(const Named& in, const Shading& s, int width)>;
+
+float4 f4(float x, float y, float z, float w) { return make_float4(x, y, z, w); }
+float4 bc(float x) { return make_float4(x, x, x, x); }
+float lane(float4 v, int i) { return i == 0 ? v.x : i == 1 ? v.y : i == 2 ? v.z : v.w; }
+float4 map4(float4 a, float4 b, float (*fn)(float, float)) {
+  return f4(fn(a.x, b.x), fn(a.y, b.y), fn(a.z, b.z), fn(a.w, b.w));
+}
+float4 map1(float4 a, float (*fn)(float)) { return f4(fn(a.x), fn(a.y), fn(a.z), fn(a.w)); }
+float2 xy(float4 v) { return make_float2(v.x, v.y); }
+float3 xyz(float4 v) { return make_float3(v.x, v.y, v.z); }
+float smooth1(float x, float lo, float hi) {
+  if (x >= hi) return 1.0f;
+  if (x <= lo) return 0.0f;
+  float t = (x - lo) / (hi - lo);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+// The answer for each node, from its inputs by name.
+std::map<std::string, Expected> expectations() {
+  std::map<std::string, Expected> e;
+  e["constant"] = [](const Named& in, const Shading&, int) { return in.at("value"); };
+  e["dot"] = [](const Named& in, const Shading&, int) { return in.at("in"); };
+  e["texcoord"] = [](const Named&, const Shading& s, int) { return f4(s.uv.x, s.uv.y, 0, 0); };
+  e["position"] = [](const Named&, const Shading& s, int) { return f4(s.p.x, s.p.y, s.p.z, 0); };
+  e["normal"] = [](const Named&, const Shading& s, int) { return f4(s.n.x, s.n.y, s.n.z, 0); };
+  e["tangent"] = [](const Named&, const Shading& s, int) { return f4(s.t.x, s.t.y, s.t.z, 0); };
+  e["bitangent"] = [](const Named&, const Shading& s, int) { return f4(s.b.x, s.b.y, s.b.z, 0); };
+  e["place2d"] = [](const Named& in, const Shading&, int) {
+    return pmc_place2d(in.at("texcoord"), in.at("pivot"), in.at("scale"), in.at("rotate").x, in.at("offset"),
+                       int(in.at("operationorder").x));
+  };
+  e["noise2d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_noise2d(xy(in.at("texcoord")), pmc_u32(w)) * in.at("amplitude") + bc(in.at("pivot").x);
+  };
+  e["noise3d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_noise3d(xyz(in.at("position")), pmc_u32(w)) * in.at("amplitude") + bc(in.at("pivot").x);
+  };
+  e["fractal2d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_fractal2d(xy(in.at("texcoord")), int(in.at("octaves").x), in.at("lacunarity").x,
+                            in.at("diminish").x, pmc_u32(w)) *
+           in.at("amplitude");
+  };
+  e["fractal3d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_fractal3d(xyz(in.at("position")), int(in.at("octaves").x), in.at("lacunarity").x,
+                            in.at("diminish").x, pmc_u32(w)) *
+           in.at("amplitude");
+  };
+  e["cellnoise2d"] = [](const Named& in, const Shading&, int) {
+    return bc(pmc_op_cellnoise2d(xy(in.at("texcoord"))));
+  };
+  e["cellnoise3d"] = [](const Named& in, const Shading&, int) {
+    return bc(pmc_op_cellnoise3d(xyz(in.at("position"))));
+  };
+  e["worleynoise2d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_worley2d(xy(in.at("texcoord")), in.at("jitter").x, int(in.at("style").x), pmc_u32(w));
+  };
+  e["worleynoise3d"] = [](const Named& in, const Shading&, int w) {
+    return pmc_op_worley3d(xyz(in.at("position")), in.at("jitter").x, int(in.at("style").x), pmc_u32(w));
+  };
+  e["add"] = [](const Named& in, const Shading&, int) { return in.at("in1") + in.at("in2"); };
+  e["subtract"] = [](const Named& in, const Shading&, int) { return in.at("in1") - in.at("in2"); };
+  e["multiply"] = [](const Named& in, const Shading&, int) { return in.at("in1") * in.at("in2"); };
+  e["divide"] = [](const Named& in, const Shading&, int) { return in.at("in1") / in.at("in2"); };
+  e["modulo"] = [](const Named& in, const Shading&, int) {
+    return map4(in.at("in1"), in.at("in2"), [](float a, float b) { return a - b * std::floor(a / b); });
+  };
+  e["power"] = [](const Named& in, const Shading&, int) {
+    return map4(in.at("in1"), in.at("in2"), [](float a, float b) { return std::pow(a, b); });
+  };
+  e["min"] = [](const Named& in, const Shading&, int) {
+    return map4(in.at("in1"), in.at("in2"), [](float a, float b) { return std::fmin(a, b); });
+  };
+  e["max"] = [](const Named& in, const Shading&, int) {
+    return map4(in.at("in1"), in.at("in2"), [](float a, float b) { return std::fmax(a, b); });
+  };
+  e["absval"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::fabs); };
+  e["floor"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::floor); };
+  e["ceil"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::ceil); };
+  e["sin"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::sin); };
+  e["cos"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::cos); };
+  e["sqrt"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::sqrt); };
+  e["normalize"] = [](const Named& in, const Shading&, int w) {
+    float4 a = in.at("in");
+    float l2 = 0;
+    for (int i = 0; i < w; ++i) l2 += lane(a, i) * lane(a, i);
+    return a * (1.0f / std::sqrt(l2));
+  };
+  e["clamp"] = [](const Named& in, const Shading&, int) {
+    float4 r = map4(in.at("in"), in.at("low"), [](float a, float b) { return std::fmax(a, b); });
+    return map4(r, in.at("high"), [](float a, float b) { return std::fmin(a, b); });
+  };
+  e["smoothstep"] = [](const Named& in, const Shading&, int) {
+    float4 x = in.at("in"), lo = in.at("low"), hi = in.at("high");
+    return f4(smooth1(x.x, lo.x, hi.x), smooth1(x.y, lo.y, hi.y), smooth1(x.z, lo.z, hi.z),
+              smooth1(x.w, lo.w, hi.w));
+  };
+  e["remap"] = [](const Named& in, const Shading&, int) {
+    return in.at("outlow") + (in.at("in") - in.at("inlow")) * (in.at("outhigh") - in.at("outlow")) /
+                                 (in.at("inhigh") - in.at("inlow"));
+  };
+  e["mix"] = [](const Named& in, const Shading&, int) {
+    return in.at("bg") + (in.at("fg") - in.at("bg")) * in.at("mix");
+  };
+  e["ifgreater"] = [](const Named& in, const Shading&, int) {
+    return in.at("value1").x > in.at("value2").x ? in.at("in1") : in.at("in2");
+  };
+  e["ifgreatereq"] = [](const Named& in, const Shading&, int) {
+    return in.at("value1").x >= in.at("value2").x ? in.at("in1") : in.at("in2");
+  };
+  auto clamp01 = [](float x) { return std::fmin(std::fmax(x, 0.0f), 1.0f); };
+  e["ramplr"] = [=](const Named& in, const Shading&, int) {
+    return in.at("valuel") + (in.at("valuer") - in.at("valuel")) * clamp01(in.at("texcoord").x);
+  };
+  e["ramptb"] = [=](const Named& in, const Shading&, int) {
+    return in.at("valueb") + (in.at("valuet") - in.at("valueb")) * clamp01(in.at("texcoord").y);
+  };
+  e["ramp4"] = [=](const Named& in, const Shading&, int) {
+    float s = clamp01(in.at("texcoord").x), t = clamp01(in.at("texcoord").y);
+    float4 top = in.at("valuetl") + (in.at("valuetr") - in.at("valuetl")) * s;
+    float4 bottom = in.at("valuebl") + (in.at("valuebr") - in.at("valuebl")) * s;
+    return bottom + (top - bottom) * t;
+  };
+  e["splitlr"] = [](const Named& in, const Shading&, int) {
+    return in.at("texcoord").x < in.at("center").x ? in.at("valuel") : in.at("valuer");
+  };
+  e["splittb"] = [](const Named& in, const Shading&, int) {
+    return in.at("texcoord").y > in.at("center").x ? in.at("valuet") : in.at("valueb");
+  };
+  e["rgbtohsv"] = [](const Named& in, const Shading&, int) { return pmc_rgb_to_hsv(in.at("in")); };
+  e["hsvtorgb"] = [](const Named& in, const Shading&, int) { return pmc_hsv_to_rgb(in.at("in")); };
+  e["luminance"] = [](const Named& in, const Shading&, int) {
+    float4 c = in.at("in"), k = in.at("lumacoeffs");
+    float l = c.x * k.x + c.y * k.y + c.z * k.z;
+    return f4(l, l, l, c.w);
+  };
+  e["combine3"] = [](const Named& in, const Shading&, int) {
+    return f4(in.at("in1").x, in.at("in2").x, in.at("in3").x, 0);
+  };
+  e["combine4"] = [](const Named& in, const Shading&, int) {
+    return f4(in.at("in1").x, in.at("in2").x, in.at("in3").x, in.at("in4").x);
+  };
+  e["normalmap"] = [](const Named& in, const Shading&, int) {
+    return pmc_normalmap(in.at("in"), in.at("scale").x, xyz(in.at("normal")), xyz(in.at("tangent")));
+  };
+  auto shape = [](pmc_u32 kind) {
+    return [kind](const Named& in, const Shading&, int) {
+      return pmc_op_tiledshape(xy(in.at("texcoord")), xy(in.at("uvtiling")), xy(in.at("uvoffset")),
+                               in.at("size").x, in.at("staggered").x != 0.0f, kind);
+    };
+  };
+  e["tiledcircles"] = shape(PMC_SHAPE_CIRCLES);
+  e["tiledcloverleafs"] = shape(PMC_SHAPE_CLOVERLEAFS);
+  e["tiledhexagons"] = shape(PMC_SHAPE_HEXAGONS);
+  auto lines = [](pmc_u32 kind) {
+    return [kind](const Named& in, const Shading&, int) {
+      return pmc_op_linepattern(xy(in.at("texcoord")), xy(in.at("uvtiling")), xy(in.at("uvoffset")),
+                                in.at("thickness").x, in.at("staggered").x != 0.0f, kind);
+    };
+  };
+  e["grid"] = lines(PMC_LINES_GRID);
+  e["crosshatch"] = lines(PMC_LINES_CROSSHATCH);
+  // Special emitters (Emit::Convert ... Emit::Dot), with the input types chosen in any_type().
+  e["convert"] = [](const Named& in, const Shading&, int w) {  // from vector2
+    float4 a = in.at("in");
+    return w <= 2 ? a : f4(a.x, a.y, 0, w == 4 ? 1.0f : 0.0f);
+  };
+  e["extract"] = [](const Named& in, const Shading&, int) { return bc(in.at("in").z); };  // index 2
+  e["swizzle"] = [](const Named& in, const Shading&, int) {                               // channels "zxy"
+    float4 a = in.at("in");
+    return f4(a.z, a.x, a.y, 0);
+  };
+  e["combine2"] = [](const Named& in, const Shading&, int w) {
+    float4 a = in.at("in1"), b = in.at("in2");
+    return w == 2 ? f4(a.x, b.x, 0, 0) : f4(a.x, a.y, b.x, b.y);  // vector4 from two vector2
+  };
+  e["dotproduct"] = [](const Named& in, const Shading&, int) {
+    float4 a = in.at("in1"), b = in.at("in2");
+    return bc(a.x * b.x + a.y * b.y + a.z * b.z);
+  };
+  return e;
+}
+
+// Types of "any" inputs, and string inputs the special emitters read.
+ValueType any_type(const std::string& category, const std::string& input, ValueType node_type) {
+  if (category == "convert") return ValueType::Vector2;
+  if (category == "extract") return ValueType::Color4;
+  if (category == "swizzle") return ValueType::Color3;
+  if (category == "combine2") return node_type == ValueType::Vector2 ? ValueType::Float : ValueType::Vector2;
+  if (category == "dotproduct") return ValueType::Vector3;
+  ADD_FAILURE() << category << " input " << input << ": no type chosen for an 'any' input";
+  return ValueType::Float;
+}
+
+// Distinct values: input k, lane l. Integer and boolean inputs get small
+// integers (they select modes, octaves, styles), distinct from the floats.
+float4 value_for(const InputDef& d, int k, const std::string& category) {
+  if (category == "extract" && d.name == "index") return bc(2);
+  if (d.type == "integer" || d.type == "boolean") {
+    float v = d.name == "octaves" ? 3.0f : 1.0f;
+    return bc(v);
+  }
+  float base = 0.23f + 0.31f * float(k);
+  if (d.name == "scale" && category == "place2d") base = 1.7f;  // not a divisor near 0
+  return f4(base, base + 0.07f, base + 0.11f, base + 0.19f);
+}
+
+struct Evaluated {
+  float4 got;
+  Named named;
+};
+
+Evaluated evaluate(const NodeDef& def, ValueType type, const Shading& s) {
+  Graph g;
+  Node n;
+  n.name = "n";
+  n.category = def.category;
+  n.type = type;
+  n.origin = "node_table_test: " + def.category;
+  Evaluated r;
+  int k = 0;
+  for (const InputDef& d : def.inputs) {
+    Input in;
+    in.name = d.name;
+    in.type = resolve_input_type(d, type);
+    if (d.type == "any") in.type = any_type(def.category, d.name, type);
+    if (in.type == ValueType::String || in.type == ValueType::Filename) {
+      in.value = d.value;
+      in.value.type = in.type;
+      if (def.category == "swizzle") in.value.text = "zxy";
+    } else {
+      float4 v = value_for(d, k++, def.category);
+      in.value = Value::number(in.type, v.x, v.y, v.z, v.w);
+      // What the interpreter sees: a width-1 operand broadcasts.
+      r.named[d.name] = type_width(in.type) == 1 ? bc(v.x) : v;
+    }
+    n.inputs.push_back(in);
+  }
+  g.add(n);
+  TexturePool textures;
+  Emitter em;
+  EmitContext cx{g, &textures, em,
+                 [&](const Input& in) { return em.constant(in.value, type_width(in.type)); }};
+  emit_node(cx, g.nodes[0], 0);
+  std::vector<uint32_t> code = em.finish(0);
+  float stack[PMC_STACK_SIZE] = {0};
+  float params[PMC_P_COUNT] = {0};
+  PmcShadingInputs in{};
+  in.uv = s.uv;
+  in.position = s.p;
+  in.normal = s.n;
+  in.tangent = s.t;
+  in.bitangent = s.b;
+  PmcTextureSet ts{};
+  pmc_interp_run(code.data(), 0, &in, &ts, stack, params, nullptr);
+  r.got = f4(stack[0], stack[1], stack[2], stack[3]);
+  return r;
+}
+
+bool tested_here(const NodeDef& def) { return def.emit != Emit::Lowered && def.emit != Emit::Image; }
+
+TEST(NodeTable, EveryEmittedNodeHasAnExpectedAnswer) {
+  const auto e = expectations();
+  for (const std::string& c : supported_categories()) {
+    const NodeDef* def = find_node_def(c);
+    ASSERT_NE(def, nullptr);
+    if (tested_here(*def))
+      EXPECT_TRUE(e.count(c)) << "node '" << c << "' has no expected answer in node_table_test.cpp: add one";
+  }
+}
+
+TEST(NodeTable, OperandOrderMatchesTheInterpreterForEveryNode) {
+  const auto e = expectations();
+  const Shading s;
+  int checked = 0;
+  for (const std::string& c : supported_categories()) {
+    const NodeDef* def = find_node_def(c);
+    if (!tested_here(*def) || !e.count(c)) continue;
+    for (const std::string& t : def->output_types) {
+      const ValueType type = parse_type(t);
+      const int w = type_width(type);
+      Evaluated r = evaluate(*def, type, s);
+      float4 want = e.at(c)(r.named, s, w);
+      for (int l = 0; l < w; ++l) {
+        const float got = lane(r.got, l), exp = lane(want, l);
+        EXPECT_NEAR(got, exp, 1e-5f * (1.0f + std::fabs(exp))) << c << " (" << t << ") lane " << l;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 100);
+}
+
+// The check above must be able to fail: had the table listed two inputs of
+// different roles the other way round, the interpreter would have read each
+// one's value in the other's place, which is what the expectation computes
+// here with the two named values exchanged. It must differ from the answer.
+TEST(NodeTable, SwappedInputsAreDetected) {
+  const auto e = expectations();
+  const Shading s;
+  for (auto [c, a, b] : {std::tuple<const char*, const char*, const char*>{"clamp", "in", "high"},
+                         {"remap", "in", "inlow"},
+                         {"noise2d", "amplitude", "pivot"},
+                         {"ifgreater", "value1", "value2"},
+                         {"place2d", "pivot", "offset"}}) {
+    const NodeDef* def = find_node_def(c);
+    const ValueType type = parse_type(def->output_types.front());
+    Evaluated r = evaluate(*def, type, s);
+    Named swapped = r.named;
+    std::swap(swapped[a], swapped[b]);
+    float4 right = e.at(c)(r.named, s, type_width(type)), wrong = e.at(c)(swapped, s, type_width(type));
+    EXPECT_NEAR(r.got.x, right.x, 1e-5f) << c;
+    EXPECT_GT(std::fabs(r.got.x - wrong.x), 1e-3f)
+        << c << ": swapping " << a << " and " << b << " went unseen";
+  }
+}
+
+// standard_surface's defaults exist once (PMC_STANDARD_SURFACE): the
+// table's and the device's agree, and they are MaterialX 1.39's.
+TEST(NodeTable, StandardSurfaceDefaultsAreTheDevicesDefaults) {
+  float p[PMC_P_COUNT];
+  pmc_surface_defaults(p, make_float3(0, 0, 0));
+  for (const SurfaceParam& sp : surface_params("standard_surface"))
+    for (int k = 0; k < (type_width(sp.type) == 1 ? 1 : 3); ++k)
+      EXPECT_EQ(sp.def[k], p[sp.param + k]) << sp.input << " lane " << k;
+  EXPECT_EQ(p[PMC_P_BASE_COLOR], 0.8f);  // MaterialX 1.39 standard_surface base_color
+  EXPECT_EQ(p[PMC_P_SPECULAR_ROUGHNESS], 0.2f);
+  EXPECT_EQ(p[PMC_P_COAT_ROUGHNESS], 0.1f);
+}
+
+}  // namespace
+}  // namespace pmc
