@@ -1,0 +1,18 @@
+"""bench — pmc's benchmark and CI tools, one module per tool.
+
+Run them from anywhere as `scripts/python -m bench.<module> [options]`
+(scripts/python puts scripts/ on PYTHONPATH and runs the project's .venv):
+
+    bench.cache       the material cache off vs on, cache-eval modes, the cache point threshold
+    bench.cacheless   the cacheless path against a pmc built from before the cache existed
+    bench.materials   how much of the render time goes into material networks
+    bench.sweep       `pmc sweep` cache size / mip bias / equal-time convergence figures
+    bench.trace       pmc against Embree's own pathtracer; pmc's query styles and streaming
+    bench.ci_compare  the cache quality gate behind scripts/ci-compare
+
+Each benchmark measures in round-robin rounds, prints its tables and rewrites
+its own section of docs/BENCHMARKS.md (--doc FILE elsewhere, --doc - prints
+only). What they share (machine description, rounds and medians, markdown
+tables, section replacement, running pmc and reading its --stats JSON) is in
+bench.common; bench/tests checks it (ctest runs it).
+"""

@@ -1,0 +1,123 @@
+"""Tests of the benchmark modules without running pmc: every module imports and
+its command line parses (defaults, the old environment variables, bad values),
+and bench.cache's report turns saved measurements into its section."""
+import importlib
+import io
+import os
+import tempfile
+import unittest
+from contextlib import redirect_stdout
+from unittest import mock
+
+from bench import cache, common
+
+MODULES = ["cache", "cacheless", "materials", "sweep", "trace"]
+
+
+def parse(module, argv, env=None):
+    mod = importlib.import_module(f"bench.{module}")
+    legacy = getattr(mod, "LEGACY", {})
+    clean = {k: v for k, v in os.environ.items() if k not in legacy}
+    with mock.patch.dict(os.environ, {**clean, **(env or {})}, clear=True), mock.patch("os.nice", return_value=0):
+        return mod.parse(argv)
+
+
+class CommandLines(unittest.TestCase):
+    def test_every_module_has_help_that_names_its_options(self):
+        for m in MODULES:
+            out = io.StringIO()
+            with self.subTest(module=m), redirect_stdout(out), self.assertRaises(SystemExit) as e:
+                parse(m, ["--help"])
+            self.assertEqual(e.exception.code, 0)
+            self.assertIn(f"scripts/python -m bench.{m}", out.getvalue())
+            self.assertIn("--doc FILE", out.getvalue())
+
+    def test_defaults_match_the_old_scripts(self):
+        a = parse("cache", [])
+        self.assertEqual((a.runs, a.spp, a.eval_spp, a.ref_spp, a.threshold_spp, a.width, a.height),
+                         (3, 64, 64, 256, 16, 320, 180))
+        self.assertEqual((a.out_dir, a.doc, a.plots, a.only), ("out/bench-cache", "docs/BENCHMARKS.md",
+                                                               "docs/plots", []))
+        a = parse("cacheless", [])
+        self.assertEqual((a.runs, a.spp, a.width, a.height, a.baseline), (5, 16, 320, 180, None))
+        a = parse("materials", [])
+        self.assertEqual((a.runs, a.spp, a.width, a.height, a.note), (3, 16, 640, 360, ""))
+        a = parse("sweep", [])
+        self.assertEqual((a.repeat, a.spp, a.ref_spp, a.width, a.height), (3, 8, 1024, 320, 180))
+        a = parse("trace", [])
+        self.assertEqual((a.runs, a.spp, a.width, a.height, a.scene),
+                         (3, 16, 640, 360, "../shared/scenes/sponza/sponza.obj"))
+
+    def test_old_variables_still_work_and_are_recorded_as_flags(self):
+        a = parse("cache", [], {"RUNS": "5", "ONLY": "eval,threshold", "DOC": "-"})
+        self.assertEqual((a.runs, a.only, a.doc), (5, ["eval", "threshold"], "-"))
+        self.assertEqual(a.command, "scripts/python -m bench.cache --runs 5 --only eval,threshold --doc -")
+        a = parse("sweep", [], {"REPEAT": "2", "REPORT_ONLY": "1"})
+        self.assertEqual((a.repeat, a.report_only), (2, True))
+
+    def test_bad_values_are_usage_errors(self):
+        for module, argv in (("cache", ["--only", "nosuchpart"]), ("cache", ["--spp", "0"]),
+                             ("trace", ["--runs", "-1"]), ("sweep", ["--repeat", "x"]),
+                             ("materials", ["--no-such-flag"])):
+            with self.subTest(argv=argv), self.assertRaises(SystemExit) as e, mock.patch("sys.stderr"):
+                parse(module, argv)
+            self.assertEqual(e.exception.code, 2)
+
+
+def scene_result(key, t_off, t_on, ratios, psnr, **kw):
+    s = next(s for s in cache.SCENES if s["key"] == key)
+    r = dict(scene=s, ok=True, t_off=t_off, t_on=t_on, ratios=ratios, psnr=psnr, relmse=0.0012, max_abs=0.1,
+             psnr_q=psnr - 4, relmse_q=0.004, spp_q=1, hit_rate=0.9, memory=8 * 2**20, cells=131072, entries=8,
+             enabled=True, compare_times=(1.0, 1.0), plan=[11, 147])
+    r.update(kw)
+    return r
+
+
+class CacheReport(unittest.TestCase):
+    def data(self):
+        return dict(results=[scene_result("default", 4.0, 2.0, [1.5, 2.5, 2.0], 42.0),
+                             dict(scene=cache.SCENES[2], ok=False, error="render sponza: exit status 1 (log: x)\n..."),
+                             scene_result("teapot", 1.0, 1.25, [0.8], 35.0, plan=[21])],
+                    evals=None, threshold=None, elapsed=90.0, device="PoCL", now="2026-01-01 00:00 UTC", load="1.0",
+                    rev="abc1234", cpu="CPU", cores=2, command="scripts/python -m bench.cache --runs 3", runs=3,
+                    spp=4, spp_q=1, eval_spp=2, ref_spp=4, threshold_spp=1, outdir="out/x")
+
+    def test_section_layout_and_numbers(self):
+        with tempfile.TemporaryDirectory() as d:
+            section, printed = cache.report(self.data(), os.path.join(d, "plots"), os.path.join(d, "B.md"))
+        lines = section.splitlines()
+        self.assertEqual(lines[0], cache.SECTION)
+        self.assertIn("Produced by `scripts/python -m bench.cache --runs 3` on 2026-01-01 00:00 UTC (1.5 minutes).",
+                      section)
+        header = ("| scene | cache points (sub-graph sizes) | off (s) | on (s) | off / on (range of rounds) | "
+                  "hit rate | cache memory | PSNR on vs off at 1 spp (dB) | PSNR on vs off at 4 spp (dB) | "
+                  "relMSE on vs off at 4 spp |")
+        self.assertIn(header + "\n|---|---|---|---|---|---|---|---|---|---|\n", section)
+        self.assertIn("| default room (`data/default`) | 2 (11-147 nodes) | 4.00 | 2.00 | **2.00x** (1.50-2.50) | "
+                      "90.0% | 8.0 MiB (131072 x 8) | 38.0 | 42.0 | 0.0012 |", section)
+        self.assertIn("| Sponza (MTL materials) | failed: render sponza: exit status 1 (log: x) |  |  |  |  |  |  |  "
+                      "|  |", section)
+        self.assertIn("- **>= 1.5x on the default scene** (the paper's best is 1.31x): 2.00x, met at 4 spp, 90% hits.",
+                      section)
+        self.assertIn("**not met** on teapot 35.0 dB", section)
+        self.assertIn("- Slower with the cache:\n  teapot 0.80x (largest cached sub-graph 21 nodes)", section)
+        self.assertIn("Measure it with `scripts/python -m bench.cache --only threshold`.", section)
+        self.assertNotIn("### Images", section)  # no compare folders under out/x
+        self.assertIn(header, printed)
+
+    def test_the_section_replaces_the_old_one_in_place(self):
+        with tempfile.TemporaryDirectory() as d:
+            doc = os.path.join(d, "B.md")
+            with open(doc, "w") as f:
+                f.write(f"# B\n\n{cache.SECTION}\n\nold\n\n## Next\n\nkept\n")
+            section, _ = cache.report(self.data(), os.path.join(d, "plots"), doc)
+            with redirect_stdout(io.StringIO()):
+                common.write_section(doc, cache.SECTION, section, "test")
+            text = common.read_text(doc)
+        self.assertNotIn("\nold\n", text)
+        self.assertEqual(text.count(cache.SECTION), 1)
+        self.assertTrue(text.endswith("\n\n## Next\n\nkept\n"))
+
+
+if __name__ == "__main__":
+    unittest.main()
