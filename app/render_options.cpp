@@ -41,7 +41,11 @@ void declare_render_options(ArgParser& p) {
   p.option("--fov", "DEG", "vertical field of view in degrees", "45");
   p.option("--env", "R,G,B", "constant environment radiance", "0,0,0");
   p.option("--trace-mode", "MODE", "Embree query style: single, stream or packet16", "single");
-  p.option("--chunk-rays", "N", "rays per streamed chunk (0: whole queue)", "65536");
+  p.option("--chunk-rays", "N", "rays per streamed chunk with --transfer copy (0: whole queue)", "65536");
+  p.option("--transfer", "auto|zero-copy|copy",
+           "how hits reach the device: mapped host-visible buffers (no copies; CPU devices) or explicit "
+           "copies streamed in chunks (discrete GPUs)",
+           "auto: zero-copy on CPU devices, copy otherwise");
 }
 
 namespace {
@@ -89,6 +93,7 @@ RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
   if (p.has("--threads")) c.threads = p.get_int("--threads", 0);
   c.trace_mode = parse_trace_mode(p.get("--trace-mode", "single"));
   c.chunk_rays = p.get_int64("--chunk-rays", c.chunk_rays);
+  c.transfer = parse_transfer_mode(p.get("--transfer", "auto"));
   c.validate();
   return c;
 }

@@ -61,6 +61,10 @@ std::vector<ClDeviceInfo> list_cl_devices() {
       cl_device_type type = 0;
       clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof(type), &type, nullptr);
       info.is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;
+      info.is_cpu = (type & CL_DEVICE_TYPE_CPU) != 0;
+      cl_bool unified = CL_FALSE;
+      clGetDeviceInfo(d, CL_DEVICE_HOST_UNIFIED_MEMORY, sizeof(unified), &unified, nullptr);
+      info.host_unified_memory = unified == CL_TRUE;
       cl_ulong mem = 0;
       clGetDeviceInfo(d, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof(mem), &mem, nullptr);
       info.global_memory = size_t(mem);

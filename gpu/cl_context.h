@@ -21,6 +21,8 @@ struct ClDeviceInfo {
   std::string platform;
   std::string name;
   bool is_gpu = false;
+  bool is_cpu = false;
+  bool host_unified_memory = false;  // device memory is host memory (CPU devices, integrated GPUs)
   std::string version;
   size_t global_memory = 0;
   unsigned compute_units = 0;

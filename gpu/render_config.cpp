@@ -77,6 +77,7 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.seed = uint32_t(c.seed);
   for (int i = 0; i < 3; ++i) s.env[i] = c.env[size_t(i)];
   s.chunk_rays = size_t(c.chunk_rays);
+  s.transfer = c.transfer;
   s.cache.on = c.cache;
   s.cache.mip_bias = c.mip_bias;
   s.cache.center = c.cache_eval == CacheEval::Center;

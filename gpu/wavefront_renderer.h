@@ -1,12 +1,15 @@
 // wavefront_renderer.h — the render loop: Embree on the host, shading in OpenCL.
 //
-// render() runs, for every sample and every block of pixels, waves of
-//   camera rays -> intersect (host) -> shade (device) -> shadow rays (host)
-//   -> resolve (device) ... until no path is alive, then adds the block to the
-// film. Hit records stream to the device in chunks: while the device shades
-// chunk k the host already traces chunk k+1 (in-order queue, non-blocking
-// enqueues). Stage timers separate host tracing from device work (OpenCL
-// event profiling) so the stats say where the time goes.
+// render() runs the paper's pipeline as a list of stages over waves of paths
+// (one pixel sample each; gpu/wavefront_renderer.cpp reads top to bottom):
+//   generate camera rays (device) -> intersect (host, Embree)
+//   -> shade: material against the cache + light sample + BSDF sample (device)
+//   -> trace shadow rays (host) -> resolve shadow rays (device)
+//   -> ... next bounce until no path is alive -> accumulate into the film.
+// Hits and occlusion bytes reach the device without copies on CPU devices
+// (gpu/host_link.h); on discrete GPUs they are uploaded in chunks so the host
+// traces chunk k+1 while the device shades chunk k. Stage timers say where
+// the time goes; the kernels' first-launch compile is warm-up, not render time.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +22,7 @@
 #include "core/image_io.h"
 #include "core/scene.h"
 #include "gpu/cl_context.h"
+#include "gpu/host_link.h"
 #include "materials/material_set.h"
 
 namespace pmc {
@@ -51,19 +55,28 @@ struct RenderSettings {
   uint32_t seed = 0;
   float env[3] = {0.0f, 0.0f, 0.0f};
   Camera camera;
-  size_t chunk_rays = 65536;        // rays per streamed chunk (0: whole queue at once)
+  size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave
+  TransferMode transfer = TransferMode::Auto;
   CacheSettings cache;
 };
 
+// Seconds per stage: host stages are wall time, device stages kernel time.
 struct StageSeconds {
-  double camera = 0, trace = 0, shade = 0, shadow = 0, film = 0, transfer = 0;
+  double camera = 0;    // device: camera rays
+  double trace = 0;     // host: Embree intersect
+  double shade = 0;     // device: materials, lights, BSDF
+  double shadow = 0;    // host: Embree occlusion
+  double resolve = 0;   // device: shadow-ray results into paths
+  double film = 0;      // device: accumulate
+  double transfer = 0;  // host: maps/reads/writes, including waits for kernels
 };
 
 struct RenderStats {
   double render_seconds = 0;         // excludes the kernel build and warm-up below
   double kernel_build_seconds = 0;   // clBuildProgram
   double kernel_warmup_seconds = 0;  // first (empty) launches: PoCL compiles work-group code there
+  std::string transfer;              // "zero-copy" or "copy"
   uint64_t paths = 0;
   uint64_t rays = 0;  // camera + continuation + shadow rays traced
   uint64_t shadow_rays = 0;

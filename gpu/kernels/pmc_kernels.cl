@@ -1,22 +1,26 @@
 /* pmc_kernels.cl — the wavefront path tracer's device stages.
  *
- * One program holds every kernel; the host (gpu/wavefront_renderer.cpp) runs
- * them in this order for each wave of paths:
- *   pmc_camera_rays   : pixel -> camera ray + fresh path state
- *   (host: Embree intersects the ray queue and uploads PmcHit records)
- *   pmc_shade         : hit -> emission, light sample (shadow ray), BSDF
- *                       sample (next ray), Russian roulette
- *   (host: Embree tests shadow rays and uploads one occlusion byte each)
- *   pmc_resolve_shadows: add unoccluded light samples to their paths
- *   pmc_film_accumulate: when the wave is done, add path radiance to the film
- * Kernels take the index of their first ray so the host can stream a queue in
- * chunks.
+ * One program holds every kernel; the host's wave loop
+ * (gpu/wavefront_renderer.cpp) runs them in this order for each wave of paths:
+ *   pmc_camera_rays     : pixel -> camera ray + fresh path state
+ *   (host: Embree intersects the ray queue into PmcHit records)
+ *   pmc_shade           : hit -> material (bytecode against the cache),
+ *                         emission, light sample (shadow ray), BSDF sample
+ *                         (next ray), Russian roulette
+ *   (host: Embree tests the shadow rays, one occlusion byte each)
+ *   pmc_resolve_shadows : add unoccluded light samples to their paths
+ *   pmc_film_accumulate : when the wave is done, add path radiance to the film
+ * Kernels take the index range of their rays as arguments (never a global
+ * offset), so one compiled variant per kernel serves every launch. Scene
+ * buffers arrive as the PMC_SCENE_BUFFERS list (pmc_scene_args.h) and travel
+ * through the device functions as one PmcSceneData.
  */
 #include "pmc_bsdf.h"
 #include "pmc_geometry.h"
 #include "pmc_interp.h"
 #include "pmc_raycone.h"
 #include "pmc_rng.h"
+#include "pmc_scene_args.h"
 #include "pmc_types.h"
 
 /* After the headers: it uses their types. */
@@ -62,16 +66,6 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->cache_hits = 0u;
   p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
 }
-
-typedef struct PmcSceneData {
-  __global const float* positions;
-  __global const float* normals;
-  __global const float* uvs;
-  __global const PmcTriangle* triangles;
-  __global const int* light_tris;
-  __global const float* light_cdf;
-  __global const float* tri_light_pmf;
-} PmcSceneData;
 
 static inline float3 pmc_vertex(__global const float* a, int i) {
   return make_float3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
@@ -142,11 +136,9 @@ typedef struct PmcShadeOut {
 
 /* Pass 1: the hit's geometry, shading frame, ray cone and (with the cache)
  * texel. An escaped ray adds the environment to its path here. */
-static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcRay* rays,
-                                 __global const PmcHit* hits, __global PmcPathState* paths,
-                                 __global const float* positions, __global const float* normals,
-                                 __global const float* uvs, __global const PmcTriangle* triangles,
-                                 __global const PmcMaterialInfo* materials, uint i, PmcHitPoint* hp) {
+static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                 __global const PmcRay* rays, __global const PmcHit* hits,
+                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp) {
   PmcRay ray = rays[i];
   PmcHit hit = hits[i];
   hp->path = ray.id;
@@ -162,10 +154,10 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcR
     return;
   }
 
-  PmcTriangle tri = triangles[hit.prim];
-  float3 p0 = pmc_vertex(positions, tri.v[0]);
-  float3 p1 = pmc_vertex(positions, tri.v[1]);
-  float3 p2 = pmc_vertex(positions, tri.v[2]);
+  PmcTriangle tri = scene->triangles[hit.prim];
+  float3 p0 = pmc_vertex(scene->positions, tri.v[0]);
+  float3 p1 = pmc_vertex(scene->positions, tri.v[1]);
+  float3 p2 = pmc_vertex(scene->positions, tri.v[2]);
   float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
   float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
   float3 ng = cross(p1 - p0, p2 - p0);
@@ -174,8 +166,8 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcR
   if (dot(ng, dir) > 0.0f) ng = -ng; /* every surface is two-sided */
   float3 ns = ng;
   if (tri.n[0] >= 0) {
-    float3 n = pmc_vertex(normals, tri.n[0]) * b0 + pmc_vertex(normals, tri.n[1]) * b1 +
-               pmc_vertex(normals, tri.n[2]) * b2;
+    float3 n = pmc_vertex(scene->normals, tri.n[0]) * b0 + pmc_vertex(scene->normals, tri.n[1]) * b1 +
+               pmc_vertex(scene->normals, tri.n[2]) * b2;
     float nl = length(n);
     if (nl > 0.0f && isfinite(nl)) {
       n = n * (1.0f / nl);
@@ -185,6 +177,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcR
   float2 uv = make_float2(b1, b2);
   float2 t0 = make_float2(0.0f, 0.0f), t1 = make_float2(1.0f, 0.0f), t2 = make_float2(0.0f, 1.0f);
   if (tri.t[0] >= 0) {
+    __global const float* uvs = scene->uvs;
     t0 = make_float2(uvs[2 * tri.t[0]], uvs[2 * tri.t[0] + 1]);
     t1 = make_float2(uvs[2 * tri.t[1]], uvs[2 * tri.t[1] + 1]);
     t2 = make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]);
@@ -233,7 +226,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcR
       hp->cache_jitter = make_float2(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
                                      pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f);
     }
-    hp->cache_points = materials[tri.material].cache_points;
+    hp->cache_points = scene->materials[tri.material].cache_points;
     if (hp->cache_points > 0u)
       hp->texel = pmc_cache_texel_of(uv, g1, g2, frame->mip_bias, hp->cache_jitter, (uint)tri.material);
   }
@@ -241,13 +234,8 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, __global const PmcR
 
 /* Pass 3: the material (against the cache), emission, next-event estimation
  * and the BSDF sample for the next bounce. */
-static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoint* hp,
-                                     __global PmcPathState* paths, __global const float* positions,
-                                     __global const PmcTriangle* triangles, __global const pmc_u32* code,
-                                     __global const PmcMaterialInfo* materials,
-                                     __global const PmcTexture* textures, __global const pmc_u32* texels,
-                                     __constant float* srgb_lut, __global const int* light_tris,
-                                     __global const float* light_cdf, __global const float* tri_light_pmf,
+static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                     const PmcHitPoint* hp, __global PmcPathState* paths,
                                      __global volatile ulong* cache_entries, PmcShadeOut* out) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
@@ -257,12 +245,12 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
   float3 wo_world = -dir;
 
   PmcMaterialData md;
-  md.code = code;
-  md.materials = materials;
-  md.textures.textures = textures;
-  md.textures.texels = texels;
-  md.textures.srgb_lut = srgb_lut;
-  md.textures.count = frame->texture_count;
+  md.code = scene->code;
+  md.materials = scene->materials;
+  md.textures.textures = scene->textures;
+  md.textures.texels = scene->texels;
+  md.textures.srgb_lut = scene->srgb_lut;
+  md.textures.count = scene->texture_count;
   PmcShadingInputs sp;
   sp.uv = hp->uv;
   sp.position = pos;
@@ -295,8 +283,8 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
   /* Emission reached by the path: MIS against light sampling. */
   if (pmc_max3(bsdf.emission) > 0.0f) {
     float w = 1.0f;
-    if (!(path->flags & PMC_PATH_SPECULAR) && frame->light_count > 0) {
-      float pmf = tri_light_pmf[hp->prim];
+    if (!(path->flags & PMC_PATH_SPECULAR) && scene->light_count > 0) {
+      float pmf = scene->tri_light_pmf[hp->prim];
       float cosl = fabs(dot(ng, dir));
       float light_pdf =
           cosl > 0.0f && hp->area2 > 0.0f ? pmf * hp->t * hp->t / (0.5f * hp->area2 * cosl) : 0.0f;
@@ -314,13 +302,13 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
   int has_lobes = pmc_max3(bsdf.diffuse) > 0.0f || pmc_max3(bsdf.specular) > 0.0f;
 
   /* Next-event estimation toward one emissive triangle. */
-  if (frame->light_count > 0 && has_lobes) {
-    int li = pmc_pick_light(light_cdf, frame->light_count, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
-    int ltri_index = light_tris[li];
-    PmcTriangle lt = triangles[ltri_index];
-    float3 q0 = pmc_vertex(positions, lt.v[0]);
-    float3 q1 = pmc_vertex(positions, lt.v[1]);
-    float3 q2 = pmc_vertex(positions, lt.v[2]);
+  if (scene->light_count > 0 && has_lobes) {
+    int li = pmc_pick_light(scene->light_cdf, scene->light_count, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
+    int ltri_index = scene->light_tris[li];
+    PmcTriangle lt = scene->triangles[ltri_index];
+    float3 q0 = pmc_vertex(scene->positions, lt.v[0]);
+    float3 q1 = pmc_vertex(scene->positions, lt.v[1]);
+    float3 q2 = pmc_vertex(scene->positions, lt.v[2]);
     float2 bc =
         pmc_sample_triangle(pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V));
     float3 q = q0 * bc.x + q1 * bc.y + q2 * (1.0f - bc.x - bc.y);
@@ -335,7 +323,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
       float cosl = fabs(dot(lng, wi_world)) / (2.0f * larea);
       float3 wi = pmc_to_local(wi_world, t, b, ns);
       if (cosl > 0.0f && wi.z > 0.0f && dot(wi_world, ng) > 0.0f) {
-        float light_pdf = tri_light_pmf[ltri_index] * dist2 / (larea * cosl);
+        float light_pdf = scene->tri_light_pmf[ltri_index] * dist2 / (larea * cosl);
         float3 f = pmc_bsdf_eval(&bsdf, wo, wi);
         float bpdf = pmc_bsdf_pdf(&bsdf, wo, wi);
         float w = pmc_mis_power(light_pdf, bpdf);
@@ -389,34 +377,67 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcHitPoi
   path->radiance[2] = radiance.z;
 }
 
-/* Shades one chunk of hits in four passes over each work-group, split by
- * barriers (every work-item reaches them: no early return in this kernel):
- *   1. geometry and the cache texel of every hit (pmc_hit_point);
- *   2. prefetch: read the first word of each cache cell the group's
- *      materials will look up. On a CPU device (PoCL runs a work-group as a
- *      loop over its work-items) this pass is a short loop whose loads are
- *      all in flight at once, so pass 3 finds the cells in the CPU's caches
- *      instead of waiting for each in turn inside the interpreter (that wait
- *      was ~40% of the interpreter's time with the cache on); on a GPU it is
- *      a few cached reads;
- *   3. materials, lights and the next bounce (pmc_shade_surface);
- *   4. queue compaction: each work-item takes a slot in local memory, one
+/* Starts the loads of a hit's triangle record and path state without
+ * waiting for them (volatile: the compiler keeps loads whose values are
+ * unused). */
+static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const PmcHit* hits,
+                                      __global const PmcRay* rays, __global PmcPathState* paths, uint i) {
+  int prim = hits[i].prim;
+  if (prim >= 0) (void)*(__global volatile const int*)&scene->triangles[prim];
+  (void)*(__global volatile const float*)&paths[rays[i].id];
+}
+
+/* Starts the loads of the vertex data a hit's triangle names. */
+static inline void pmc_touch_vertices(const PmcSceneData* scene, __global const PmcHit* hits, uint i) {
+  int prim = hits[i].prim;
+  if (prim < 0) return;
+  PmcTriangle tri = scene->triangles[prim];
+  __global volatile const float* p = (__global volatile const float*)scene->positions;
+  (void)p[3 * tri.v[0]];
+  (void)p[3 * tri.v[1]];
+  (void)p[3 * tri.v[2]];
+  if (tri.n[0] >= 0) {
+    __global volatile const float* n = (__global volatile const float*)scene->normals;
+    (void)n[3 * tri.n[0]];
+    (void)n[3 * tri.n[1]];
+    (void)n[3 * tri.n[2]];
+  }
+  if (tri.t[0] >= 0) {
+    __global volatile const float* t = (__global volatile const float*)scene->uvs;
+    (void)t[2 * tri.t[0]];
+    (void)t[2 * tri.t[1]];
+    (void)t[2 * tri.t[2]];
+  }
+}
+
+/* Shades one chunk of hits in passes over each work-group, split by barriers
+ * (every work-item reaches them: no early return in this kernel):
+ *   0-1. prefetch the group's scene data: first the triangle records and path
+ *      states its hits name, then the vertex positions, normals and uvs those
+ *      triangles name. A hit's data sits at random addresses, one miss
+ *      depending on the other (hit -> triangle -> vertices); loading it inside
+ *      pass 2 makes each work-item wait for its misses in turn (PoCL runs a
+ *      work-group as a loop over its work-items), while these short loops
+ *      have the whole group's misses in flight at once. On a GPU they are a
+ *      few cached reads;
+ *   2. geometry and the cache texel of every hit (pmc_hit_point);
+ *   3. the same for the cache cells the group's materials will look up;
+ *   4. materials, lights and the next bounce (pmc_shade_surface);
+ *   5. queue compaction: each work-item takes a slot in local memory, one
  *      work-item reserves the group's range with one global atomic, then
- *      everyone writes its rays. (One global atomic per ray made two CPU
- *      cores fight over the counters' cache line: a third of the kernel's
- *      time on PoCL; GPUs gain the same way.) The cache's event counts are
+ *      everyone writes its rays (one global atomic per ray makes the cores
+ *      fight over the counters' cache line). The cache's event counts are
  *      summed the same way. */
-__kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays, __global const PmcHit* hits,
-                        __global PmcPathState* paths, __global const float* positions,
-                        __global const float* normals, __global const float* uvs,
-                        __global const PmcTriangle* triangles, __global const pmc_u32* code,
-                        __global const PmcMaterialInfo* materials, __global const PmcTexture* textures,
-                        __global const pmc_u32* texels, __constant float* srgb_lut,
-                        __global const int* light_tris, __global const float* light_cdf,
-                        __global const float* tri_light_pmf, __global PmcRay* next_rays,
+__kernel void pmc_shade(__constant PmcFrame* frame, PMC_SCENE_BUFFERS(PMC_SCENE_PARAM) __global const PmcRay* rays,
+                        __global const PmcHit* hits, __global PmcPathState* paths, __global PmcRay* next_rays,
                         __global PmcRay* shadow_rays, __global PmcShadowLoad* shadow_loads,
                         __global PmcCounters* counters, __global volatile ulong* cache_entries,
                         __global volatile ulong* cache_stats, uint first, uint ray_count) {
+  PmcSceneData s;
+  PMC_SCENE_BUFFERS(PMC_SCENE_INIT)
+  s.texture_count = frame->texture_count;
+  s.light_count = frame->light_count;
+  const PmcSceneData* scene = &s;
   __local uint group_count[2 + PMC_CSTAT_COUNT];
   __local uint group_base[2];
   uint lid = (uint)get_local_id(0);
@@ -426,10 +447,15 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   /* Chunks start at `first` (an argument, not a global offset: PoCL would
    * compile a second work-group function for non-zero offsets). */
   uint i = first + (uint)get_global_id(0);
+  if (i < ray_count) pmc_touch_triangle(scene, hits, rays, paths, i);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (i < ray_count) pmc_touch_vertices(scene, hits, i);
+  barrier(CLK_LOCAL_MEM_FENCE);
+
   PmcHitPoint hp;
   hp.surface = 0;
   if (i < ray_count)
-    pmc_hit_point(frame, rays, hits, paths, positions, normals, uvs, triangles, materials, i, &hp);
+    pmc_hit_point(frame, scene, rays, hits, paths, i, &hp);
   barrier(CLK_LOCAL_MEM_FENCE);
 
   if (hp.surface && hp.texel.ready) {
@@ -445,8 +471,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, __global const PmcRay* rays,
   out.shadow = 0;
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out.cache_counts[c] = 0u;
   if (hp.surface)
-    pmc_shade_surface(frame, &hp, paths, positions, triangles, code, materials, textures, texels, srgb_lut,
-                      light_tris, light_cdf, tri_light_pmf, cache_entries, &out);
+    pmc_shade_surface(frame, scene, &hp, paths, cache_entries, &out);
 
   uint next_slot = out.next ? atomic_inc(&group_count[0]) : 0u;
   uint shadow_slot = out.shadow ? atomic_inc(&group_count[1]) : 0u;

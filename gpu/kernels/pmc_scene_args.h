@@ -1,0 +1,42 @@
+/* pmc_scene_args.h — the scene's device buffers, listed once for both sides.
+ *
+ * PMC_SCENE_BUFFERS(X) names every read-only scene buffer the shade kernel
+ * takes, in argument order, with its OpenCL C type. The kernel expands it
+ * into its parameter list and into a PmcSceneData struct that the device
+ * functions receive instead of a dozen positional pointers; the host
+ * (gpu/scene_buffers.h) expands it into an enum that indexes its buffers, and
+ * the typed launcher (gpu/wave_kernels.cpp) sets the arguments in this order.
+ * Adding a scene buffer means one line here and its upload in
+ * gpu/scene_buffers.cpp.
+ */
+#ifndef PMC_SCENE_ARGS_H
+#define PMC_SCENE_ARGS_H
+
+// clang-format off
+#define PMC_SCENE_BUFFERS(X)                          \
+  X(positions, __global const float*)   /* xyz */    \
+  X(normals, __global const float*)     /* xyz */    \
+  X(uvs, __global const float*)         /* uv */     \
+  X(triangles, __global const PmcTriangle*)           \
+  X(code, __global const pmc_u32*)      /* bytecode */ \
+  X(materials, __global const PmcMaterialInfo*)       \
+  X(textures, __global const PmcTexture*)             \
+  X(texels, __global const pmc_u32*)    /* RGBA8 */  \
+  X(srgb_lut, __constant float*)                      \
+  X(light_tris, __global const int*)                  \
+  X(light_cdf, __global const float*)                 \
+  X(tri_light_pmf, __global const float*)
+// clang-format on
+
+#ifdef __OPENCL_VERSION__
+#define PMC_SCENE_FIELD(name, type) type name;
+#define PMC_SCENE_PARAM(name, type) type name,
+#define PMC_SCENE_INIT(name, type) s.name = name;
+typedef struct PmcSceneData {
+  PMC_SCENE_BUFFERS(PMC_SCENE_FIELD)
+  uint texture_count;
+  int light_count;
+} PmcSceneData;
+#endif
+
+#endif /* PMC_SCENE_ARGS_H */

@@ -1,0 +1,26 @@
+// scene_buffers.cpp — uploads geometry, bytecode, textures and lights.
+#include "gpu/scene_buffers.h"
+
+namespace pmc {
+
+SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& mats) {
+  std::vector<float> emission;
+  for (const PmcMaterialInfo& m : mats.infos)
+    for (int i = 0; i < 3; ++i) emission.push_back(m.emission[i]);
+  lights = build_light_table(scene, emission);
+  texture_count = uint32_t(scene.textures.size());
+  buffers[kScene_positions] = cl.buffer_of(scene.positions);
+  buffers[kScene_normals] = cl.buffer_of(scene.normals);
+  buffers[kScene_uvs] = cl.buffer_of(scene.uvs);
+  buffers[kScene_triangles] = cl.buffer_of(scene.triangles);
+  buffers[kScene_code] = cl.buffer_of(mats.program.code);
+  buffers[kScene_materials] = cl.buffer_of(mats.infos);
+  buffers[kScene_textures] = cl.buffer_of(scene.textures.textures());
+  buffers[kScene_texels] = cl.buffer_of(mats.texel_words);
+  buffers[kScene_srgb_lut] = cl.buffer_of(mats.srgb_lut);
+  buffers[kScene_light_tris] = cl.buffer_of(lights.triangles);
+  buffers[kScene_light_cdf] = cl.buffer_of(lights.cdf);
+  buffers[kScene_tri_light_pmf] = cl.buffer_of(lights.triangle_pmf);
+}
+
+}  // namespace pmc

@@ -1,0 +1,37 @@
+// scene_buffers.h — the scene's read-only device buffers, uploaded once.
+//
+// Everything the shade kernel reads about the scene (geometry, materials'
+// bytecode and textures, the emissive-triangle light table) lives here, one
+// buffer per entry of PMC_SCENE_BUFFERS (gpu/kernels/pmc_scene_args.h), in
+// the kernel's argument order. The wave loop never touches them after the
+// upload; the shade launcher passes them as a block.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include "core/lights.h"
+#include "core/scene.h"
+#include "gpu/cl_context.h"
+#include "gpu/kernels/pmc_scene_args.h"
+#include "materials/material_set.h"
+
+namespace pmc {
+
+enum SceneBuffer : unsigned {
+#define PMC_SCENE_ENUM(name, type) kScene_##name,
+  PMC_SCENE_BUFFERS(PMC_SCENE_ENUM)
+#undef PMC_SCENE_ENUM
+      kSceneBufferCount
+};
+
+struct SceneBuffers {
+  std::array<ClBuffer, kSceneBufferCount> buffers;
+  LightTable lights;
+  uint32_t texture_count = 0;
+
+  SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& materials);
+  const ClBuffer& operator[](SceneBuffer b) const { return buffers[b]; }
+};
+
+}  // namespace pmc

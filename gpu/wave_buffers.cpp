@@ -1,0 +1,47 @@
+// wave_buffers.cpp — allocation and clearing of the per-render buffers.
+#include "gpu/wave_buffers.h"
+
+#include <algorithm>
+
+#include "core/device/pmc_cache.h"
+
+namespace pmc {
+
+WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, size_t pixels,
+                         size_t cache_words)
+    : paths(n) {
+  const cl_mem_flags host = link.buffer_flags();
+  frame = cl.buffer(sizeof(PmcFrame));
+  rays[0] = cl.buffer(n * sizeof(PmcRay), nullptr, host);
+  rays[1] = cl.buffer(n * sizeof(PmcRay), nullptr, host);
+  hits = cl.buffer(n * sizeof(PmcHit), nullptr, host);
+  path_states = cl.buffer(n * sizeof(PmcPathState));
+  shadow_rays = cl.buffer(n * sizeof(PmcRay), nullptr, host);
+  shadow_loads = cl.buffer(n * sizeof(PmcShadowLoad));
+  occluded = cl.buffer(n, nullptr, host);
+  counters = cl.buffer(sizeof(PmcCounters));
+  film = cl.buffer(pixels * sizeof(PmcFilmPixel));
+  cache_entries = cl.buffer(std::max<size_t>(1, cache_words) * sizeof(uint64_t));
+  cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
+  if (!link.zero_copy()) {  // sized once: pending non-blocking writes read from them
+    host_rays.resize(n);
+    host_hits.resize(n);
+    host_occluded.resize(n);
+  }
+  clear(cl, pixels, cache_words);
+}
+
+void WaveBuffers::clear(const ClContext& cl, size_t pixels, size_t cache_words) {
+  // Zeroed in 8 MiB pieces from one host array (PoCL 3.1's
+  // clEnqueueFillBuffer crashed on the large cache table).
+  std::vector<uint64_t> zeros(size_t(1) << 20, 0);
+  auto zero = [&](const ClBuffer& b, size_t bytes) {
+    for (size_t at = 0; at < bytes; at += zeros.size() * sizeof(uint64_t))
+      cl.write(b, at, std::min(zeros.size() * sizeof(uint64_t), bytes - at), zeros.data(), true);
+  };
+  zero(film, pixels * sizeof(PmcFilmPixel));
+  zero(cache_entries, std::max<size_t>(1, cache_words) * sizeof(uint64_t));
+  zero(cache_stats, PMC_CSTAT_COUNT * sizeof(uint64_t));
+}
+
+}  // namespace pmc

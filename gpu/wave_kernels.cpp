@@ -1,0 +1,77 @@
+// wave_kernels.cpp — program build, typed launchers, warm-up.
+#include "gpu/wave_kernels.h"
+
+#include <algorithm>
+
+namespace pmc {
+
+std::string wave_program_options(const MaterialSet& mats) {
+  uint32_t peak = 0;
+  for (const CompiledMaterial& m : mats.program.materials) peak = std::max(peak, m.peak_stack);
+  uint32_t size = 16;
+  while (size < peak) size *= 2;
+  return "-DPMC_STACK_SIZE=" + std::to_string(size);
+}
+
+WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials)
+    : cl_(cl), program_(cl, "pmc_kernels.cl", wave_program_options(materials)) {
+  camera_ = program_.kernel("pmc_camera_rays");
+  shade_ = program_.kernel("pmc_shade");
+  resolve_ = program_.kernel("pmc_resolve_shadows");
+  film_ = program_.kernel("pmc_film_accumulate");
+  check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 11);
+}
+
+void WaveKernels::launch(cl_kernel k, size_t count, cl_event* done) {
+  const size_t local = kLocalSize;
+  const size_t global = std::max<size_t>(1, (count + local - 1) / local) * local;
+  cl_check(clEnqueueNDRangeKernel(cl_.queue(), k, 1, nullptr, &global, &local, 0, nullptr, done),
+           "clEnqueueNDRangeKernel");
+}
+
+void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
+  // One full work-group each (global = local = kLocalSize), exactly the
+  // geometry of every later launch; the kernels return at once for indices
+  // beyond their range.
+  camera_rays(wave, 0, 0, nullptr);
+  shade(scene, wave, 0, 0, 0, nullptr);
+  resolve_shadows(wave, 0, 0, nullptr);
+  accumulate(wave, 0, nullptr);
+  cl_.finish();
+}
+
+void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
+  set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states);
+  launch(camera_, count, done);
+}
+
+void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, size_t first, size_t end,
+                        cl_event* done) {
+  cl_uint arg = 0;
+  set_kernel_arg(shade_, arg++, w.frame);
+  for (const ClBuffer& b : scene.buffers) set_kernel_arg(shade_, arg++, b);
+  set_kernel_arg(shade_, arg++, w.rays[queue]);
+  set_kernel_arg(shade_, arg++, w.hits);
+  set_kernel_arg(shade_, arg++, w.path_states);
+  set_kernel_arg(shade_, arg++, w.rays[1 - queue]);
+  set_kernel_arg(shade_, arg++, w.shadow_rays);
+  set_kernel_arg(shade_, arg++, w.shadow_loads);
+  set_kernel_arg(shade_, arg++, w.counters);
+  set_kernel_arg(shade_, arg++, w.cache_entries);
+  set_kernel_arg(shade_, arg++, w.cache_stats);
+  set_kernel_arg(shade_, arg++, cl_uint(first));
+  set_kernel_arg(shade_, arg++, cl_uint(end));
+  launch(shade_, end - first, done);
+}
+
+void WaveKernels::resolve_shadows(WaveBuffers& w, size_t first, size_t end, cl_event* done) {
+  set_kernel_args(resolve_, w.shadow_loads, w.occluded, w.path_states, cl_uint(first), cl_uint(end));
+  launch(resolve_, end - first, done);
+}
+
+void WaveKernels::accumulate(WaveBuffers& w, size_t count, cl_event* done) {
+  set_kernel_args(film_, w.frame, w.path_states, w.film);
+  launch(film_, count, done);
+}
+
+}  // namespace pmc

@@ -1,0 +1,56 @@
+// wave_kernels.h — the wavefront program and one typed launcher per kernel.
+//
+// Builds gpu/kernels/pmc_kernels.cl once per renderer (the interpreter's stack
+// size comes from the materials) and launches its kernels with fixed
+// work-groups of kLocalSize items over an index range passed as arguments.
+// Each launcher sets every argument of its kernel in one place, from the
+// named buffers, so no caller counts positional arguments. warm_up() runs
+// every kernel once with the render's own launch geometry and no work: PoCL
+// compiles a kernel's work-group function at its first launch for a given
+// work-group size, and that compile belongs to warm-up, not to rendering.
+#pragma once
+
+#include <cstddef>
+#include <string>
+
+#include "gpu/cl_context.h"
+#include "gpu/program.h"
+#include "gpu/scene_buffers.h"
+#include "gpu/wave_buffers.h"
+#include "materials/material_set.h"
+
+namespace pmc {
+
+class WaveKernels {
+ public:
+  static constexpr size_t kLocalSize = 64;
+
+  WaveKernels(const ClContext& cl, const MaterialSet& materials);
+  double build_seconds() const { return program_.build_seconds(); }
+
+  // Every kernel once, with no rays (frame.path_count must be 0 and the
+  // frame uploaded); returns when they are done.
+  void warm_up(const SceneBuffers& scene, WaveBuffers& wave);
+
+  // Pixels [frame.pixel_offset, + count) -> camera rays in rays[queue] and fresh paths.
+  void camera_rays(WaveBuffers& wave, int queue, size_t count, cl_event* done);
+  // Hits of rays[queue][first, end) -> rays[1 - queue], shadow rays, path updates.
+  void shade(const SceneBuffers& scene, WaveBuffers& wave, int queue, size_t first, size_t end,
+             cl_event* done);
+  // Adds the unoccluded light samples [first, end) to their paths.
+  void resolve_shadows(WaveBuffers& wave, size_t first, size_t end, cl_event* done);
+  // Adds the radiance of the wave's `count` paths to the film.
+  void accumulate(WaveBuffers& wave, size_t count, cl_event* done);
+
+ private:
+  void launch(cl_kernel k, size_t count, cl_event* done);
+  const ClContext& cl_;
+  ClProgram program_;
+  cl_kernel camera_ = nullptr, shade_ = nullptr, resolve_ = nullptr, film_ = nullptr;
+};
+
+// -DPMC_STACK_SIZE=...: the materials' peak stack rounded up to a power of
+// two (at least 16), so few distinct builds exist across scenes.
+std::string wave_program_options(const MaterialSet& materials);
+
+}  // namespace pmc
