@@ -4,9 +4,12 @@
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace pmc {
 namespace {
@@ -21,11 +24,56 @@ uint8_t to_byte(float v) {
   return static_cast<uint8_t>(v * 255.0f + 0.5f);
 }
 
+// threshold[k] is the smallest non-negative float whose sRGB byte,
+// to_byte(linear_to_srgb(x)), is at least k. The byte is monotonic in x
+// (checked for every float in [0, 1.01]), so counting the thresholds at or
+// below x gives exactly that byte with 8 comparisons instead of a pow.
+const std::array<float, 256>& srgb_thresholds() {
+  static const std::array<float, 256> table = [] {
+    std::array<float, 256> t{};
+    t[0] = 0.0f;
+    for (int k = 1; k < 256; ++k) {
+      uint32_t lo = 0, hi = 0x3f800000u;  // [0, 1.0f]: to_byte(linear_to_srgb(1)) = 255
+      while (lo < hi) {                   // first bit pattern whose byte reaches k
+        uint32_t mid = lo + (hi - lo) / 2;
+        float x;
+        std::memcpy(&x, &mid, sizeof(x));
+        if (to_byte(linear_to_srgb(x)) >= k)
+          hi = mid;
+        else
+          lo = mid + 1;
+      }
+      std::memcpy(&t[size_t(k)], &lo, sizeof(float));
+    }
+    return t;
+  }();
+  return table;
+}
+
+size_t mip_chain_texels(int w, int h) {
+  size_t n = 0;
+  for (;;) {
+    n += size_t(w) * size_t(h);
+    if (w == 1 && h == 1) return n;
+    w = std::max(1, w >> 1);
+    h = std::max(1, h >> 1);
+  }
+}
+
+int mip_levels(int w, int h) {
+  int levels = 1;
+  while (w > 1 || h > 1) {
+    w = std::max(1, w >> 1);
+    h = std::max(1, h >> 1);
+    ++levels;
+  }
+  return levels;
+}
+
 // One 2x2 box-filter reduction (odd sizes clamp the last row/column).
-std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, int w, int h, bool srgb,
-                                const std::vector<float>& lut) {
-  int nw = std::max(1, w >> 1), nh = std::max(1, h >> 1);
-  std::vector<uint8_t> dst(size_t(nw) * nh * 4);
+void downsample(const uint8_t* src, int w, int h, bool srgb, uint8_t* dst) {
+  static const std::vector<float> lut = srgb_decode_table();
+  const int nw = std::max(1, w >> 1), nh = std::max(1, h >> 1);
   for (int y = 0; y < nh; ++y)
     for (int x = 0; x < nw; ++x)
       for (int c = 0; c < 4; ++c) {
@@ -37,9 +85,20 @@ std::vector<uint8_t> downsample(const std::vector<uint8_t>& src, int w, int h, b
             sum += (srgb && c < 3) ? lut[b] : b / 255.0f;
           }
         float avg = sum * 0.25f;
-        dst[(size_t(y) * nw + x) * 4 + c] = to_byte((srgb && c < 3) ? linear_to_srgb(avg) : avg);
+        dst[(size_t(y) * nw + x) * 4 + c] = (srgb && c < 3) ? encode_srgb_byte(avg) : to_byte(avg);
       }
-  return dst;
+}
+
+// Fills the levels after the first of a chain that starts at `base`.
+void build_mips(uint8_t* base, int w, int h, bool srgb) {
+  uint8_t* level = base;
+  while (w > 1 || h > 1) {
+    uint8_t* next = level + size_t(w) * h * 4;
+    downsample(level, w, h, srgb, next);
+    level = next;
+    w = std::max(1, w >> 1);
+    h = std::max(1, h >> 1);
+  }
 }
 
 }  // namespace
@@ -50,25 +109,54 @@ std::vector<float> srgb_decode_table() {
   return lut;
 }
 
+uint8_t encode_srgb_byte(float linear) {
+  const std::array<float, 256>& t = srgb_thresholds();
+  if (!(linear > 0.0f)) return 0;
+  // Largest k with t[k] <= linear (t[0] = 0 <= linear).
+  int k = int(std::upper_bound(t.begin() + 1, t.end(), linear) - t.begin()) - 1;
+  return uint8_t(k);
+}
+
+// A texture whose header has been read and whose pixels are not decoded yet.
+struct TexturePool::Pending {
+  int index = 0;
+  std::string path, used_by;
+  bool srgb = false;
+  std::unique_ptr<OIIO::ImageInput> in;
+  std::string warning;  // set by the decode (NaN/Inf texels)
+  std::string error;    // set by a failed decode
+};
+
+TexturePool::TexturePool() = default;
+TexturePool::~TexturePool() = default;
+TexturePool::TexturePool(TexturePool&&) noexcept = default;
+TexturePool& TexturePool::operator=(TexturePool&&) noexcept = default;
+
+TexturePool::TexturePool(const TexturePool& other) { *this = other; }
+
+TexturePool& TexturePool::operator=(const TexturePool& other) {
+  if (this == &other) return *this;
+  other.resolve();
+  textures_ = other.textures_;
+  names_ = other.names_;
+  texels_ = other.texels_;
+  by_key_ = other.by_key_;
+  pending_.clear();
+  return *this;
+}
+
 int TexturePool::add(const std::string& name, int width, int height, std::vector<uint8_t> rgba, bool srgb) {
   PMC_CHECK(width > 0 && height > 0 && rgba.size() == size_t(width) * height * 4, name);
   PmcTexture t{};
   t.offset = static_cast<pmc_u32>(texels_.size() / 4);
   t.width = width;
   t.height = height;
+  t.levels = mip_levels(width, height);
   t.flags = srgb ? PMC_TEX_SRGB : 0u;
-  static const std::vector<float> lut = srgb_decode_table();
-  int w = width, h = height, levels = 0;
-  std::vector<uint8_t> level = std::move(rgba);
-  for (;;) {
-    texels_.insert(texels_.end(), level.begin(), level.end());
-    ++levels;
-    if (w == 1 && h == 1) break;
-    level = downsample(level, w, h, srgb, lut);
-    w = std::max(1, w >> 1);
-    h = std::max(1, h >> 1);
-  }
-  t.levels = levels;
+  const size_t at = texels_.size();
+  texels_.resize(at + mip_chain_texels(width, height) * 4);
+  std::memcpy(texels_.data() + at, rgba.data(), rgba.size());
+  build_mips(texels_.data() + at, width, height, srgb);
   textures_.push_back(t);
   names_.push_back(name);
   return static_cast<int>(textures_.size()) - 1;
@@ -91,37 +179,105 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
   int w = spec.width, h = spec.height, nch = spec.nchannels;
   if (w <= 0 || h <= 0 || nch <= 0 || size_t(w) * h > (size_t(1) << 28))
     fail(used_by, ": texture '", path, "' has an unusable size ", w, "x", h, "x", nch);
-  std::vector<float> px(size_t(w) * h * nch);
-  bool ok = in->read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data());
-  if (!ok) fail(used_by, ": cannot decode texture '", path, "': ", in->geterror());
-  in->close();
-  // 8-bit sources are stored sRGB-encoded already; float sources get encoded.
-  bool float_source =
+  PmcTexture t{};
+  t.width = w;
+  t.height = h;
+  t.levels = mip_levels(w, h);
+  t.flags = srgb ? PMC_TEX_SRGB : 0u;
+  textures_.push_back(t);  // offset set when decoded
+  names_.push_back(path);
+  auto p = std::make_unique<Pending>();
+  p->index = int(textures_.size()) - 1;
+  p->path = path;
+  p->used_by = used_by;
+  p->srgb = srgb;
+  p->in = std::move(in);
+  pending_.push_back(std::move(p));
+  by_key_[key] = int(textures_.size()) - 1;
+  return int(textures_.size()) - 1;
+}
+
+namespace {
+
+// Decodes one image into its level 0 (RGBA8) at `dst`; returns a warning, if any.
+std::string decode_rgba8(OIIO::ImageInput& in, const std::string& path, const std::string& used_by, bool srgb,
+                         uint8_t* dst) {
+  const OIIO::ImageSpec& spec = in.spec();
+  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  const size_t n = size_t(w) * h;
+  auto channel_of = [nch](int k) {
+    return k < 3 ? (nch >= 3 ? k : 0) : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
+  };
+  if (spec.format == OIIO::TypeDesc::UINT8) {
+    // 8-bit sources are stored as they are (sRGB-encoded colour stays encoded).
+    std::vector<uint8_t> px(n * size_t(nch));
+    if (!in.read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, px.data()))
+      fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+    for (size_t i = 0; i < n; ++i)
+      for (int k = 0; k < 4; ++k) {
+        int src = channel_of(k);
+        dst[i * 4 + k] = src < 0 ? 255 : px[i * nch + size_t(src)];
+      }
+    return {};
+  }
+  std::vector<float> px(n * size_t(nch));
+  if (!in.read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data()))
+    fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+  // Float sources get sRGB-encoded; other integer formats are scaled to 0..1 by OIIO.
+  const bool float_source =
       spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF;
-  std::vector<uint8_t> rgba(size_t(w) * h * 4);
   size_t non_finite = 0;
-  for (size_t i = 0; i < size_t(w) * h; ++i) {
+  for (size_t i = 0; i < n; ++i) {
     float c[4];
     bool bad = false;
     for (int k = 0; k < 4; ++k) {
-      int src = k < 3 ? (nch >= 3 ? k : 0) : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
-      float v = src < 0 ? 1.0f : px[i * nch + src];
+      int src = channel_of(k);
+      float v = src < 0 ? 1.0f : px[i * nch + size_t(src)];
       if (!std::isfinite(v)) v = 0.0f, bad = true;  // NaN/Inf channels become 0 (black)
       c[k] = v;
     }
     non_finite += bad ? 1 : 0;
     for (int k = 0; k < 4; ++k) {
       float v = c[k];
-      if (float_source && srgb && k < 3) v = linear_to_srgb(std::max(0.0f, std::min(1.0f, v)));
-      rgba[i * 4 + k] = to_byte(v);
+      dst[i * 4 + k] = float_source && srgb && k < 3 ? encode_srgb_byte(std::min(1.0f, v)) : to_byte(v);
     }
   }
-  if (non_finite > 0)
-    warn(used_by + ": texture '" + path + "': " + std::to_string(non_finite) + " of " +
-         std::to_string(size_t(w) * h) + " texels hold NaN or Inf; those channels are read as 0 (black)");
-  int index = add(path, w, h, std::move(rgba), srgb);
-  by_key_[key] = index;
-  return index;
+  if (non_finite == 0) return {};
+  return used_by + ": texture '" + path + "': " + std::to_string(non_finite) + " of " + std::to_string(n) +
+         " texels hold NaN or Inf; those channels are read as 0 (black)";
+}
+
+}  // namespace
+
+void TexturePool::resolve() const {
+  if (pending_.empty()) return;
+  // Offsets first (sizes are known from the headers), then every texture
+  // decodes into its own part of the pool on its own thread.
+  size_t at = texels_.size();
+  for (const auto& p : pending_) {
+    PmcTexture& t = textures_[size_t(p->index)];
+    t.offset = static_cast<pmc_u32>(at / 4);
+    at += mip_chain_texels(t.width, t.height) * 4;
+  }
+  texels_.resize(at);
+  parallel_for_each_index(pending_.size(), [&](size_t i) {
+    Pending& p = *pending_[i];
+    const PmcTexture& t = textures_[size_t(p.index)];
+    uint8_t* base = texels_.data() + size_t(t.offset) * 4;
+    try {
+      p.warning = decode_rgba8(*p.in, p.path, p.used_by, p.srgb, base);
+      p.in->close();
+      build_mips(base, t.width, t.height, p.srgb);
+    } catch (const Error& e) {
+      p.error = e.what();
+    }
+  });
+  std::vector<std::unique_ptr<Pending>> done;
+  done.swap(pending_);
+  for (const auto& p : done) {
+    if (!p->error.empty()) fail(p->error);
+    if (!p->warning.empty()) warn(p->warning);
+  }
 }
 
 }  // namespace pmc
