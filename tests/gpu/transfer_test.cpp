@@ -9,43 +9,29 @@
 // sample).
 #include <gtest/gtest.h>
 
-#include "core/camera.h"
-#include "core/embree_tracer.h"
 #include "core/error.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
-#include "materials/cutout.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc {
 namespace {
 
 RenderOutput render_default_scene(bool cache, TransferMode mode, size_t chunk, size_t wave_paths) {
-  ObjLoadOptions load;
-  load.load_textures = false;
-  Scene scene = load_obj(test::source_path("data/default/room.obj"), load);
-  MaterialOptions mo;
-  mo.mtlx_files = {test::source_path("data/default/materials.mtlx")};
-  mo.compile.cache = cache;
-  MaterialSet materials = build_material_set(scene, mo);
-  CutoutTester cutout(scene, materials);
-  EmbreeTracer tracer(scene, TraceMode::Single, cutout.any() ? &cutout : nullptr);
-  WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
-  RenderSettings s;
-  s.width = 40;
-  s.height = 24;
-  s.spp = 2;
-  s.max_depth = 4;
-  s.camera = *read_camera_file(test::source_path("data/default/room.camera"));
-  s.transfer = mode;
-  s.chunk_rays = chunk;
+  RenderConfig c;
+  c.scene = test::source_path("data/default/room.obj");
+  c.mtlx = {test::source_path("data/default/materials.mtlx")};
+  c.width = 40;
+  c.height = 24;
+  c.spp = 2;
+  c.max_depth = 4;
+  c.cache = cache;
+  c.cache_cells = 4096;
+  c.transfer = mode;
+  c.chunk_rays = int64_t(chunk);
+  RenderSession session(c, test::cl());
+  RenderSettings s = session.settings();
   s.max_wave_paths = wave_paths;
-  s.cache.on = cache;
-  s.cache.cells = 4096;
-  s.cache.ways = 8;
-  s.cache.center = true;
-  s.cache.bilinear = true;
-  return renderer.render(s);
+  return session.render(s);
 }
 
 void expect_same(const RenderOutput& a, const RenderOutput& b) {
