@@ -4,10 +4,8 @@
 namespace pmc {
 
 SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& mats) {
-  std::vector<float> emission;
   for (const PmcMaterialInfo& m : mats.infos)
     for (int i = 0; i < 3; ++i) emission.push_back(m.emission[i]);
-  lights = build_light_table(scene, emission);
   texture_count = uint32_t(scene.textures.size());
   buffers[kScene_positions] = cl.buffer_of(scene.positions);
   buffers[kScene_normals] = cl.buffer_of(scene.normals);
@@ -18,9 +16,14 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   buffers[kScene_textures] = cl.buffer_of(scene.textures.textures());
   buffers[kScene_texels] = cl.buffer_of(mats.texel_words);
   buffers[kScene_srgb_lut] = cl.buffer_of(mats.srgb_lut);
-  buffers[kScene_light_tris] = cl.buffer_of(lights.triangles);
-  buffers[kScene_light_cdf] = cl.buffer_of(lights.cdf);
+  upload_lights(cl, build_light_table(scene, emission, SceneLights{}));
+}
+
+void SceneBuffers::upload_lights(const ClContext& cl, LightTable table) {
+  lights = std::move(table);
+  buffers[kScene_lights] = cl.buffer_of(lights.lights);
   buffers[kScene_tri_light_pmf] = cl.buffer_of(lights.triangle_pmf);
+  buffers[kScene_env] = cl.buffer_of(lights.env_data);
 }
 
 }  // namespace pmc

@@ -1,10 +1,10 @@
 // scene_buffers.h — the scene's read-only device buffers, uploaded once.
 //
 // Everything the shade kernel reads about the scene (geometry, materials'
-// bytecode and textures, the emissive-triangle light table) lives here, one
-// buffer per entry of PMC_SCENE_BUFFERS (gpu/kernels/pmc_scene_args.h), in
-// the kernel's argument order. The wave loop never touches them after the
-// upload; the shade launcher passes them as a block.
+// bytecode and textures, the light table) lives here, one buffer per entry
+// of PMC_SCENE_BUFFERS (gpu/kernels/pmc_scene_args.h), in the kernel's
+// argument order. The wave loop never touches them after the upload (the
+// lights once per render); the shade launcher passes them as a block.
 #pragma once
 
 #include <array>
@@ -27,10 +27,14 @@ enum SceneBuffer : unsigned {
 
 struct SceneBuffers {
   std::array<ClBuffer, kSceneBufferCount> buffers;
-  LightTable lights;
+  LightTable lights;            // set by upload_lights()
+  std::vector<float> emission;  // per material, rgb: its emissive triangles are lights
   uint32_t texture_count = 0;
 
   SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& materials);
+  // The light table depends on the render's settings (lights file,
+  // environment): each render uploads its own (lights, tri_light_pmf, env).
+  void upload_lights(const ClContext& cl, LightTable table);
   const ClBuffer& operator[](SceneBuffer b) const { return buffers[b]; }
 };
 

@@ -162,10 +162,9 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.height = s.height;
   frame.seed = s.seed;
   frame.max_depth = s.max_depth;
-  frame.light_count = int(scene.lights.triangles.size());
-  frame.light_total_power = scene.lights.total_power;
+  frame.lights = scene.lights.header;
+  frame.lights.env_uniform = s.env_importance ? 0u : 1u;
   frame.texture_count = scene.texture_count;
-  for (int i = 0; i < 3; ++i) frame.env[i] = std::max(0.0f, s.env[i]);
   fill_frame_camera(s.camera, frame);
   const CacheSettings& cs = s.cache;
   frame.cache_on = cs.on ? 1u : 0u;
@@ -251,6 +250,11 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   st.transfer = link.zero_copy() ? "zero-copy" : "copy";
   // The cache table lives for the whole render: all samples, all bounces.
   WaveBuffers wave(m.cl, link, wave_paths, pixels, cache_words);
+  // The lights of this render: its lights file and environment (else the
+  // constant s.env) plus the scene's emissive triangles (core/lights.h).
+  SceneLights lights = s.lights;
+  if (!lights.environment.present) lights.environment = constant_environment(s.env);
+  m.scene_buffers.upload_lights(m.cl, build_light_table(m.scene, m.scene_buffers.emission, lights));
   PmcFrame frame = make_frame(s, m.scene_buffers);
 
   if (!m.warmed_up) {  // compile time is warm-up, not rendering

@@ -20,6 +20,7 @@
 #include "core/camera.h"
 #include "core/embree_tracer.h"
 #include "core/image_io.h"
+#include "core/lights.h"
 #include "core/scene.h"
 #include "gpu/cl_context.h"
 #include "gpu/host_link.h"
@@ -53,7 +54,9 @@ struct RenderSettings {
   int spp = 16;
   int max_depth = 8;
   uint32_t seed = 0;
-  float env[3] = {0.0f, 0.0f, 0.0f};
+  float env[3] = {0.0f, 0.0f, 0.0f};  // constant environment radiance, unless lights.environment is set
+  SceneLights lights;                 // lights file and environment (emissive triangles come from the scene)
+  bool env_importance = true;         // false: sample an environment map uniformly (comparisons)
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave

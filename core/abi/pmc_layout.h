@@ -17,6 +17,8 @@
   X(PmcFilmPixel)             \
   X(PmcTexture)               \
   X(PmcMaterialInfo)          \
+  X(PmcLight)                 \
+  X(PmcLightHeader)           \
   X(PmcFrame)                 \
   X(PmcCounters)
 
@@ -42,6 +44,7 @@
   X(PmcPathState, depth)           \
   X(PmcPathState, flags)           \
   X(PmcPathState, cache_hits)      \
+  X(PmcPathState, env_pdf)         \
   X(PmcShadowLoad, rgb)            \
   X(PmcShadowLoad, path)           \
   X(PmcTriangle, v)                \
@@ -64,8 +67,31 @@
   X(PmcFrame, cam_forward)         \
   X(PmcFrame, cam_right)           \
   X(PmcFrame, cam_up)              \
-  X(PmcFrame, env)                 \
-  X(PmcFrame, scene_radius)        \
+  X(PmcLight, type)                \
+  X(PmcLight, flags)               \
+  X(PmcLight, pmf)                 \
+  X(PmcLight, cdf)                 \
+  X(PmcLight, pos)                 \
+  X(PmcLight, area)                \
+  X(PmcLight, axis)                \
+  X(PmcLight, cos_outer)           \
+  X(PmcLight, edge_v)              \
+  X(PmcLight, one_minus_cos)       \
+  X(PmcLight, rgb)                 \
+  X(PmcLight, spot_outer)          \
+  X(PmcLight, normal)              \
+  X(PmcLight, spot_inner)          \
+  X(PmcLightHeader, count)         \
+  X(PmcLightHeader, at_infinity)   \
+  X(PmcLightHeader, quad_end)      \
+  X(PmcLightHeader, env)           \
+  X(PmcLightHeader, env_width)     \
+  X(PmcLightHeader, env_height)    \
+  X(PmcLightHeader, env_rot_cos)   \
+  X(PmcLightHeader, env_rot_sin)   \
+  X(PmcLightHeader, env_inv_integral) \
+  X(PmcLightHeader, env_uniform)   \
+  X(PmcFrame, lights)              \
   X(PmcFrame, width)               \
   X(PmcFrame, height)              \
   X(PmcFrame, seed)                \
@@ -73,8 +99,6 @@
   X(PmcFrame, pixel_offset)        \
   X(PmcFrame, path_count)          \
   X(PmcFrame, max_depth)           \
-  X(PmcFrame, light_count)         \
-  X(PmcFrame, light_total_power)   \
   X(PmcFrame, texture_count)       \
   X(PmcFrame, cache_on)            \
   X(PmcFrame, cache_center)        \

@@ -44,6 +44,8 @@ typedef struct PmcPathState {
   pmc_u32 depth;     /* number of surface hits so far */
   pmc_u32 flags;
   pmc_u32 cache_hits; /* cache points found along the path (hit map) */
+  float env_pdf;      /* solid-angle pdf with which the environment light would have
+                         sampled that direction (pick probability included; MIS on escape) */
 } PmcPathState;
 
 /* Unoccluded contribution of a shadow ray, added to its path if the host
@@ -94,6 +96,58 @@ typedef struct PmcMaterialInfo {
   pmc_u32 pad[2];
 } PmcMaterialInfo;
 
+/* Light types (PmcLight.type); core/device/pmc_lights.h samples and
+ * evaluates them, core/lights.cpp builds the table. Units: intensity W/sr,
+ * irradiance W/m^2, radiance W/(m^2 sr), distances in scene units. */
+#define PMC_LIGHT_TRIANGLE 0u    /* emissive scene triangle (two-sided) */
+#define PMC_LIGHT_POINT 1u       /* pos, rgb = intensity */
+#define PMC_LIGHT_SPOT 2u        /* pos, axis (where it points), rgb = intensity on the axis */
+#define PMC_LIGHT_DIRECTIONAL 3u /* axis = direction of travel, rgb = irradiance at normal incidence */
+#define PMC_LIGHT_SUN 4u         /* directional with an angle: a disk of radiance rgb around -axis */
+#define PMC_LIGHT_QUAD 5u        /* parallelogram pos + s edge_u + t edge_v, rgb = radiance */
+#define PMC_LIGHT_ENV 6u         /* the environment: constant radiance rgb, or the map */
+
+#define PMC_LIGHT_TWO_SIDED 1u /* quad: emits from both sides (triangles always do) */
+
+/* One light of the table. Triangles and quads are parallelograms/triangles
+ * spanned at `pos` by `axis` and `edge_v` with unit `normal` (quads emit
+ * toward it). Lights are stored in table order: the environment (if any),
+ * sun disks, quads, then the rest (PmcLightHeader). */
+typedef struct PmcLight {
+  pmc_u32 type;
+  pmc_u32 flags;
+  float pmf; /* probability that light sampling picks this light (by power) */
+  float cdf; /* running sum of pmf in table order, the last light's is 1 */
+  float pos[3];
+  float area; /* triangle, quad */
+  float axis[3];
+  float cos_outer; /* spot: cos(cone/2); sun: cos(angle/2) */
+  float edge_v[3];
+  float one_minus_cos; /* sun: 1 - cos(angle/2), exact for tiny disks */
+  float rgb[3];
+  float spot_outer; /* spot: half opening angle (radians) */
+  float normal[3];
+  float spot_inner; /* spot: the angle where the fade starts (radians) */
+} PmcLight;
+
+/* Environment kinds (PmcLightHeader.env). */
+#define PMC_ENV_NONE 0u
+#define PMC_ENV_CONSTANT 1u /* light 0, radiance rgb; sampled cosine-weighted around the normal */
+#define PMC_ENV_MAP 2u      /* light 0, the lat-long map; sampled by luminance x sin(theta) */
+
+/* The light table's shape (part of PmcFrame). */
+typedef struct PmcLightHeader {
+  pmc_i32 count;       /* lights in the table (0: no next-event estimation) */
+  pmc_i32 at_infinity; /* [0, at_infinity): seen by escaped rays (environment first, suns) */
+  pmc_i32 quad_end;    /* [at_infinity, quad_end): quads, tested against every ray */
+  pmc_u32 env;         /* PMC_ENV_* */
+  pmc_i32 env_width, env_height;
+  float env_rot_cos, env_rot_sin; /* the map turned about +Y: world = R_y(angle) map */
+  float env_inv_integral;         /* 1 / sum over texels of luminance x sin(theta) */
+  pmc_u32 env_uniform;            /* sample the map uniformly over the sphere (comparisons) */
+  pmc_u32 pad[2];
+} PmcLightHeader;
+
 /* Everything a wave's kernels need to know about the frame. */
 typedef struct PmcFrame {
   float cam_eye[3];
@@ -104,13 +158,11 @@ typedef struct PmcFrame {
   float pad1;
   float cam_up[3]; /* scaled by tan(fov/2) */
   float pad2;
-  float env[3];
-  float scene_radius;
+  PmcLightHeader lights;
   pmc_i32 width, height;
   pmc_u32 seed, sample;
   pmc_u32 pixel_offset, path_count;
-  pmc_i32 max_depth, light_count;
-  float light_total_power;
+  pmc_i32 max_depth;
   pmc_u32 texture_count;
   pmc_u32 cache_on;     /* the programs contain cache instructions */
   pmc_u32 cache_center; /* --cache-eval center */

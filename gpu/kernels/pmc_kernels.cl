@@ -4,9 +4,10 @@
  * (gpu/wavefront_renderer.cpp) runs them in this order for each wave of paths:
  *   pmc_camera_rays     : pixel -> camera ray + fresh path state
  *   (host: Embree intersects the ray queue into PmcHit records)
- *   pmc_shade           : hit -> material (bytecode against the cache),
- *                         emission, light sample (shadow ray), BSDF sample
- *                         (next ray), Russian roulette
+ *   pmc_shade           : hit -> lights the ray met (pmc_lights.h), material
+ *                         (bytecode against the cache), emission, light
+ *                         sample (shadow ray), BSDF sample (next ray),
+ *                         Russian roulette
  *   (host: Embree tests the shadow rays, one occlusion byte each)
  *   pmc_resolve_shadows : add unoccluded light samples to their paths
  *   pmc_film_accumulate : when the wave is done, add path radiance to the film
@@ -18,6 +19,7 @@
 #include "pmc_bsdf.h"
 #include "pmc_geometry.h"
 #include "pmc_interp.h"
+#include "pmc_lights.h"
 #include "pmc_raycone.h"
 #include "pmc_rng.h"
 #include "pmc_scene_args.h"
@@ -61,6 +63,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->cone_width = 0.0f;
   p->cone_spread = frame->cam_spread;
   p->bsdf_pdf = 0.0f;
+  p->env_pdf = 0.0f;
   p->pixel = pixel;
   p->depth = 0u;
   p->cache_hits = 0u;
@@ -69,19 +72,6 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
 
 static inline float3 pmc_vertex(__global const float* a, int i) {
   return make_float3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
-}
-
-/* Pick an emissive triangle proportionally to power (binary search on CDF). */
-static inline int pmc_pick_light(__global const float* cdf, int count, float u) {
-  int lo = 0, hi = count - 1;
-  while (lo < hi) {
-    int mid = (lo + hi) >> 1;
-    if (cdf[mid] > u)
-      hi = mid;
-    else
-      lo = mid + 1;
-  }
-  return lo;
 }
 
 static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float3 d, float tfar, uint id) {
@@ -134,8 +124,9 @@ typedef struct PmcShadeOut {
   uint cache_counts[PMC_CSTAT_COUNT]; /* PMC_CSTAT_* events of this evaluation */
 } PmcShadeOut;
 
-/* Pass 1: the hit's geometry, shading frame, ray cone and (with the cache)
- * texel. An escaped ray adds the environment to its path here. */
+/* Pass 1: the lights the ray met (quads before its hit; the environment and
+ * sun disks if it escaped), then the hit's geometry, shading frame, ray cone
+ * and (with the cache) texel. */
 static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData* scene,
                                  __global const PmcRay* rays, __global const PmcHit* hits,
                                  __global PmcPathState* paths, uint i, PmcHitPoint* hp) {
@@ -145,14 +136,16 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   __global PmcPathState* path = &paths[ray.id];
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->surface = hit.prim >= 0;
-  if (!hp->surface) {
-    /* Escaped: the constant environment (sampled only by the BSDF). */
-    float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * pmc_load3(frame->env);
+  const PmcLightSet* lights = &scene->light_set;
+  if (lights->h.quad_end > 0) {
+    float3 le = pmc_lights_seen(lights, make_float3(ray.org_x, ray.org_y, ray.org_z), dir, hit.t,
+                                !hp->surface, path->bsdf_pdf, path->env_pdf, path->flags & PMC_PATH_SPECULAR);
+    float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * le;
     path->radiance[0] = radiance.x;
     path->radiance[1] = radiance.y;
     path->radiance[2] = radiance.z;
-    return;
   }
+  if (!hp->surface) return;
 
   PmcTriangle tri = scene->triangles[hit.prim];
   float3 p0 = pmc_vertex(scene->positions, tri.v[0]);
@@ -283,11 +276,9 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   /* Emission reached by the path: MIS against light sampling. */
   if (pmc_max3(bsdf.emission) > 0.0f) {
     float w = 1.0f;
-    if (!(path->flags & PMC_PATH_SPECULAR) && scene->light_count > 0) {
-      float pmf = scene->tri_light_pmf[hp->prim];
-      float cosl = fabs(dot(ng, dir));
+    if (!(path->flags & PMC_PATH_SPECULAR)) {
       float light_pdf =
-          cosl > 0.0f && hp->area2 > 0.0f ? pmf * hp->t * hp->t / (0.5f * hp->area2 * cosl) : 0.0f;
+          pmc_area_light_pdf(scene->tri_light_pmf[hp->prim], hp->t, 0.5f * hp->area2, dot(ng, dir));
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
     }
     radiance += throughput * bsdf.emission * w;
@@ -301,41 +292,24 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
   int has_lobes = pmc_max3(bsdf.diffuse) > 0.0f || pmc_max3(bsdf.specular) > 0.0f;
 
-  /* Next-event estimation toward one emissive triangle. */
-  if (scene->light_count > 0 && has_lobes) {
-    int li = pmc_pick_light(scene->light_cdf, scene->light_count, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK));
-    int ltri_index = scene->light_tris[li];
-    PmcTriangle lt = scene->triangles[ltri_index];
-    float3 q0 = pmc_vertex(scene->positions, lt.v[0]);
-    float3 q1 = pmc_vertex(scene->positions, lt.v[1]);
-    float3 q2 = pmc_vertex(scene->positions, lt.v[2]);
-    float2 bc =
-        pmc_sample_triangle(pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V));
-    float3 q = q0 * bc.x + q1 * bc.y + q2 * (1.0f - bc.x - bc.y);
-    float3 lng = cross(q1 - q0, q2 - q0);
-    float larea = 0.5f * length(lng);
-    float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
-    float3 d = q - origin;
-    float dist2 = dot(d, d);
-    float dist = sqrt(dist2);
-    if (dist > 0.0f && larea > 0.0f) {
-      float3 wi_world = d * (1.0f / dist);
-      float cosl = fabs(dot(lng, wi_world)) / (2.0f * larea);
-      float3 wi = pmc_to_local(wi_world, t, b, ns);
-      if (cosl > 0.0f && wi.z > 0.0f && dot(wi_world, ng) > 0.0f) {
-        float light_pdf = scene->tri_light_pmf[ltri_index] * dist2 / (larea * cosl);
-        float3 f = pmc_bsdf_eval(&bsdf, wo, wi);
-        float bpdf = pmc_bsdf_pdf(&bsdf, wo, wi);
-        float w = pmc_mis_power(light_pdf, bpdf);
-        float3 le = pmc_material_emission(&md, lt.material);
-        float3 c = throughput * f * le * (wi.z * w / light_pdf);
-        if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
-          out->shadow = 1;
-          out->shadow_org = origin;
-          out->shadow_dir = wi_world;
-          out->shadow_tfar = dist * (1.0f - 1e-4f);
-          out->shadow_rgb = c;
-        }
+  /* Next-event estimation: one light, picked by power (pmc_lights.h). */
+  PmcLightSample ls;
+  float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
+  if (has_lobes &&
+      pmc_light_sample(&scene->light_set, origin, ns, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK),
+                       pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V), &ls) &&
+      dot(ls.wi, ng) > 0.0f) {
+    float3 wi = pmc_to_local(ls.wi, t, b, ns);
+    if (wi.z > 0.0f) {
+      float3 f = pmc_bsdf_eval(&bsdf, wo, wi);
+      float w = ls.pdf > 0.0f ? pmc_mis_power(ls.pdf, pmc_bsdf_pdf(&bsdf, wo, wi)) : 1.0f;
+      float3 c = throughput * f * ls.weight * (wi.z * w);
+      if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
+        out->shadow = 1;
+        out->shadow_org = origin;
+        out->shadow_dir = ls.wi;
+        out->shadow_tfar = isinf(ls.dist) ? INFINITY : ls.dist * (1.0f - 1e-4f);
+        out->shadow_rgb = c;
       }
     }
   }
@@ -364,6 +338,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       out->next_org = pmc_offset_ray(pos, ng * side, hp->hit_scale);
       out->next_dir = wi_world;
       path->bsdf_pdf = pdf;
+      path->env_pdf = pmc_env_light_pdf(&scene->light_set, ns, wi_world);
       path->flags = 0u;
       path->cone_width = hp->cone_width;
     }
@@ -428,7 +403,8 @@ static inline void pmc_touch_vertices(const PmcSceneData* scene, __global const 
  *      everyone writes its rays (one global atomic per ray makes the cores
  *      fight over the counters' cache line). The cache's event counts are
  *      summed the same way. */
-__kernel void pmc_shade(__constant PmcFrame* frame, PMC_SCENE_BUFFERS(PMC_SCENE_PARAM) __global const PmcRay* rays,
+__kernel void pmc_shade(__constant PmcFrame* frame,
+                        PMC_SCENE_BUFFERS(PMC_SCENE_PARAM) __global const PmcRay* rays,
                         __global const PmcHit* hits, __global PmcPathState* paths, __global PmcRay* next_rays,
                         __global PmcRay* shadow_rays, __global PmcShadowLoad* shadow_loads,
                         __global PmcCounters* counters, __global volatile ulong* cache_entries,
@@ -436,7 +412,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame, PMC_SCENE_BUFFERS(PMC_SCENE_
   PmcSceneData s;
   PMC_SCENE_BUFFERS(PMC_SCENE_INIT)
   s.texture_count = frame->texture_count;
-  s.light_count = frame->light_count;
+  s.light_set.lights = s.lights;
+  s.light_set.env = s.env;
+  s.light_set.h = frame->lights;
   const PmcSceneData* scene = &s;
   __local uint group_count[2 + PMC_CSTAT_COUNT];
   __local uint group_base[2];
@@ -454,8 +432,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, PMC_SCENE_BUFFERS(PMC_SCENE_
 
   PmcHitPoint hp;
   hp.surface = 0;
-  if (i < ray_count)
-    pmc_hit_point(frame, scene, rays, hits, paths, i, &hp);
+  if (i < ray_count) pmc_hit_point(frame, scene, rays, hits, paths, i, &hp);
   barrier(CLK_LOCAL_MEM_FENCE);
 
   if (hp.surface && hp.texel.ready) {
@@ -470,8 +447,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame, PMC_SCENE_BUFFERS(PMC_SCENE_
   out.next = 0;
   out.shadow = 0;
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out.cache_counts[c] = 0u;
-  if (hp.surface)
-    pmc_shade_surface(frame, scene, &hp, paths, cache_entries, &out);
+  if (hp.surface) pmc_shade_surface(frame, scene, &hp, paths, cache_entries, &out);
 
   uint next_slot = out.next ? atomic_inc(&group_count[0]) : 0u;
   uint shadow_slot = out.shadow ? atomic_inc(&group_count[1]) : 0u;

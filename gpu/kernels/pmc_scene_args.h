@@ -23,9 +23,9 @@
   X(textures, __global const PmcTexture*)             \
   X(texels, __global const pmc_u32*)    /* RGBA8 */  \
   X(srgb_lut, __constant float*)                      \
-  X(light_tris, __global const int*)                  \
-  X(light_cdf, __global const float*)                 \
-  X(tri_light_pmf, __global const float*)
+  X(lights, __global const PmcLight*)   /* pmc_lights.h */ \
+  X(tri_light_pmf, __global const float*) /* per triangle */ \
+  X(env, __global const float*)         /* map texels, CDFs */
 // clang-format on
 
 #ifdef __OPENCL_VERSION__
@@ -35,7 +35,7 @@
 typedef struct PmcSceneData {
   PMC_SCENE_BUFFERS(PMC_SCENE_FIELD)
   uint texture_count;
-  int light_count;
+  PmcLightSet light_set; /* lights + env + the frame's light header */
 } PmcSceneData;
 #endif
 

@@ -310,13 +310,13 @@ inline std::string check_material_set(const Scene& scene, const MaterialSet& set
   std::vector<float> emission;
   for (const PmcMaterialInfo& m : set.infos)
     for (int k = 0; k < 3; ++k) emission.push_back(m.emission[k]);
-  LightTable lights = build_light_table(scene, emission);
+  LightTable lights = build_light_table(scene, emission, SceneLights{});
   float previous = 0.0f;
-  for (float c : lights.cdf) {
-    if (!(c >= previous && c <= 1.0f)) return "light CDF not increasing within [0, 1]";
-    previous = c;
+  for (const PmcLight& l : lights.lights) {
+    if (!(l.cdf >= previous && l.cdf <= 1.0f)) return "light CDF not increasing within [0, 1]";
+    previous = l.cdf;
   }
-  if (!lights.cdf.empty() && lights.cdf.back() != 1.0f) return "light CDF does not end at 1";
+  if (!lights.lights.empty() && lights.lights.back().cdf != 1.0f) return "light CDF does not end at 1";
   for (float p : lights.triangle_pmf)
     if (!(p >= 0.0f && p <= 1.0f)) return "light pick probability outside [0, 1]";
   return "";
