@@ -96,6 +96,7 @@ int run_compare(const std::vector<std::string>& args) {
   p.option("--diff-scale", "S", "scale of the difference image (positive)", "5");
   p.flag("--quiet", "no progress bars and no cache-size lines (the summary and warnings still print)");
   declare_render_options(p);
+  declare_display_options(p);
   p.hide("--cache");  // refused below: compare always renders both
   if (!p.parse(args)) return 0;
   if (p.positional().size() != 1) fail("compare: expected exactly one SCENE.obj (see --help)");
@@ -112,6 +113,7 @@ int run_compare(const std::vector<std::string>& args) {
   if (p.has("--reference-spp") && reference_spp <= 0)
     fail("--reference-spp: must be at least 1, got ", reference_spp);
   const bool quiet = p.has("--quiet");
+  const DisplaySettings display = display_settings_from(p);
   RenderConfig config = render_config_from(p, obj);
   Image reference;
   const bool have_reference = p.has("--reference") || p.has("--reference-spp");
@@ -150,9 +152,9 @@ int run_compare(const std::vector<std::string>& args) {
     return full;
   };
   write_exr(path("cache_off.exr"), off.image);
-  write_png_tonemapped(path("cache_off.png"), off.image);
+  write_png_tonemapped(path("cache_off.png"), off.image, display);
   write_exr(path("cache_on.exr"), on.image);
-  write_png_tonemapped(path("cache_on.png"), on.image);
+  write_png_tonemapped(path("cache_on.png"), on.image, display);
   write_png_display(path("difference.png"), difference_image(on.image, off.image, diff_scale));
   write_png_display(path("hitmap.png"), heatmap_with_colorbar(on.hitmap));
   write_exr(path("hitmap.exr"), on.hitmap);

@@ -77,14 +77,15 @@ void write_text_atomic(const std::string& path, const std::string& text) {
 int run_render(const std::vector<std::string>& args) {
   ArgParser p("pmc render SCENE.obj -o OUT.exr [options]",
               "Renders an OBJ scene: Embree traces rays on the host, OpenCL shades them.\n"
-              "Writes linear OUT.exr and a tone-mapped sRGB OUT.png beside it.");
+              "Writes linear OUT.exr and an sRGB OUT.png beside it (--exposure, --view).");
   p.option("-o", "OUT.exr",
-           "output image (linear EXR, must end in .exr); the tone-mapped PNG goes beside it");
+           "output image (linear EXR, must end in .exr); the PNG (--exposure, --view) goes beside it");
   p.option("--stats", "OUT.json", "write render statistics as JSON");
   p.option("--hitmap", "MAP.png",
            "cache points found per sample as a viridis heat map (0..20) + raw MAP.exr (must end in .png)");
   p.flag("--quiet", "no progress bar and no cache-size line (the summary and warnings still print)");
   declare_render_options(p);
+  declare_display_options(p);
   if (!p.parse(args)) return 0;
   if (p.positional().size() != 1) fail("render: expected exactly one SCENE.obj (see --help)");
   if (!p.has("-o")) fail("render: missing -o OUT.exr");
@@ -106,6 +107,7 @@ int run_render(const std::vector<std::string>& args) {
     outputs.push_back({"--stats", p.get("--stats")});
   }
   check_distinct_outputs(outputs);
+  const DisplaySettings display = display_settings_from(p);
 
   const RenderConfig config = render_config_from(p, obj);
   std::unique_ptr<ClContext> cl = open_device(config);
@@ -121,7 +123,7 @@ int run_render(const std::vector<std::string>& args) {
   guard.track(exr);
   guard.track(png);
   write_exr(exr, out.image);
-  write_png_tonemapped(png, out.image);
+  write_png_tonemapped(png, out.image, display);
   if (p.has("--hitmap")) {
     const std::string map = p.get("--hitmap");
     const std::string raw = replace_extension(map, ".exr");

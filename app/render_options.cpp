@@ -2,6 +2,7 @@
 #include "app/render_options.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -39,7 +40,19 @@ void declare_render_options(ArgParser& p) {
   p.option("--camera-at", "x,y,z", "point the camera looks at");
   p.option("--camera-up", "x,y,z", "camera up vector", "0,1,0");
   p.option("--fov", "DEG", "vertical field of view in degrees", "45");
-  p.option("--env", "R,G,B", "constant environment radiance", "0,0,0");
+  p.option("--env", "R,G,B",
+           "constant environment radiance (W/m^2/sr), sampled as a light; replaces the lights file's "
+           "environment",
+           "0,0,0");
+  p.option("--env-map", "FILE",
+           "environment map, lat-long EXR or Radiance HDR (+Y up, image centre seen looking along -Z, +X at "
+           "u = 0.75), importance-sampled; replaces the lights file's environment");
+  p.option("--env-scale", "S", "multiplies the environment (--env, --env-map or the lights file's)", "1");
+  p.option("--env-rotate", "DEG", "turns the environment about +Y, counter-clockwise seen from above", "0");
+  p.option("--lights", "FILE.json|none",
+           "lights file: point, spot, directional and quad lights and the environment (README, Lights); "
+           "'none' ignores SCENE.lights.json",
+           "SCENE.lights.json beside the OBJ, if there is one");
   p.option("--trace-mode", "MODE", "Embree query style: single, stream or packet16", "single");
   p.option("--chunk-rays", "N", "rays per streamed chunk with --transfer copy (0: whole queue)", "65536");
   p.option("--transfer", "auto|zero-copy|copy",
@@ -69,6 +82,10 @@ RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
   c.max_depth = p.get_int("--max-depth", c.max_depth);
   c.seed = p.get_int64("--seed", c.seed);
   if (auto env = vec3_of(p, "--env")) c.env = *env;
+  c.lights = p.get("--lights");
+  c.env_map = p.get("--env-map");
+  if (p.has("--env-scale")) c.env_scale = p.get_float("--env-scale", 1.0f);
+  if (p.has("--env-rotate")) c.env_rotate = p.get_float("--env-rotate", 0.0f);
   c.camera_from = vec3_of(p, "--camera-from");
   c.camera_at = vec3_of(p, "--camera-at");
   c.camera_up = vec3_of(p, "--camera-up");
@@ -96,6 +113,23 @@ RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
   c.transfer = parse_transfer_mode(p.get("--transfer", "auto"));
   c.validate();
   return c;
+}
+
+void declare_display_options(ArgParser& p) {
+  p.option("--exposure", "EV", "PNG exposure in stops: linear values x 2^EV before the view transform", "0");
+  p.option("--view", "filmic|standard",
+           "PNG view transform, then sRGB: filmic (ACES fit, highlights roll off) or standard (clip at 1); "
+           "the EXR stays linear",
+           "filmic");
+}
+
+DisplaySettings display_settings_from(const ArgParser& p) {
+  DisplaySettings d;
+  d.exposure_ev = p.get_float("--exposure", 0.0f);
+  if (!(std::fabs(d.exposure_ev) <= 64.0f))
+    fail("--exposure: must be within -64..64 stops, got ", d.exposure_ev);
+  d.view = parse_view_transform(p.get("--view", "filmic"), "--view");
+  return d;
 }
 
 std::string flag_name(const std::string& setting) {

@@ -7,12 +7,16 @@
 #pragma once
 
 #include "app/cli_args.h"
+#include "core/image_io.h"
 #include "gpu/render_config.h"
 
 namespace pmc {
 
 void declare_render_options(ArgParser& p);
 RenderConfig render_config_from(const ArgParser& p, const std::string& obj);
+// --exposure and --view: how the PNGs of renders are made (the EXRs stay linear).
+void declare_display_options(ArgParser& p);
+DisplaySettings display_settings_from(const ArgParser& p);
 // "cache_entries" -> "--cache-entries".
 std::string flag_name(const std::string& setting);
 // Text with marked settings (ConfigError messages, the cache size's reason) in flag names.

@@ -35,10 +35,10 @@ double EnvMap::luminance_integral() const {
   return integral * 2.0 * kPi * kPi / (double(width) * double(height));
 }
 
-std::vector<float> EnvMap::device_data() const {
+std::vector<float> EnvMap::device_data(float scale) const {
   std::vector<float> out;
   out.reserve(rgb.size() + marginal.size() + conditional.size());
-  out.insert(out.end(), rgb.begin(), rgb.end());
+  for (float v : rgb) out.push_back(v * scale);
   out.insert(out.end(), marginal.begin(), marginal.end());
   out.insert(out.end(), conditional.begin(), conditional.end());
   return out;
@@ -64,9 +64,7 @@ EnvMap env_map_from_rgb(int width, int height, std::vector<float> rgb, const std
   return m;
 }
 
-EnvMap load_env_map(const std::string& path, float scale) {
-  if (!(scale >= 0.0f) || !std::isfinite(scale))
-    fail(path, ": environment scale must be a finite number >= 0, got ", scale);
+EnvMap load_env_map(const std::string& path) {
   Image img = read_image(path);  // names the file when it cannot be read or decoded
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0) fail(path, ": the environment map is empty");
   const size_t texels = size_t(img.width) * size_t(img.height);
@@ -83,7 +81,7 @@ EnvMap load_env_map(const std::string& path, float scale) {
         ++negative;
         v = 0.0f;
       }
-      rgb[3 * i + size_t(c)] = v * scale;
+      rgb[3 * i + size_t(c)] = v;
     }
   }
   if (bad > 0)

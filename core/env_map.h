@@ -3,8 +3,8 @@
 // A lat-long map (the convention of core/device/pmc_lights.h: +Y up,
 // u = 0.5 + atan2(x, -z)/2pi, v = acos(y)/pi, v = 0 the top row) is read
 // through OpenImageIO (OpenEXR, Radiance HDR, anything OIIO reads), checked
-// (finite texels; negative ones are clamped to 0 with a warning), scaled, and
-// given a piecewise-constant sampling density proportional to luminance x
+// (finite texels; negative ones are clamped to 0 with a warning) and given a
+// piecewise-constant sampling density proportional to luminance x
 // sin(theta) per texel: the marginal CDF over rows and one conditional CDF
 // over the columns of each row, built in double precision. device_data()
 // lays texels and CDFs out the way the kernel reads them.
@@ -18,19 +18,19 @@ namespace pmc {
 struct EnvMap {
   std::string path;  // where it came from ("" for maps made in memory)
   int width = 0, height = 0;
-  std::vector<float> rgb;          // width * height * 3, linear radiance, scale applied
+  std::vector<float> rgb;          // width * height * 3, linear radiance
   std::vector<float> marginal;     // height: running sum over rows, last 1
   std::vector<float> conditional;  // height * width: per row, running sum over columns, last 1
   double integral = 0.0;           // sum over texels of luminance x sin(theta of the row centre)
   // Integral of the luminance over the sphere (W/(m^2 sr) x sr): the map's
   // share of light power is pi r^2 times this.
   double luminance_integral() const;
-  // Texels then marginal then conditional CDFs (core/device/pmc_lights.h).
-  std::vector<float> device_data() const;
+  // Texels x scale, then the marginal and conditional CDFs (core/device/pmc_lights.h).
+  std::vector<float> device_data(float scale) const;
 };
 
 // Reads and checks a map; errors (pmc::Error) name the file.
-EnvMap load_env_map(const std::string& path, float scale = 1.0f);
+EnvMap load_env_map(const std::string& path);
 // A map from linear rgb texels (top row first); builds the distribution.
 EnvMap env_map_from_rgb(int width, int height, std::vector<float> rgb, const std::string& path = "");
 

@@ -52,13 +52,23 @@ void write_exr(const std::string& path, const Image& image) {
   write_atomic(path, image, OIIO::TypeDesc::FLOAT, image.pixels.data());
 }
 
-void write_png_tonemapped(const std::string& path, const Image& image, float exposure) {
+float display_encode(float linear, const DisplaySettings& display) {
+  float v = linear * std::exp2(display.exposure_ev);
+  if (!std::isfinite(v) || !(v > 0.0f)) return 0.0f;
+  v = display.view == ViewTransform::Filmic ? aces_fit(v) : std::min(v, 1.0f);
+  return srgb_encode(v);
+}
+
+ViewTransform parse_view_transform(const std::string& name, const std::string& option) {
+  if (name == "filmic") return ViewTransform::Filmic;
+  if (name == "standard") return ViewTransform::Standard;
+  fail(option, ": expected filmic or standard, got '", name, "'");
+}
+
+void write_png_tonemapped(const std::string& path, const Image& image, const DisplaySettings& display) {
   std::vector<unsigned char> bytes(image.pixels.size());
-  for (size_t i = 0; i < bytes.size(); ++i) {
-    float v = image.pixels[i] * exposure;
-    if (!std::isfinite(v)) v = 0.0f;
-    bytes[i] = (unsigned char)std::lround(255.0f * srgb_encode(aces_fit(std::max(0.0f, v))));
-  }
+  for (size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = (unsigned char)std::lround(255.0f * display_encode(image.pixels[i], display));
   write_atomic(path, image, OIIO::TypeDesc::UINT8, bytes.data());
 }
 

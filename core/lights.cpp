@@ -218,7 +218,9 @@ EnvironmentSpec environment_from_map(const std::string& path, float scale, float
   if (!std::isfinite(rotate_y_deg)) fail(path, ": the rotation must be a finite angle");
   EnvironmentSpec env;
   env.present = true;
-  env.map = std::make_shared<const EnvMap>(load_env_map(path, scale));
+  if (!(scale >= 0.0f) || !std::isfinite(scale))
+    fail(path, ": the environment scale must be a finite number >= 0, got ", scale);
+  env.map = std::make_shared<const EnvMap>(load_env_map(path));
   env.scale = scale;
   env.rotate_y_deg = rotate_y_deg;
   return env;
@@ -261,9 +263,10 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
       t.header.env = PMC_ENV_MAP;
       t.header.env_width = m.width;
       t.header.env_height = m.height;
-      t.header.env_inv_integral = m.integral > 0.0 ? float(1.0 / m.integral) : 0.0f;
-      t.env_data = m.device_data();
-      power = disk * m.luminance_integral();
+      const double integral = m.integral * double(env.scale);
+      t.header.env_inv_integral = integral > 0.0 ? float(1.0 / integral) : 0.0f;
+      t.env_data = m.device_data(env.scale);
+      power = disk * m.luminance_integral() * double(env.scale);
     } else {
       t.header.env = PMC_ENV_CONSTANT;
       put3(l.rgb, env.radiance[0] * env.scale, env.radiance[1] * env.scale, env.radiance[2] * env.scale);

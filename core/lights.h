@@ -46,7 +46,7 @@ struct EnvironmentSpec {
   bool present = false;
   float radiance[3] = {0, 0, 0};  // when no map
   std::shared_ptr<const EnvMap> map;
-  float scale = 1.0f;  // applied to `radiance`; a map's texels are scaled when loaded
+  float scale = 1.0f;  // multiplies the radiance or the map
   float rotate_y_deg = 0.0f;
 };
 

@@ -37,6 +37,12 @@ void RenderConfig::validate() const {
   if (!finite3(env)) fail_config(setting("env"), ": radiance must be finite");
   for (float v : env)
     if (v < 0.0f) fail_config(setting("env"), ": radiance must not be negative");
+  if (!env_map.empty() && (env[0] > 0.0f || env[1] > 0.0f || env[2] > 0.0f))
+    fail_config(setting("env"), " and ", setting("env_map"), ": give one environment, not both");
+  if (env_scale && !(*env_scale >= 0.0f && std::isfinite(*env_scale)))
+    fail_config(setting("env_scale"), ": must be a finite number >= 0, got ", *env_scale);
+  if (env_rotate && !std::isfinite(*env_rotate))
+    fail_config(setting("env_rotate"), ": must be a finite angle in degrees, got ", *env_rotate);
   if (chunk_rays < 0) fail_config(setting("chunk_rays"), ": must not be negative");
   if (threads && *threads <= 0) fail_config(setting("threads"), ": must be at least 1, got ", *threads);
 

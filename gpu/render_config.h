@@ -12,7 +12,8 @@
 // cache table's size when none is given (core/cache_sizing.h).
 //
 // Units: pixels, samples per pixel, surface hits per path, degrees (vertical
-// field of view), linear radiance (env), floats (kernel stack), rays.
+// field of view, env_rotate), linear radiance (env, W/(m^2 sr)), floats
+// (kernel stack), rays.
 #pragma once
 
 #include <array>
@@ -47,7 +48,17 @@ struct RenderConfig {
   int spp = 16;                   // samples per pixel
   int max_depth = 8;              // surface hits per path, 1..1024
   int64_t seed = 0;               // 0..2^32-1; equal seeds give identical images (cache: center mode)
-  Vec3 env = {0.0f, 0.0f, 0.0f};  // constant environment radiance
+  Vec3 env = {0.0f, 0.0f,
+              0.0f};  // constant environment radiance; when not black it replaces the lights file's
+
+  // Lights (core/lights.h; README "Lights"): a lights file ("": SCENE.lights.json
+  // beside the OBJ when there is one; "none": not even that), an environment
+  // map that replaces the file's environment, and changes to whichever
+  // environment applies (env_map's, the file's, or env).
+  std::string lights;
+  std::string env_map;              // lat-long EXR or Radiance HDR
+  std::optional<float> env_scale;   // multiplies the environment, >= 0
+  std::optional<float> env_rotate;  // degrees about +Y, counter-clockwise seen from above
 
   // The camera: camera_from and camera_at together (camera_up, fov), else a
   // SCENE.camera file beside the OBJ (fov overrides its fov), else framing

@@ -76,6 +76,37 @@ Camera resolve_camera(const RenderConfig& c, const Scene& scene) {
   return camera;
 }
 
+SceneLights resolve_lights(const RenderConfig& c) {
+  SceneLights lights;
+  if (c.lights != "none") {
+    const std::string beside = std::filesystem::path(c.scene).replace_extension(".lights.json").string();
+    if (!c.lights.empty())
+      lights = read_lights_file(c.lights);
+    else if (std::filesystem::exists(beside))
+      lights = read_lights_file(beside);
+  }
+  if (!c.env_map.empty()) {
+    try {
+      lights.environment = environment_from_map(c.env_map, 1.0f, 0.0f);
+    } catch (const ConfigError&) {
+      throw;
+    } catch (const Error& e) {
+      fail_config(setting("env_map"), ": ", e.what());
+    }
+  } else if (c.env[0] > 0.0f || c.env[1] > 0.0f || c.env[2] > 0.0f) {
+    lights.environment = constant_environment(c.env.data());
+  }
+  auto no_environment = [&](const char* name) {
+    fail_config(setting(name), ": there is no environment to change (give ", setting("env"), ", ",
+                setting("env_map"), " or a lights file with one)");
+  };
+  if (c.env_scale && !lights.environment.present) no_environment("env_scale");
+  if (c.env_rotate && !lights.environment.present) no_environment("env_rotate");
+  if (c.env_scale) lights.environment.scale = *c.env_scale;
+  if (c.env_rotate) lights.environment.rotate_y_deg = *c.env_rotate;
+  return lights;
+}
+
 RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : config_(config) {
   config_.validate();
   ObjLoadOptions load;
@@ -91,6 +122,7 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
     m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
   settings_ = base_render_settings(config_);
   settings_.camera = resolve_camera(config_, scene_);
+  settings_.lights = resolve_lights(config_);
   if (settings_.cache.on)
     size_cache(config_, materials_, settings_.cache, config_.width, config_.height, config_.spp);
   cutout_ = std::make_unique<CutoutTester>(scene_, materials_);

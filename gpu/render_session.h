@@ -2,7 +2,8 @@
 //
 // A session validates the config, loads the OBJ (textures are loaded by the
 // material compiler, only those live nodes read), binds and compiles its
-// materials (with cache instructions when config.cache), resolves the camera,
+// materials (with cache instructions when config.cache), resolves the camera
+// and the lights (a lights file, SCENE.lights.json, the environment),
 // sizes the cache table (config.cache_cells, else from the scene's cache
 // points; the cache is turned off, with the reason in settings().cache.reason,
 // when no material has a cache point; the reason names settings marked as in
@@ -66,6 +67,10 @@ std::unique_ptr<ClContext> open_device(const RenderConfig& config);
 
 // The camera of `config` for `scene` (see RenderConfig).
 Camera resolve_camera(const RenderConfig& config, const Scene& scene);
+// The lights of `config`: its lights file (or SCENE.lights.json), and the
+// environment from env_map or env with env_scale/env_rotate applied. Loads
+// the map. Errors name the file and field, or the setting.
+SceneLights resolve_lights(const RenderConfig& config);
 
 // Hits per lookup, 0 without lookups.
 inline double hit_rate(const CacheStats& s) { return s.lookups ? double(s.hits) / double(s.lookups) : 0.0; }
