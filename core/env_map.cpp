@@ -71,24 +71,28 @@ EnvMap load_env_map(const std::string& path) {
   std::vector<float> rgb(texels * 3);
   size_t bad = 0, negative = 0, first_bad = 0;
   for (size_t i = 0; i < texels; ++i) {
+    bool is_bad = false, is_negative = false;
     for (int c = 0; c < 3; ++c) {
       // Grey maps (1 or 2 channels: value, alpha) repeat the value.
       float v = img.pixels[i * size_t(img.channels) + size_t(img.channels >= 3 ? c : 0)];
       if (!std::isfinite(v)) {
-        if (bad++ == 0) first_bad = i;
+        is_bad = true;
         v = 0.0f;
       } else if (v < 0.0f) {
-        ++negative;
+        is_negative = true;
         v = 0.0f;
       }
       rgb[3 * i + size_t(c)] = v;
     }
+    if (is_bad && bad++ == 0) first_bad = i;
+    negative += is_negative ? 1 : 0;
   }
   if (bad > 0)
-    fail(path, ": ", bad, " NaN or infinite values in the environment map (first at x ",
+    fail(path, ": ", bad, " texels with NaN or infinite values in the environment map (first at x ",
          first_bad % size_t(img.width), ", y ", first_bad / size_t(img.width), ")");
   if (negative > 0)
-    warn(path + ": " + std::to_string(negative) + " negative values in the environment map read as 0");
+    warn(path + ": " + std::to_string(negative) +
+         " texels with negative values in the environment map (read as 0)");
   return env_map_from_rgb(img.width, img.height, std::move(rgb), path);
 }
 

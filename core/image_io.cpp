@@ -36,6 +36,7 @@ float aces_fit(float x) {  // Narkowicz 2015 fit of the ACES filmic curve
   return std::clamp((x * (a * x + b)) / (x * (c * x + d) + e), 0.0f, 1.0f);
 }
 float srgb_encode(float c) {
+  if (c >= 1.0f) return 1.0f;  // exact at white (1.055 - 0.055 is not 1 in float)
   return c <= 0.0031308f ? c * 12.92f : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
 }
 
