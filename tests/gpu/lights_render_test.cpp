@@ -18,9 +18,7 @@
 #include <vector>
 
 #include "core/camera.h"
-#include "core/embree_tracer.h"
-#include "core/obj_loader.h"
-#include "gpu/wavefront_renderer.h"
+#include "gpu/render_session.h"
 #include "tests/test_support.h"
 
 namespace pmc {
@@ -80,11 +78,11 @@ RenderOutput render_files(const std::string& dir, const std::string& obj, const 
                           const RenderSettings& s) {
   test::write_file(dir + "/scene.mtl", mtl);
   test::write_file(dir + "/scene.obj", obj);
-  Scene scene = load_obj(dir + "/scene.obj");
-  MaterialSet materials = build_material_set(scene, {});
-  EmbreeTracer tracer(scene);
-  WavefrontRenderer renderer(test::cl(), scene, materials, tracer);
-  return renderer.render(s);
+  RenderConfig config;
+  config.scene = dir + "/scene.obj";
+  config.cache = false;  // constant MTL materials: nothing to cache
+  RenderSession session(config, test::cl());
+  return session.render(s);  // these settings: camera, lights, samples
 }
 
 void set_camera(RenderSettings& s, D3 from, D3 at, D3 up, float fov) {
