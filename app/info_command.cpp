@@ -40,6 +40,8 @@ int run_info(const std::vector<std::string>& args) {
   p.option("--scene", "SCENE.obj", "summarise a scene: triangles, materials, textures, bounds");
   p.option("--mtlx", "FILE.mtlx", "MaterialX document to bind (repeatable)", "", true);
   p.option("--material", "NAME", "use this MaterialX material for every triangle");
+  p.option("--mtlx-library", "DIR", "MaterialX data libraries (see pmc render --help)");
+  p.option("--mtlx-search-path", "DIR", "where MaterialX filenames are looked up (repeatable)", "", true);
   p.flag("--dump-bytecode", "per material: node counts per pass, bytecode, peak stack, dependencies");
   p.flag("--dump-cache-plan",
          "per material: cache points, the sub-graph each saves, why other nodes are not cached");
@@ -68,6 +70,8 @@ int run_info(const std::vector<std::string>& args) {
     Scene scene = load_obj(p.get("--scene"), load);
     MaterialOptions mo;
     mo.mtlx_files = p.all("--mtlx");
+    mo.mtlx.library_dir = p.get("--mtlx-library");
+    mo.mtlx.search_paths = p.all("--mtlx-search-path");
     mo.override_material = p.get("--material");
     mo.compile.cache = true;
     mo.compile.cache_min_nodes = p.get_int("--cache-min-nodes", kDefaultCacheMinNodes);

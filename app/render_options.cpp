@@ -14,6 +14,13 @@ void declare_render_options(ArgParser& p) {
   p.option("--mtlx", "FILE.mtlx", "MaterialX document; usemtl NAME binds to its material NAME (repeatable)",
            "", true);
   p.option("--material", "NAME", "render every triangle with this MaterialX material");
+  p.option("--mtlx-library", "DIR",
+           "MaterialX data libraries (.../MaterialX/libraries) for nodes pmc expands from their nodegraphs",
+           "$PMC_MTLX_LIBRARY, else the one found at build time");
+  p.option("--mtlx-search-path", "DIR",
+           "folder where MaterialX filenames are looked up after fileprefix, the document's folder and "
+           "$MATERIALX_SEARCH_PATH (repeatable)",
+           "", true);
   p.option("--cache", "on|off", "progressive material cache", "on");
   p.option("--cache-cells", "N", "cache cells (with --cache-entries)", "sized from the scene");
   p.option("--cache-entries", "N", "entries per cache cell", "8");
@@ -76,6 +83,8 @@ RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
   c.scene = obj;
   c.mtlx = p.all("--mtlx");
   c.material = p.get("--material");
+  c.mtlx_library = p.get("--mtlx-library");
+  c.mtlx_search_paths = p.all("--mtlx-search-path");
   c.width = p.get_int("--width", c.width);
   c.height = p.get_int("--height", c.height);
   c.spp = p.get_int("--spp", c.spp);

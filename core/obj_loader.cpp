@@ -3,13 +3,17 @@
 
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
+#include <set>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -106,6 +110,80 @@ size_t restore_non_finite_positions(const std::string& path, std::vector<float>&
   return spelled_attributes;
 }
 
+// The first whitespace-separated word after `keyword` on each line that
+// starts with it (how tinyobj reads usemtl names), or every word (mtllib).
+std::vector<std::vector<std::string>> directive_words(const std::string& text, const char* keyword) {
+  std::vector<std::vector<std::string>> out;
+  const size_t klen = std::strlen(keyword);
+  for (size_t begin = 0; begin < text.size();) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    size_t at = begin;
+    while (at < end && (text[at] == ' ' || text[at] == '\t')) ++at;
+    if (text.compare(at, klen, keyword) == 0 && at + klen < end &&
+        std::isspace((unsigned char)text[at + klen])) {
+      std::vector<std::string> words;
+      size_t w = at + klen;
+      while (w < end) {
+        while (w < end && std::isspace((unsigned char)text[w])) ++w;
+        size_t e = w;
+        while (e < end && !std::isspace((unsigned char)text[e])) ++e;
+        if (e > w) words.push_back(text.substr(w, e - w));
+        w = e;
+      }
+      if (!words.empty()) out.push_back(words);
+    }
+    begin = end + 1;
+  }
+  return out;
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// tinyobj drops a `usemtl` name that no MTL defines (its faces get no
+// material), but a MaterialX material of that name must still bind to them.
+// So when tinyobj warned about one, the OBJ is parsed again from memory with
+// its MTL libraries and a `newmtl` for every such name: the faces keep the
+// name. Returns the names added.
+std::vector<std::string> reparse_keeping_usemtl_names(const std::string& path, tinyobj::ObjReader& out,
+                                                      const tinyobj::ObjReaderConfig& config) {
+  tinyobj::ObjReader reader;  // a fresh one: tinyobj appends to what a reader holds
+  std::string obj = read_text(path);
+  std::string mtl;
+  for (const auto& files : directive_words(obj, "mtllib"))
+    for (const std::string& f : files) {  // tinyobj takes the first file of a line that loads
+      std::string text = read_text(dirname_of(path) + f);
+      if (text.empty() && !std::filesystem::exists(dirname_of(path) + f)) continue;
+      mtl += text + "\n";
+      break;
+    }
+  std::set<std::string> defined;
+  for (const auto& words : directive_words(mtl, "newmtl")) defined.insert(words[0]);
+  std::vector<std::string> added;
+  for (const auto& words : directive_words(obj, "usemtl"))
+    if (defined.insert(words[0]).second) {
+      added.push_back(words[0]);
+      mtl += "newmtl " + words[0] + "\n";
+    }
+  // One mtllib, first, reading `mtl`; the others blanked (line numbers kept but for the first line).
+  for (size_t begin = 0; begin < obj.size();) {
+    size_t end = obj.find('\n', begin);
+    if (end == std::string::npos) end = obj.size();
+    size_t at = begin;
+    while (at < end && (obj[at] == ' ' || obj[at] == '\t')) ++at;
+    if (obj.compare(at, 6, "mtllib") == 0) obj.replace(at, end - at, std::string(end - at, ' '));
+    begin = end + 1;
+  }
+  if (!reader.ParseFromString("mtllib pmc_bindings.mtl\n" + obj, mtl, config))
+    fail(path, ": cannot parse OBJ: ", reader.Error());
+  out = std::move(reader);
+  return added;
+}
+
 }  // namespace
 
 std::string normalize_texture_path(const std::string& raw) {
@@ -144,8 +222,9 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   // tinyobj drops a face with fewer than 3 corners (a file cut mid-line) with only this warning.
   if (!warning_line(warnings, "Degenerated face found").empty())
     fail(path, ": a face has fewer than 3 corners (is the file truncated?)");
-  std::string unknown = warning_line(warnings, "material [ ");
-  if (!unknown.empty()) warn(path + ": " + unknown + "; those faces use the default material");
+  std::vector<std::string> undefined_names;
+  if (!warning_line(warnings, "material [ ").empty())
+    undefined_names = reparse_keeping_usemtl_names(path, reader, config);
 
   const tinyobj::attrib_t& attrib = reader.GetAttrib();
   Scene scene;
@@ -190,6 +269,11 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
                !m.roughness_texname.empty() || !m.metallic_texname.empty() || !m.sheen_texname.empty(),
            "PBR extension (Pr/Pm/Ps/Pc and their maps)");
     unused(m.illum >= 3, "illum " + std::to_string(m.illum) + " (ray-traced reflection/refraction)");
+    if (std::find(undefined_names.begin(), undefined_names.end(), m.name) != undefined_names.end()) {
+      mm = MtlMaterial();  // no MTL entry: the default material's values, under its own name
+      mm.name = m.name;
+      mm.defined_by_mtl = false;
+    }
     scene.materials.push_back(mm);
   }
   const int default_material = int(scene.materials.size());
@@ -202,6 +286,8 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   std::vector<bool> material_used(scene.materials.size(), false);
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const tinyobj::mesh_t& mesh = shape.mesh;
+    const uint32_t shape_index = uint32_t(scene.shape_names.size());
+    scene.shape_names.push_back(shape.name);
     size_t index_at = 0;
     for (size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
       const size_t fv = mesh.num_face_vertices[f];
@@ -240,6 +326,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
       tri.material = (mat >= 0 && mat < default_material) ? mat : default_material;
       material_used[size_t(tri.material)] = true;
       scene.triangles.push_back(tri);
+      scene.triangle_shapes.push_back(shape_index);
       for (int k = 0; k < 3; ++k) scene.bounds.extend(&scene.positions[3 * size_t(tri.v[k])]);
     }
   }

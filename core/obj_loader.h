@@ -1,6 +1,9 @@
 // obj_loader.h — Wavefront OBJ + MTL into a pmc::Scene (via tinyobjloader).
 //
-// Polygons are triangulated, `usemtl` switches materials within a mesh,
+// Polygons are triangulated, `usemtl` switches materials within a mesh (a
+// name no MTL defines keeps its name, with the default material's values, so
+// a MaterialX material of that name can bind to it), objects and groups
+// (`o`/`g`) are kept as shape names per triangle for MaterialX looks,
 // missing normals fall back to geometric normals in the kernel (index -1),
 // texture paths are resolved relative to the OBJ's folder with backslashes
 // mapped to slashes, and only textures of materials that faces use are loaded.

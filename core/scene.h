@@ -40,7 +40,10 @@ struct MtlMaterial {
   std::string map_bump;
   std::string map_ks;
   std::vector<std::string> not_modelled;  // other MTL statements pmc ignores, for the warning
-  int kd_texture = -1;  // index into Scene::textures once loaded
+  int kd_texture = -1;                    // index into Scene::textures once loaded
+  // false for a `usemtl` name no MTL defines: it keeps its name (a MaterialX
+  // material of that name binds to it) and the default material's values.
+  bool defined_by_mtl = true;
 };
 
 struct Scene {
@@ -50,6 +53,11 @@ struct Scene {
   std::vector<float> uvs;
   std::vector<PmcTriangle> triangles;
   std::vector<MtlMaterial> materials;
+  // OBJ objects and groups (`o NAME` / `g NAME`, as tinyobjloader names its
+  // shapes) and which one each triangle came from: MaterialX <look>s assign
+  // materials to the geometry "/NAME".
+  std::vector<std::string> shape_names;
+  std::vector<uint32_t> triangle_shapes;  // parallel to triangles
   TexturePool textures;
   Bounds bounds;                 // of the positions the triangles use
   size_t skipped_triangles = 0;  // non-finite positions, dropped at load

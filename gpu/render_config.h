@@ -42,6 +42,8 @@ struct RenderConfig {
   std::string scene;              // OBJ file
   std::vector<std::string> mtlx;  // MaterialX documents: `usemtl NAME` binds to their material NAME
   std::string material;           // one MaterialX material for every triangle ("": the OBJ's own)
+  std::string mtlx_library;       // MaterialX data libraries ("": $PMC_MTLX_LIBRARY or the build's default)
+  std::vector<std::string> mtlx_search_paths;  // where MaterialX filenames are looked up last
 
   // The image.
   int width = 640, height = 360;  // pixels

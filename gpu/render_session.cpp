@@ -115,6 +115,8 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
   MaterialOptions mo;
   mo.mtlx_files = config_.mtlx;
   mo.override_material = config_.material;
+  mo.mtlx.library_dir = config_.mtlx_library;
+  mo.mtlx.search_paths = config_.mtlx_search_paths;
   mo.compile.cache = config_.cache;
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   materials_ = build_material_set(scene_, mo);

@@ -155,9 +155,18 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
                   {op("texcoord"), op("default"), cx.em.constant(mode, 2)});
       return true;
     }
-    case Emit::Dot:
-      cx.em.instr(PMC_OP_DOT, 1, uint32_t(type_width(n.input("in1")->type)), dst, {op("in1"), op("in2")});
+    case Emit::WidthImm: {
+      std::vector<uint32_t> operands;
+      uint32_t width = 0;
+      for (const InputDef& d : def->inputs) {
+        const Input* in = n.input(d.name);
+        if (!d.operand || !in || !is_numeric(in->type)) continue;
+        if (operands.empty()) width = uint32_t(type_width(in->type));
+        operands.push_back(cx.operand(*in));
+      }
+      cx.em.instr(def->opcode, w, width, dst, operands);
       return true;
+    }
     case Emit::Opcode: {
       // The operand inputs, in table order (node_table.h).
       std::vector<uint32_t> operands;

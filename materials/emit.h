@@ -4,7 +4,7 @@
 // (placed after END by finish()). emit_node() turns one primitive node into
 // instructions, as its node-table entry says (NodeDef::emit): an opcode with
 // the operand inputs in table order, or one of the few special emitters
-// (convert, extract, swizzle, combine2, image, dot). evaluate_constant()
+// (convert, extract, swizzle, combine2, image, operand-width opcodes). evaluate_constant()
 // runs that same emission through the host interpreter for a node whose
 // inputs are all constant: constant folding can never disagree with the
 // renderer.

@@ -3,6 +3,7 @@
 
 #include <functional>
 
+#include "core/error.h"
 #include "materials/graph_analysis.h"
 #include "materials/height_normal.h"
 #include "materials/node_table.h"
@@ -65,6 +66,43 @@ void lower_tiled_image(Graph& g, int i) {
   n.inputs.push_back(filter);
 }
 
+// Scene constants of a still OBJ render (node_table.cpp says why).
+void lower_to_constant(Graph& g, int i, float v) {
+  Node& n = g.nodes[size_t(i)];
+  n.inputs = {Input::constant("value", n.type, v, v, v, v)};
+  n.category = "constant";
+}
+
+void lower_time(Graph& g, int i) {
+  const Input* fps = g.nodes[size_t(i)].input("fps");
+  if (fps->linked || !(fps->value.f[0] > 0.0f))
+    fail(g.nodes[size_t(i)].origin, ": time needs a constant, positive fps");
+  lower_to_constant(g, i, 1.0f / fps->value.f[0]);
+}
+
+void lower_geompropvalue(Graph& g, int i) {
+  Node& n = g.nodes[size_t(i)];
+  Input def = *n.input("default");
+  def.name = "in";
+  n.category = "dot";  // a pass-through of the default
+  n.inputs = {def};
+}
+
+// viewdirection ~ -N: the shading inputs have no ray direction.
+void lower_viewdirection(Graph& g, int i) {
+  warn(
+      g.nodes[size_t(i)].origin +
+      ": viewdirection is approximated by the negated shading normal (pmc's materials see no ray direction)");
+  Node nrm;
+  nrm.category = "normal";
+  nrm.type = ValueType::Vector3;
+  nrm.origin = g.nodes[size_t(i)].origin + " (normal)";
+  int id = g.add(std::move(nrm));
+  Node& n = g.nodes[size_t(i)];
+  n.category = "multiply";
+  n.inputs = {Input::link("in1", ValueType::Vector3, id), Input::constant("in2", ValueType::Float, -1.0f)};
+}
+
 Lower lower_rule(const Node& n) {
   const NodeDef* def = find_node_def(n.category);
   return def ? def->lower : Lower::None;
@@ -83,6 +121,21 @@ void lower_composites(Graph& g) {
         break;
       case Lower::TiledImage:
         lower_tiled_image(g, int(i));
+        break;
+      case Lower::Time:
+        lower_time(g, int(i));
+        break;
+      case Lower::Frame:
+        lower_to_constant(g, int(i), 1.0f);
+        break;
+      case Lower::GeomColor:
+        lower_to_constant(g, int(i), 1.0f);
+        break;
+      case Lower::GeomPropValue:
+        lower_geompropvalue(g, int(i));
+        break;
+      case Lower::ViewDirection:
+        lower_viewdirection(g, int(i));
         break;
       default:
         break;

@@ -5,7 +5,8 @@
 // amount - in; tiledimage becomes MaterialX's NG_tiledimage uv math feeding
 // an image; bump becomes normalmap(heighttonormal(height), scale ...); and
 // heighttonormal becomes finite differences over shifted copies of its height
-// sub-graph (height_normal.cpp). How a primitive node becomes instructions is
+// sub-graph (height_normal.cpp); time, frame, geomcolor and geompropvalue
+// become constants (a still render of an OBJ). How a primitive node becomes instructions is
 // the emitter's (emit.h), driven by the same table.
 #pragma once
 

@@ -2,6 +2,7 @@
 #include "materials/material_set.h"
 
 #include <map>
+#include <sstream>
 
 #include "core/abi/pmc_bytecode.h"
 #include "core/error.h"
@@ -10,14 +11,57 @@
 
 namespace pmc {
 
+namespace {
+
+// MaterialX <look> assignments: each OBJ object/group "/NAME" (a shape name
+// of several words, as tinyobj names `g a b`, is each "/word") takes the
+// material of the last materialassign that covers it; this wins over usemtl.
+void assign_by_looks(Scene& scene, const std::map<std::string, Graph>& mtlx,
+                     const std::vector<MtlxAssignment>& assignments) {
+  for (const MtlxAssignment& a : assignments)
+    if (!mtlx.count(a.material))
+      fail(a.origin, ": material '", a.material, "' is not in the --mtlx documents");
+  if (scene.triangle_shapes.size() != scene.triangles.size()) return;  // a scene built without shapes
+  auto material_index = [&](const std::string& name) {
+    for (size_t i = 0; i < scene.materials.size(); ++i)
+      if (scene.materials[i].name == name) return int(i);
+    MtlMaterial m;
+    m.name = name;
+    m.defined_by_mtl = false;
+    scene.materials.push_back(m);
+    return int(scene.materials.size()) - 1;
+  };
+  std::vector<int> shape_material(scene.shape_names.size(), -1);
+  for (size_t s = 0; s < scene.shape_names.size(); ++s) {
+    std::vector<std::string> paths;
+    std::istringstream words(scene.shape_names[s]);
+    for (std::string w; words >> w;) paths.push_back("/" + w);
+    const MtlxAssignment* chosen = nullptr;
+    for (const MtlxAssignment& a : assignments)
+      for (const std::string& p : paths)
+        if (mtlx_assignment_covers(a, p)) chosen = &a;
+    if (chosen) shape_material[s] = material_index(chosen->material);
+  }
+  for (size_t i = 0; i < scene.triangles.size(); ++i) {
+    int m = shape_material[scene.triangle_shapes[i]];
+    if (m >= 0) scene.triangles[i].material = m;
+  }
+}
+
+}  // namespace
+
 MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
   std::map<std::string, Graph> mtlx;
-  for (const std::string& file : options.mtlx_files)
-    for (Graph& g : read_mtlx_file(file)) {
+  std::vector<MtlxAssignment> assignments;
+  for (const std::string& file : options.mtlx_files) {
+    for (Graph& g : read_mtlx_file(file, options.mtlx)) {
       if (mtlx.count(g.material))
         warn(file + ": material '" + g.material + "' also defined earlier; the later one wins");
       mtlx[g.material] = std::move(g);
     }
+    std::vector<MtlxAssignment> a = read_mtlx_assignments(file);
+    assignments.insert(assignments.end(), a.begin(), a.end());
+  }
   if (!options.override_material.empty()) {
     if (!mtlx.count(options.override_material)) {
       std::string names;
@@ -30,6 +74,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     scene.materials.push_back(m);
     for (PmcTriangle& t : scene.triangles) t.material = int(scene.materials.size()) - 1;
   }
+  if (options.override_material.empty() && !assignments.empty()) assign_by_looks(scene, mtlx, assignments);
   std::vector<char> used(scene.materials.size(), 0);
   for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
 
@@ -43,6 +88,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     if (!used[i]) continue;
     const MtlMaterial& m = scene.materials[i];
     auto found = mtlx.find(m.name);
+    if (found != mtlx.end() && !found->second.error.empty()) fail(found->second.error);
     Graph g = found != mtlx.end() ? found->second : mtl_to_graph(m, mtl_file);
     const CompiledMaterial& cm = compile_material(g, scene.textures, set.program, options.compile);
     set.compiled[i] = int(set.program.materials.size()) - 1;
@@ -63,6 +109,16 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     }
     set.infos[i].entry = unused_entry;
   }
+  // usemtl names that neither an MTL nor a MaterialX document defines.
+  std::string unmatched;
+  for (size_t i = 0; i < scene.materials.size(); ++i)
+    if (used[i] && !scene.materials[i].defined_by_mtl && !mtlx.count(scene.materials[i].name))
+      unmatched += (unmatched.empty() ? "" : ", ") + scene.materials[i].name;
+  if (!unmatched.empty())
+    warn(scene.obj_path +
+         ": usemtl names that match no MTL or MaterialX material (rendered with the default "
+         "material): " +
+         unmatched);
   const std::vector<uint8_t>& bytes = scene.textures.texels();
   set.texel_words.resize(bytes.size() / 4);
   for (size_t i = 0; i < set.texel_words.size(); ++i)

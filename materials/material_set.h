@@ -1,8 +1,12 @@
 // material_set.h — every material of a scene, compiled into one program.
 //
-// build_material_set() binds each material the scene's triangles use: an OBJ
-// `usemtl NAME` takes the MaterialX `surfacematerial` called NAME from the
-// --mtlx documents, else its own MTL entry turned into a network. Only used
+// build_material_set() binds each material the scene's triangles use: a
+// MaterialX <look>'s <materialassign> covering the triangle's OBJ object or
+// group ("/NAME") wins; else its `usemtl NAME` takes the MaterialX
+// `surfacematerial` called NAME from the --mtlx documents (whether or not an
+// MTL defines NAME), else its own MTL entry turned into a network. One
+// warning lists the usemtl names that match nothing (they render with the
+// default material). Only used
 // materials are compiled and only their textures loaded. The result holds
 // what the kernels need (the bytecode, a PmcMaterialInfo per material); the
 // host's reference interpreter of it is materials/cpu_interpreter.h.
@@ -15,11 +19,13 @@
 #include "core/abi/pmc_types.h"
 #include "core/scene.h"
 #include "materials/compiler.h"
+#include "materials/mtlx_reader.h"
 
 namespace pmc {
 
 struct MaterialOptions {
   std::vector<std::string> mtlx_files;
+  MtlxReadOptions mtlx;           // --mtlx-library, --mtlx-search-path
   std::string override_material;  // --material: one material for every triangle
   CompileOptions compile;         // cache instructions on/off, cache threshold
 };

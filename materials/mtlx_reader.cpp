@@ -1,13 +1,17 @@
-// mtlx_reader.cpp — pugixml walk, nodegraph inlining, defaults, diagnostics.
+// mtlx_reader.cpp — pugixml walk, nodegraph inlining and expansion, defaults, diagnostics.
 #include "materials/mtlx_reader.h"
 
 #include <cstdlib>
+#include <deque>
+#include <filesystem>
 #include <map>
 #include <pugixml.hpp>
 #include <set>
 #include <sstream>
 
 #include "core/error.h"
+#include "materials/mtlx_library.h"
+#include "materials/mtlx_upgrade.h"
 #include "materials/node_table.h"
 
 namespace pmc {
@@ -22,66 +26,166 @@ bool is_structural(const std::string& tag) {
   return tag == "input" || tag == "output" || tag == "nodegraph" || tag == "nodedef" || tag == "look" ||
          tag == "materialassign" || tag == "collection" || tag == "geominfo" || tag == "typedef" ||
          tag == "implementation" || tag == "backdrop" || tag == "variantset" || tag == "propertyset" ||
-         tag == "token" || tag == "unit" || tag == "unittypedef" || tag == "xi:include";
+         tag == "token" || tag == "unit" || tag == "unittypedef" || tag == "xi:include" ||
+         tag == "attributedef" || tag == "targetdef" || tag == "geompropdef" || tag == "propertysetassign" ||
+         tag == "variantassign" || tag == "visibility" || tag == "lookgroup" || tag == "comment" ||
+         tag == "typedef";
 }
 
 bool is_surface(const std::string& category) { return !surface_params(category).empty(); }
+
+bool is_closure(const std::string& type) {
+  return type == "BSDF" || type == "EDF" || type == "VDF" || type == "surfaceshader" ||
+         type == "volumeshader" || type == "displacementshader" || type == "lightshader" ||
+         type == "material";
+}
 
 // Deepest chain of linked nodes a document may have: the passes walk graphs
 // recursively, and no real material comes near this.
 constexpr size_t kMaxNesting = 2000;
 
+GeomDefault geom_default(const std::string& name) {
+  if (name == "UV0") return GeomDefault::UV0;
+  if (name == "Pobject") return GeomDefault::Pobject;
+  if (name == "Pworld") return GeomDefault::Pworld;
+  if (name == "Nworld") return GeomDefault::Nworld;
+  if (name == "Nobject") return GeomDefault::Nobject;
+  if (name == "Tworld") return GeomDefault::Tworld;
+  if (name == "Tobject") return GeomDefault::Tobject;
+  if (name == "Bworld" || name == "Bobject") return GeomDefault::Bworld;
+  return GeomDefault::None;
+}
+
+// Where a nodegraph's nodes are instantiated from: the document (id 0: the
+// root and the document's own nodegraphs, keyed by their names), or one
+// expansion of a node's implementation graph (its own id; `iface` holds the
+// instance's inputs, which the graph's `interfacename`s stand for).
+struct Scope {
+  pugi::xml_node graph;
+  int id = 0;
+  const std::map<std::string, Input>* iface = nullptr;
+  std::string origin;  // what expansion messages name
+};
+
 class Reader {
  public:
-  Reader(const std::string& path) : path_(path), dir_(dirname_of(path)) {}
+  Reader(const std::string& path, const MtlxReadOptions& options)
+      : path_(path), dir_(dirname_of(path)), options_(options) {
+    if (const char* env = std::getenv("MATERIALX_SEARCH_PATH")) {
+      std::string s = env;
+      size_t start = 0;
+      while (start <= s.size()) {
+        size_t end = s.find_first_of(":;", start);
+        if (end == std::string::npos) end = s.size();
+        if (end > start) search_.push_back(s.substr(start, end - start));
+        start = end + 1;
+      }
+    }
+    search_.insert(search_.end(), options.search_paths.begin(), options.search_paths.end());
+  }
 
-  std::vector<Graph> read(const pugi::xml_document& doc) {
+  std::vector<Graph> read(pugi::xml_document& doc) {
     root_ = doc.child("materialx");
     if (!root_) fail(path_, ": not a MaterialX document (no <materialx> root element)");
-    doc_colorspace_ = root_.attribute("colorspace").as_string();
+    upgrade_mtlx_document(root_, path_);
+    doc_defs_.add(root_);
     std::vector<Graph> out;
+    Scope top{root_, 0, nullptr, ""};
     for (pugi::xml_node el : root_.children("surfacematerial")) {
       begin(el.attribute("name").as_string());
-      pugi::xml_node in = el.find_child_by_attribute("input", "name", "surfaceshader");
-      if (!in) fail(where(el), ": surfacematerial has no 'surfaceshader' input");
-      std::string target = in.attribute("nodename").as_string();
-      pugi::xml_node shader = find_node(root_, target);
-      if (!shader)
-        fail(where(el), ": surfaceshader refers to '", target,
-             "', which does not exist (dangling reference)");
-      if (!is_surface(shader.name()))
-        fail(where(shader), ": '", shader.name(),
-             "' is not a supported surface shader (pmc supports standard_surface and "
-             "UsdPreviewSurface)");
-      graph_.surface = instantiate(root_, shader);
-      out.push_back(std::move(graph_));
+      attempt(out, [&] {
+        pugi::xml_node in = el.find_child_by_attribute("input", "name", "surfaceshader");
+        if (!in) fail(where(el), ": surfacematerial has no 'surfaceshader' input");
+        graph_.surface = shader_of(top, in, where(el) + " input 'surfaceshader'");
+      });
     }
     if (out.empty()) preview_outputs(out);
     if (out.empty()) fail(path_, ": no surfacematerial and no outputs: nothing to render");
-    return out;
+    for (const Graph& g : out)
+      if (g.error.empty()) return out;
+    fail_with(out.front().error);
   }
 
  private:
-  std::string path_, dir_, doc_colorspace_;
+  std::string path_, dir_;
+  MtlxReadOptions options_;
+  std::vector<std::string> search_;
   pugi::xml_node root_;
+  MtlxDefinitions doc_defs_;
+  const MtlxLibrary* library_ = nullptr;
+  bool library_looked_up_ = false;
   Graph graph_;
   std::map<std::string, int> memo_;  // "scope|node" -> node index
-  std::set<std::string> active_;     // instantiation stack, for cycles
+  struct Expansion {
+    Scope scope;
+    std::map<std::string, int> outputs;  // output name -> node index
+    pugi::xml_node nodedef;
+    std::string context;
+  };
+  std::map<std::string, Expansion> expansions_;  // "scope|node" -> its expansion
+  std::deque<std::map<std::string, Input>> ifaces_;
+  int next_scope_ = 0;
+  std::set<std::string> active_;  // instantiation stack, for cycles
   std::vector<std::string> active_path_;
   std::map<int, int> geom_nodes_;  // GeomDefault -> node index
+
+  [[noreturn]] static void fail_with(const std::string& message) { throw Error(message); }
 
   void begin(const std::string& material) {
     graph_ = Graph();
     graph_.material = material;
     graph_.file = path_;
     memo_.clear();
+    expansions_.clear();
+    ifaces_.clear();
     active_.clear();
     active_path_.clear();
     geom_nodes_.clear();
   }
 
-  std::string scope_name(pugi::xml_node scope) const {
-    return scope == root_ ? std::string() : std::string(scope.attribute("name").as_string());
+  // Builds the current material with `build`; an error makes it a failed
+  // material (Graph::error) instead of failing the document.
+  template <class F>
+  void attempt(std::vector<Graph>& out, F&& build) {
+    try {
+      build();
+      out.push_back(std::move(graph_));
+    } catch (const Error& e) {
+      Graph failed;
+      failed.material = graph_.material;
+      failed.file = path_;
+      failed.error = e.what();
+      out.push_back(std::move(failed));
+    }
+  }
+
+  const MtlxLibrary* library() {
+    if (!library_looked_up_) {
+      library_looked_up_ = true;
+      std::string dir = find_mtlx_library(options_.library_dir);
+      if (!dir.empty()) library_ = &MtlxLibrary::load(dir);
+    }
+    return library_;
+  }
+
+  // The shader a surfacematerial (or a surfaceshader output) points at.
+  int shader_of(const Scope& scope, pugi::xml_node in, const std::string& context) {
+    Input s;
+    s.name = "surfaceshader";
+    s.type = ValueType::Surface;
+    connect(scope, in, s, context);
+    if (!s.linked) fail(context, ": is not connected to a shader");
+    const Node& shader = graph_.nodes[size_t(s.node)];
+    if (!is_surface(shader.category))
+      fail(shader.origin, ": '", shader.category,
+           "' is not a supported surface shader (pmc supports standard_surface, UsdPreviewSurface, "
+           "open_pbr_surface, gltf_pbr, disney_principled and surface_unlit)");
+    return s.node;
+  }
+
+  std::string scope_name(const Scope& scope) const {
+    return std::to_string(scope.id) + ":" +
+           (scope.graph == root_ ? std::string() : std::string(scope.graph.attribute("name").as_string()));
   }
 
   std::string where(pugi::xml_node el) const {
@@ -92,6 +196,10 @@ class Reader {
       os << ": nodegraph '" << parent.attribute("name").as_string() << "'";
     os << ": " << el.name() << " '" << el.attribute("name").as_string() << "'";
     return os.str();
+  }
+  std::string where(const Scope& scope, pugi::xml_node el) const {
+    if (scope.id == 0) return where(el);
+    return scope.origin + ": " + el.name() + " '" + el.attribute("name").as_string() + "'";
   }
 
   static pugi::xml_node find_node(pugi::xml_node scope, const std::string& name) {
@@ -118,7 +226,14 @@ class Reader {
     for (int i = 0; i < n; ++i) {
       char* end = nullptr;
       float x = std::strtof(p, &end);
-      if (end == p) fail(context, ": '", s, "' is not a ", type_name(t), " value");
+      if (end == p) {
+        if (i == 1 &&
+            *p == '\0') {  // a single number for a vector: MaterialX broadcasts nothing, but be lenient
+          for (int k = 1; k < n; ++k) v.f[size_t(k)] = v.f[0];
+          return v;
+        }
+        fail(context, ": '", s, "' is not a ", type_name(t), " value");
+      }
       v.f[size_t(i)] = x;
       p = end;
       while (*p == ' ' || *p == ',') ++p;
@@ -158,66 +273,112 @@ class Reader {
     return id;
   }
 
+  // The nearest `attr` on `el` or its ancestors ("" if none).
+  std::string inherited(pugi::xml_node el, const char* attr) const {
+    for (pugi::xml_node e = el; e; e = e.parent())
+      if (e.attribute(attr)) return e.attribute(attr).as_string();
+    return "";
+  }
+
+  // fileprefix, then the document's folder, then the search paths.
+  std::string resolve_file(pugi::xml_node el, const std::string& f) {
+    if (f.empty()) return f;
+    std::string name = inherited(el, "fileprefix") + f;
+    if (name[0] == '/') return name;
+    std::error_code ec;
+    if (std::filesystem::exists(dir_ + name, ec)) return dir_ + name;
+    for (const std::string& sp : search_) {
+      std::string candidate = sp + (sp.back() == '/' ? "" : "/") + name;
+      if (std::filesystem::exists(candidate, ec)) return candidate;
+    }
+    return dir_ + name;  // not found: the texture loader names it
+  }
+
+  // A filename input's value: resolved path, and the sRGB decode flag (f[0])
+  // from its (inherited) colorspace.
+  void finish_filename(pugi::xml_node el, Input& in) {
+    if (in.type != ValueType::Filename || in.linked) return;
+    in.value.text = resolve_file(el, in.value.text);
+    std::string cs = inherited(el, "colorspace");
+    in.value.f[0] = cs == "srgb_texture" ? 1.0f : 0.0f;
+  }
+
   // Resolves an <input> (or <output>) element found in `scope` into `in`.
-  void connect(pugi::xml_node scope, pugi::xml_node el, Input& in, const std::string& context) {
+  void connect(const Scope& scope, pugi::xml_node el, Input& in, const std::string& context) {
     std::string nodename = el.attribute("nodename").as_string();
     std::string nodegraph = el.attribute("nodegraph").as_string();
     std::string iface = el.attribute("interfacename").as_string();
+    std::string output = el.attribute("output").as_string();
     if (!nodegraph.empty()) {
       pugi::xml_node ng = root_.find_child_by_attribute("nodegraph", "name", nodegraph.c_str());
       if (!ng)
         fail(context, ": refers to nodegraph '", nodegraph, "', which does not exist (dangling reference)");
-      std::string out_name = el.attribute("output").as_string();
-      pugi::xml_node out = out_name.empty() ? ng.child("output")
-                                            : ng.find_child_by_attribute("output", "name", out_name.c_str());
+      pugi::xml_node out =
+          output.empty() ? ng.child("output") : ng.find_child_by_attribute("output", "name", output.c_str());
       if (!out)
-        fail(context, ": nodegraph '", nodegraph, "' has no output '", out_name, "' (dangling reference)");
-      connect(ng, out, in,
+        fail(context, ": nodegraph '", nodegraph, "' has no output '", output, "' (dangling reference)");
+      connect(Scope{ng, 0, nullptr, ""}, out, in,
               path_ + ": nodegraph '" + nodegraph + "' output '" + out.attribute("name").as_string() + "'");
       return;
     }
     if (!iface.empty()) {
-      pugi::xml_node decl = scope.find_child_by_attribute("input", "name", iface.c_str());
-      if (!decl || scope == root_)
+      if (scope.iface) {  // an implementation graph: the instance's input
+        auto it = scope.iface->find(iface);
+        if (it == scope.iface->end())
+          fail(context, ": interfacename '", iface, "' is not an input of the node's definition");
+        const ValueType t = in.type;
+        const std::string name = in.name;
+        in = it->second;
+        in.name = name;
+        if (t != ValueType::None) in.type = t;
+        if (!in.linked && type_width(it->second.type) == 1)
+          for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
+        return;
+      }
+      pugi::xml_node decl = scope.graph.find_child_by_attribute("input", "name", iface.c_str());
+      if (!decl || scope.graph == root_)
         fail(context, ": interfacename '", iface,
              "' is not an input of the enclosing nodegraph (dangling reference)");
       if (decl.attribute("nodename") || decl.attribute("nodegraph")) {
-        connect(root_, decl, in, context);
+        connect(Scope{root_, 0, nullptr, ""}, decl, in, context);
         return;
       }
       ValueType t = parse_type(decl.attribute("type").as_string());
       in.linked = false;
       in.value =
           parse_value(decl.attribute("value").as_string(), t, context + " (interface '" + iface + "')");
-      if (t == ValueType::Filename) in.value.text = resolve_file(in.value.text);
+      if (in.type == ValueType::None) in.type = t;
+      finish_filename(decl, in);
       return;
     }
     if (!nodename.empty()) {
-      pugi::xml_node src = find_node(scope, nodename);
+      pugi::xml_node src = find_node(scope.graph, nodename);
       if (!src) {
-        std::string in_scope = scope == root_ ? "the document" : "nodegraph '" + scope_name(scope) + "'";
+        std::string in_scope =
+            scope.graph == root_
+                ? "the document"
+                : "nodegraph '" + std::string(scope.graph.attribute("name").as_string()) + "'";
         fail(context, ": refers to node '", nodename, "', which does not exist in ", in_scope,
              " (dangling reference)");
       }
       in.linked = true;
-      in.node = instantiate(scope, src);
+      in.node = instantiate(scope, src, output);
       return;
     }
     if (std::string(el.name()) == "output") fail(context, ": output is not connected to anything");
     in.linked = false;
-    in.value = parse_value(el.attribute("value").as_string(), in.type, context);
-    if (in.type == ValueType::Filename) in.value.text = resolve_file(in.value.text);
+    ValueType t = in.type;
+    if (t == ValueType::None) t = parse_type(el.attribute("type").as_string());
+    in.value = parse_value(el.attribute("value").as_string(), t, context);
+    finish_filename(el, in);
   }
 
-  std::string resolve_file(const std::string& f) {
-    if (f.empty() || f[0] == '/') return f;
-    return dir_ + f;
-  }
-
-  int instantiate(pugi::xml_node scope, pugi::xml_node el) {
+  int instantiate(const Scope& scope, pugi::xml_node el, const std::string& output) {
     const std::string key = scope_name(scope) + "|" + el.attribute("name").as_string();
     auto found = memo_.find(key);
     if (found != memo_.end()) return found->second;
+    auto expanded = expansions_.find(key);
+    if (expanded != expansions_.end()) return expansion_output(expanded->second, output);
     if (active_.count(key)) {
       std::string chain;
       bool on = false;
@@ -225,10 +386,11 @@ class Reader {
         on = on || k == key;
         if (on) chain += "'" + k.substr(k.find('|') + 1) + "' -> ";
       }
-      fail(where(el), ": cycle in the node graph: ", chain, "'", el.attribute("name").as_string(), "'");
+      fail(where(scope, el), ": cycle in the node graph: ", chain, "'", el.attribute("name").as_string(),
+           "'");
     }
     if (active_path_.size() >= kMaxNesting)
-      fail(where(el), ": the node graph is nested deeper than ", kMaxNesting,
+      fail(where(scope, el), ": the node graph is nested deeper than ", kMaxNesting,
            " nodes (a chain this long would overflow the compiler and interpreter)");
     active_.insert(key);
     active_path_.push_back(key);
@@ -236,22 +398,181 @@ class Reader {
     Node node;
     node.name = el.attribute("name").as_string();
     node.category = el.name();
-    node.origin = where(el);
+    node.origin = where(scope, el);
     node.type = parse_type(el.attribute("type").as_string());
     const std::string context = node.origin;
+    int id;
+    const NodeDef* def = find_node_def(node.category);
+    bool native = false;
+    if (def && node.type != ValueType::None)
+      for (const std::string& t : def->output_types) native = native || parse_type(t) == node.type;
     if (is_surface(node.category)) {
       build_surface(scope, el, node, context);
+      id = graph_.add(std::move(node));
+      memo_[key] = id;
+    } else if (native) {
+      build_node(scope, el, *def, node, context);
+      id = graph_.add(std::move(node));
+      memo_[key] = id;
     } else {
-      build_node(scope, el, node, context);
+      Expansion& e = expansions_[key];
+      e = expand(scope, el, node, def, context);
+      id = expansion_output(e, output);
     }
-    int id = graph_.add(std::move(node));
-    memo_[key] = id;
     active_.erase(key);
     active_path_.pop_back();
     return id;
   }
 
-  void build_surface(pugi::xml_node scope, pugi::xml_node el, Node& node, const std::string& context) {
+  // A nodedef's inputs, its `inherit`ed definitions' included (its own win).
+  std::vector<pugi::xml_node> nodedef_inputs(pugi::xml_node nd) {
+    std::vector<pugi::xml_node> out;
+    std::set<std::string> seen;
+    for (int depth = 0; nd && depth < 16; ++depth) {
+      for (pugi::xml_node in : nd.children("input"))
+        if (seen.insert(in.attribute("name").as_string()).second) out.push_back(in);
+      std::string base = nd.attribute("inherit").as_string();
+      if (base.empty()) break;
+      pugi::xml_node next = doc_defs_.nodedef(base);
+      if (!next && library()) next = library()->definitions().nodedef(base);
+      nd = next;
+    }
+    return out;
+  }
+  pugi::xml_node nodedef_input(pugi::xml_node nd, const std::string& name) {
+    for (pugi::xml_node in : nodedef_inputs(nd))
+      if (name == in.attribute("name").as_string()) return in;
+    return {};
+  }
+
+  // The definition of a node pmc does not compile natively: by its
+  // `nodedef` attribute, else the first definition of its category whose
+  // output type and declared input types match (MaterialX's rule).
+  pugi::xml_node match_nodedef(pugi::xml_node el, const std::string& category, const std::string& type) {
+    std::string explicit_nd = el.attribute("nodedef").as_string();
+    std::vector<pugi::xml_node> candidates;
+    const MtlxDefinitions* lib = library() ? &library()->definitions() : nullptr;
+    for (const MtlxDefinitions* defs : {static_cast<const MtlxDefinitions*>(&doc_defs_), lib}) {
+      if (!defs) continue;
+      if (!explicit_nd.empty()) {
+        if (pugi::xml_node nd = defs->nodedef(explicit_nd)) return nd;
+        continue;
+      }
+      for (pugi::xml_node nd : defs->nodedefs_for(category)) candidates.push_back(nd);
+    }
+    for (pugi::xml_node nd : candidates) {
+      int outputs = 0;
+      bool type_ok = false;
+      for (pugi::xml_node o : nd.children("output")) {
+        ++outputs;
+        type_ok = type_ok || type == o.attribute("type").as_string();
+      }
+      if (type == "multioutput" || type.empty()) type_ok = outputs > 1 || type.empty();
+      if (!type_ok) continue;
+      bool inputs_ok = true;
+      for (pugi::xml_node c : el.children("input")) {
+        std::string declared = c.attribute("type").as_string();
+        pugi::xml_node d = nodedef_input(nd, c.attribute("name").as_string());
+        if (!d || (!declared.empty() && declared != d.attribute("type").as_string())) inputs_ok = false;
+      }
+      if (inputs_ok) return nd;
+    }
+    return {};
+  }
+
+  Expansion expand(const Scope& scope, pugi::xml_node el, const Node& node, const NodeDef* def,
+                   const std::string& context) {
+    const std::string type = el.attribute("type").as_string();
+    pugi::xml_node nd = match_nodedef(el, node.category, type);
+    if (!nd) {
+      if (def && node.type != ValueType::None)
+        fail(context, ": node '", node.category, "' cannot output ", type, " (type mismatch)");
+      if (!library())
+        fail(context, ": unsupported node '", node.category,
+             "' (not in pmc's node table, and no MaterialX data library to expand it from: run "
+             "scripts/setup, pass --mtlx-library DIR or set PMC_MTLX_LIBRARY)");
+      fail(context, ": unsupported node '", node.category, "' of type ", type.empty() ? "(none)" : type,
+           " (no definition matches it in the document or the MaterialX library in ", library()->dir(), ")");
+    }
+    const std::string nd_name = nd.attribute("name").as_string();
+    pugi::xml_node ng = doc_defs_.implementation(nd_name);
+    if (!ng && library()) ng = library()->definitions().implementation(nd_name);
+    if (!ng) {
+      for (pugi::xml_node o : nd.children("output"))
+        if (is_closure(o.attribute("type").as_string()))
+          fail(context, ": node '", node.category, "' (", nd_name, ") outputs a ",
+               o.attribute("type").as_string(),
+               " closure: generic BSDF/EDF graphs are not supported (pmc maps standard_surface, "
+               "UsdPreviewSurface, open_pbr_surface, gltf_pbr, disney_principled and surface_unlit onto its "
+               "BSDF)");
+      fail(context, ": unsupported node '", node.category, "' (", nd_name,
+           "): pmc has no native implementation and MaterialX defines no nodegraph for it");
+    }
+    // The instance's inputs, as the implementation graph's interface.
+    std::map<std::string, Input>& iface = ifaces_.emplace_back();
+    for (pugi::xml_node d : nodedef_inputs(nd)) {
+      Input in;
+      in.name = d.attribute("name").as_string();
+      in.type = parse_type(d.attribute("type").as_string());
+      const std::string ctx = context + " input '" + in.name + "'";
+      pugi::xml_node c = el.find_child_by_attribute("input", "name", in.name.c_str());
+      if (in.type == ValueType::None && !c) continue;  // a matrix or other type pmc does not read, unset
+      if (in.type == ValueType::None)
+        fail(ctx, ": inputs of type ", d.attribute("type").as_string(), " are not supported");
+      if (c) {
+        connect(scope, c, in, ctx);
+      } else if (d.attribute("defaultgeomprop")) {
+        GeomDefault g = geom_default(d.attribute("defaultgeomprop").as_string());
+        if (g == GeomDefault::None)
+          fail(ctx, ": unknown defaultgeomprop '", d.attribute("defaultgeomprop").as_string(), "'");
+        in.linked = true;
+        in.node = geom_node(g);
+      } else {
+        in.value =
+            parse_value(d.attribute("value").as_string(), in.type, ctx + " (definition " + nd_name + ")");
+      }
+      iface[in.name] = in;
+    }
+    for (pugi::xml_node c : el.children("input"))
+      if (!nodedef_input(nd, c.attribute("name").as_string()))
+        warn(context + ": unknown input '" + c.attribute("name").as_string() + "' ignored");
+    Expansion e;
+    e.scope = Scope{ng, ++next_scope_, &iface,
+                    context + " (expanded from " + ng.attribute("name").as_string() + ")"};
+    e.nodedef = nd;
+    e.context = context;
+    return e;
+  }
+
+  int expansion_output(Expansion& e, const std::string& output) {
+    pugi::xml_node out = output.empty()
+                             ? e.scope.graph.child("output")
+                             : e.scope.graph.find_child_by_attribute("output", "name", output.c_str());
+    if (!out) fail(e.context, ": has no output '", output, "' (dangling reference)");
+    const std::string name = out.attribute("name").as_string();
+    auto it = e.outputs.find(name);
+    if (it != e.outputs.end()) return it->second;
+    Input in;
+    in.name = name;
+    in.type = parse_type(out.attribute("type").as_string());
+    connect(e.scope, out, in, e.scope.origin + ": output '" + name + "'");
+    int id;
+    if (in.linked) {
+      id = in.node;
+    } else {  // an output fed straight by a constant or an interface value
+      Node c;
+      c.category = "constant";
+      c.type = in.type;
+      c.origin = e.scope.origin + ": output '" + name + "'";
+      in.name = "value";
+      c.inputs = {in};
+      id = graph_.add(std::move(c));
+    }
+    e.outputs[name] = id;
+    return id;
+  }
+
+  void build_surface(const Scope& scope, pugi::xml_node el, Node& node, const std::string& context) {
     std::vector<SurfaceParam> params = surface_params(node.category);
     std::string ignored;
     for (const SurfaceParam& p : params) {
@@ -263,35 +584,60 @@ class Reader {
     }
     for (pugi::xml_node c : el.children("input")) {
       std::string name = c.attribute("name").as_string();
-      Input* in = node.input(name);
+      Input* in = name.compare(0, 4, "pmc_") == 0 ? nullptr : node.input(name);
       if (!in) {
+        if (node.category == "gltf_pbr" && (name == "alpha_mode" || name == "alpha_cutoff")) continue;
         ignored += (ignored.empty() ? "" : ", ") + name;
         continue;
       }
       ValueType declared = parse_type(c.attribute("type").as_string());
       if (declared != ValueType::None && declared != in->type &&
-          !(declared == ValueType::Float && type_width(in->type) > 1))
+          !(declared == ValueType::Float && type_width(in->type) > 1) &&
+          !(type_width(declared) == type_width(in->type) && is_numeric(declared)))
         fail(context, ": input '", name, "' must be ", type_name(in->type), ", the document says ",
              type_name(declared), " (type mismatch)");
       connect(scope, c, *in, context + " input '" + name + "'");
     }
+    if (node.category == "gltf_pbr") {  // alpha is the opacity only in alpha_mode MASK (1) or BLEND (2)
+      pugi::xml_node mode = el.find_child_by_attribute("input", "name", "alpha_mode");
+      bool opaque = !mode || (!mode.attribute("nodename") && mode.attribute("value").as_int() == 0);
+      Input* alpha = node.input("alpha");
+      if (opaque && (alpha->linked || alpha->value.f[0] != 1.0f)) {
+        *alpha = Input::constant("alpha", ValueType::Float, 1.0f);
+        ignored += std::string(ignored.empty() ? "" : ", ") + "alpha (alpha_mode OPAQUE)";
+      }
+      if (mode && !opaque)
+        ignored += std::string(ignored.empty() ? "" : ", ") + "alpha_cutoff (pmc cuts at 0.5)";
+    }
+    // Parameters that are an affine function of their input (disney_principled).
+    for (const SurfaceParam& p : params) {
+      if (p.scale == 1.0f && p.offset == 0.0f) continue;
+      Input* in = node.input(p.input);
+      if (!in->linked) {
+        for (float& f : in->value.f) f = f * p.scale + p.offset;
+        continue;
+      }
+      Node mul;
+      mul.category = "multiply";
+      mul.type = ValueType::Float;
+      mul.origin = context + " input '" + p.input + "' (scaled for pmc's BSDF)";
+      Input a = *in;
+      a.name = "in1";
+      mul.inputs = {a, Input::constant("in2", ValueType::Float, p.scale)};
+      Node add;
+      add.category = "add";
+      add.type = ValueType::Float;
+      add.origin = mul.origin;
+      add.inputs = {Input::link("in1", ValueType::Float, graph_.add(std::move(mul))),
+                    Input::constant("in2", ValueType::Float, p.offset)};
+      *in = Input::link(p.input, in->type, graph_.add(std::move(add)));
+    }
     if (!ignored.empty()) warn(context + ": inputs pmc does not model (ignored): " + ignored);
   }
 
-  void build_node(pugi::xml_node scope, pugi::xml_node el, Node& node, const std::string& context) {
-    const NodeDef* def = find_node_def(node.category);
-    if (!def) {
-      std::string list;
-      for (const std::string& c : supported_categories()) list += (list.empty() ? "" : " ") + c;
-      fail(context, ": unsupported node '", node.category, "' (pmc supports: ", list, ")");
-    }
-    if (node.type == ValueType::None)
-      fail(context, ": missing or unknown type '", el.attribute("type").as_string(), "'");
-    bool type_ok = false;
-    for (const std::string& t : def->output_types) type_ok = type_ok || parse_type(t) == node.type;
-    if (!type_ok)
-      fail(context, ": node '", node.category, "' cannot output ", type_name(node.type), " (type mismatch)");
-    for (const InputDef& d : def->inputs) {
+  void build_node(const Scope& scope, pugi::xml_node el, const NodeDef& def, Node& node,
+                  const std::string& context) {
+    for (const InputDef& d : def.inputs) {
       Input in;
       in.name = d.name;
       in.type = resolve_input_type(d, node.type);
@@ -310,11 +656,6 @@ class Reader {
           in.type = declared;
         }
         connect(scope, c, in, context + " input '" + d.name + "'");
-        if (in.type == ValueType::Filename && !in.linked) {
-          std::string cs = c.attribute("colorspace").as_string();
-          if (cs.empty()) cs = doc_colorspace_;
-          in.value.f[0] = cs == "srgb_texture" ? 1.0f : 0.0f;  // decode flag for the image loader
-        }
       } else if (d.geom != GeomDefault::None) {
         in.linked = true;
         in.node = geom_node(d.geom);
@@ -332,42 +673,60 @@ class Reader {
       std::string name = c.attribute("name").as_string();
       if (!node.input(name)) warn(context + ": unknown input '" + name + "' ignored");
     }
+    // The boolean comparisons (ND_ifgreater_floatB ...) have no in1/in2:
+    // their value is the comparison itself, i.e. in1 = true, in2 = false.
+    if (node.type == ValueType::Boolean && def.opcode != PMC_OP_MIN && def.opcode != PMC_OP_MAX &&
+        node.input("in1") && node.input("in2") && !el.find_child_by_attribute("input", "name", "in1") &&
+        node.input("value1"))
+      node.input("in1")->value.f = {1, 1, 1, 1};
   }
 
+  // Documents without materials: one preview material per output.
   void preview_outputs(std::vector<Graph>& out) {
-    auto add_preview = [&](pugi::xml_node scope, pugi::xml_node output, const std::string& name) {
+    auto add_preview = [&](const Scope& scope, pugi::xml_node output, const std::string& name) {
       begin(name);
-      Node conv;
-      conv.category = "convert";
-      conv.type = ValueType::Color3;
-      conv.origin = path_ + ": output '" + name + "'";
-      Input in;
-      in.name = "in";
-      in.type = parse_type(output.attribute("type").as_string());
-      if (!is_numeric(in.type))
-        fail(conv.origin, ": output type '", output.attribute("type").as_string(), "' cannot be shown");
-      connect(scope, output, in, conv.origin);
-      in.type = graph_.nodes[size_t(in.node)].type;
-      conv.inputs.push_back(in);
-      int c = graph_.add(conv);
-      Node surface;
-      surface.category = "standard_surface";
-      surface.type = ValueType::Surface;
-      surface.origin = conv.origin + " (preview surface)";
-      for (const SurfaceParam& p : surface_params("standard_surface")) {
-        Input si;
-        si.name = p.input;
-        si.type = p.type;
-        si.value = Value::number(p.type, p.def[0], p.def[1], p.def[2]);
-        if (si.name == "base_color") si.linked = true, si.node = c;
-        if (si.name == "specular") si.value.f[0] = 0.0f;  // a flat preview shows the pattern itself
-        surface.inputs.push_back(si);
-      }
-      graph_.surface = graph_.add(surface);
-      out.push_back(std::move(graph_));
+      attempt(out, [&] {
+        const std::string origin = path_ + ": output '" + name + "'";
+        const std::string type = output.attribute("type").as_string();
+        if (type == "surfaceshader") {  // a shader output is a material
+          graph_.surface = shader_of(scope, output, origin);
+          return;
+        }
+        Node conv;
+        conv.category = "convert";
+        conv.type = ValueType::Color3;
+        conv.origin = origin;
+        Input in;
+        in.name = "in";
+        in.type = parse_type(type);
+        if (!is_numeric(in.type))
+          fail(conv.origin, ": output type '", type,
+               "' cannot be shown (pmc previews data outputs and "
+               "surfaceshader outputs)");
+        connect(scope, output, in, conv.origin);
+        if (in.linked) in.type = graph_.nodes[size_t(in.node)].type;
+        conv.inputs.push_back(in);
+        int c = graph_.add(conv);
+        Node surface;
+        surface.category = "standard_surface";
+        surface.type = ValueType::Surface;
+        surface.origin = conv.origin + " (preview surface)";
+        for (const SurfaceParam& p : surface_params("standard_surface")) {
+          Input si;
+          si.name = p.input;
+          si.type = p.type;
+          si.value = Value::number(p.type, p.def[0], p.def[1], p.def[2]);
+          if (si.name == "base_color") si.linked = true, si.node = c;
+          if (si.name == "specular") si.value.f[0] = 0.0f;  // a flat preview shows the pattern itself
+          surface.inputs.push_back(si);
+        }
+        graph_.surface = graph_.add(surface);
+      });
     };
-    for (pugi::xml_node o : root_.children("output")) add_preview(root_, o, o.attribute("name").as_string());
+    for (pugi::xml_node o : root_.children("output"))
+      add_preview(Scope{root_, 0, nullptr, ""}, o, o.attribute("name").as_string());
     for (pugi::xml_node ng : root_.children("nodegraph")) {
+      if (ng.attribute("nodedef")) continue;  // an implementation of a custom node, not a graph to show
       std::string ng_name = ng.attribute("name").as_string();
       int count = 0;
       for (pugi::xml_node o : ng.children("output")) {
@@ -376,7 +735,7 @@ class Reader {
       }
       for (pugi::xml_node o : ng.children("output")) {
         std::string name = count == 1 ? ng_name : ng_name + "/" + o.attribute("name").as_string();
-        add_preview(ng, o, name);
+        add_preview(Scope{ng, 0, nullptr, ""}, o, name);
       }
     }
   }
@@ -384,20 +743,98 @@ class Reader {
 
 }  // namespace
 
-std::vector<Graph> read_mtlx_string(const std::string& xml, const std::string& path) {
+namespace {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start <= s.size()) {
+    size_t end = s.find(',', start);
+    if (end == std::string::npos) end = s.size();
+    std::string item = s.substr(start, end - start);
+    size_t a = item.find_first_not_of(" \t"), b = item.find_last_not_of(" \t");
+    if (a != std::string::npos) out.push_back(item.substr(a, b - a + 1));
+    start = end + 1;
+  }
+  return out;
+}
+
+std::vector<std::string> path_components(const std::string& path) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start < path.size()) {
+    size_t end = path.find('/', start);
+    if (end == std::string::npos) end = path.size();
+    if (end > start) out.push_back(path.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
+bool glob(const char* p, const char* s) {
+  if (*p == '\0') return *s == '\0';
+  if (*p == '*') return glob(p + 1, s) || (*s != '\0' && glob(p, s + 1));
+  if (*s == '\0') return false;
+  return (*p == '?' || *p == *s) && glob(p + 1, s + 1);
+}
+
+}  // namespace
+
+bool mtlx_geom_matches(const std::string& pattern, const std::string& path) {
+  std::vector<std::string> p = path_components(pattern), g = path_components(path);
+  if (p.size() > g.size()) return false;  // "/" (no components) matches everything
+  for (size_t i = 0; i < p.size(); ++i)
+    if (!glob(p[i].c_str(), g[i].c_str())) return false;
+  return true;
+}
+
+std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path) {
+  pugi::xml_document doc;
+  if (!doc.load_file(path.c_str())) return {};  // read_mtlx_file reports unreadable documents
+  pugi::xml_node root = doc.child("materialx");
+  std::vector<MtlxAssignment> out;
+  for (pugi::xml_node look : root.children("look"))
+    for (pugi::xml_node a : look.children("materialassign")) {
+      MtlxAssignment m;
+      m.material = a.attribute("material").as_string();
+      m.geom = a.attribute("geom").as_string();
+      m.origin = path + ": look '" + look.attribute("name").as_string() + "' materialassign '" +
+                 a.attribute("name").as_string() + "'";
+      std::string collection = a.attribute("collection").as_string();
+      if (!collection.empty()) {
+        pugi::xml_node c = root.find_child_by_attribute("collection", "name", collection.c_str());
+        if (!c) fail(m.origin, ": collection '", collection, "' does not exist (dangling reference)");
+        m.geom += (m.geom.empty() ? "" : ",") + std::string(c.attribute("includegeom").as_string());
+        m.exclude = c.attribute("excludegeom").as_string();
+      }
+      if (m.material.empty()) fail(m.origin, ": names no material");
+      out.push_back(m);
+    }
+  return out;
+}
+
+bool mtlx_assignment_covers(const MtlxAssignment& a, const std::string& geometry) {
+  bool in = false;
+  for (const std::string& p : split_list(a.geom)) in = in || mtlx_geom_matches(p, geometry);
+  for (const std::string& p : split_list(a.exclude)) in = in && !mtlx_geom_matches(p, geometry);
+  return in;
+}
+
+std::vector<Graph> read_mtlx_string(const std::string& xml, const std::string& path,
+                                    const MtlxReadOptions& options) {
   pugi::xml_document doc;
   pugi::xml_parse_result r = doc.load_buffer(xml.data(), xml.size());
   if (!r) fail(path, ": not valid XML at byte ", r.offset, ": ", r.description());
-  return Reader(path).read(doc);
+  return Reader(path, options).read(doc);
 }
 
-std::vector<Graph> read_mtlx_file(const std::string& path) {
+std::vector<Graph> read_mtlx_file(const std::string& path, const MtlxReadOptions& options) {
   pugi::xml_document doc;
   pugi::xml_parse_result r = doc.load_file(path.c_str());
   if (r.status == pugi::status_file_not_found || r.status == pugi::status_io_error)
     fail(path, ": cannot read MaterialX file");
   if (!r) fail(path, ": not valid XML at byte ", r.offset, ": ", r.description());
-  return Reader(path).read(doc);
+  return Reader(path, options).read(doc);
 }
 
 }  // namespace pmc

@@ -72,7 +72,8 @@ struct Graph {
   std::string material;  // material name (what `usemtl` binds to)
   std::string file;      // document or MTL file it came from
   std::vector<Node> nodes;
-  int surface = -1;  // root node
+  int surface = -1;   // root node
+  std::string error;  // why the material could not be built ("" if it was): it fails when used
 
   int add(Node n) {
     nodes.push_back(std::move(n));

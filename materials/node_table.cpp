@@ -43,8 +43,10 @@ InputDef not_operand(InputDef d) {
 }
 InputDef in_any(const std::string& name) { return {name, "any", num(0), GeomDefault::None}; }
 
-const std::vector<std::string> kAllNumeric = {"float", "vector2", "vector3", "vector4", "color3", "color4"};
-const std::vector<std::string> kFloatVec = kAllNumeric;
+const std::vector<std::string> kFloatVec = {"float", "vector2", "vector3", "vector4", "color3", "color4"};
+// Integers and booleans are floats of one lane in pmc.
+const std::vector<std::string> kAllNumeric = {"float",  "vector2", "vector3", "vector4",
+                                              "color3", "color4",  "integer", "boolean"};
 
 std::map<std::string, NodeDef> build() {
   std::map<std::string, NodeDef> m;
@@ -158,12 +160,61 @@ std::map<std::string, NodeDef> build() {
        {Un{"absval", PMC_OP_ABS}, Un{"floor", PMC_OP_FLOOR}, Un{"ceil", PMC_OP_CEIL}, Un{"sin", PMC_OP_SIN},
         Un{"cos", PMC_OP_COS}, Un{"sqrt", PMC_OP_SQRT}, Un{"normalize", PMC_OP_NORMALIZE}})
     def(u.name, kAllNumeric, {in_t("in", 0)}, u.op);
+  struct Un2 {
+    const char* name;
+    int op;
+    float in;
+  };
+  for (Un2 u : {Un2{"tan", PMC_OP_TAN, 0}, Un2{"asin", PMC_OP_ASIN, 0}, Un2{"acos", PMC_OP_ACOS, 0},
+                Un2{"exp", PMC_OP_EXP, 0}, Un2{"ln", PMC_OP_LN, 1}, Un2{"sign", PMC_OP_SIGN, 0},
+                Un2{"round", PMC_OP_ROUND, 0}, Un2{"fract", PMC_OP_FRACT, 0}})
+    def(u.name, kAllNumeric, {in_t("in", u.in)}, u.op);
+  def("atan2", kAllNumeric, {in_t("iny", 0), in_t("inx", 1)}, PMC_OP_ATAN2);
+  def("magnitude", {"float"}, {in_any("in")}, PMC_OP_LENGTH).emit = Emit::WidthImm;
+  def("crossproduct", {"vector3"}, {in_t("in1", 0), in_t("in2", 0)}, PMC_OP_CROSS);
+  // Booleans are 0 or 1: and = min, or = max.
+  def("and", {"boolean"}, {in_b("in1", false), in_b("in2", false)}, PMC_OP_MIN);
+  def("or", {"boolean"}, {in_b("in1", false), in_b("in2", false)}, PMC_OP_MAX);
+  def("not", {"boolean"}, {in_b("in", false)}, PMC_OP_NOT);
+  def("ifequal", kAllNumeric, {in_f("value1", 0), in_f("value2", 0), in_t("in1", 0), in_t("in2", 0)},
+      PMC_OP_IFEQUAL);
+  struct Blend {
+    const char* name;
+    unsigned mode;
+  };
+  for (Blend b : {Blend{"plus", PMC_BLEND_PLUS}, Blend{"minus", PMC_BLEND_MINUS},
+                  Blend{"difference", PMC_BLEND_DIFFERENCE}, Blend{"burn", PMC_BLEND_BURN},
+                  Blend{"dodge", PMC_BLEND_DODGE}, Blend{"screen", PMC_BLEND_SCREEN}})
+    def(b.name, {"float", "color3", "color4"}, {in_t("fg", 0), in_t("bg", 0), in_f("mix", 1)}, PMC_OP_BLEND,
+        b.mode);
+  def("rotate2d", {"vector2"}, {in_t("in", 0), in_f("amount", 0)}, PMC_OP_ROTATE2D);
+  def("rotate3d", {"vector3"},
+      {in_t("in", 0), in_f("amount", 0), {"axis", "vector3", num(0, 1, 0), GeomDefault::None}},
+      PMC_OP_ROTATE3D);
+  // pmc has one space: object space is world space (no instance transforms),
+  // so space transforms are the identity (a normal stays normalised).
+  std::vector<InputDef> spaces = {in_s("fromspace", ""), in_s("tospace", "")};
+  def("transformpoint", {"vector3"}, {in_t("in", 0), spaces[0], spaces[1]}, PMC_OP_MOVE);
+  def("transformvector", {"vector3"}, {in_t("in", 0), spaces[0], spaces[1]}, PMC_OP_MOVE);
+  def("transformnormal", {"vector3"},
+      {{"in", "vector3", num(0, 0, 1), GeomDefault::None}, spaces[0], spaces[1]}, PMC_OP_NORMALIZE);
+  // A still image of an OBJ: frame 1, time = frame / fps, no vertex colours or
+  // primvars (geomcolor is white, geompropvalue its default).
+  def("time", {"float"}, {not_operand(in_f("fps", 24))}, -1).lower = Lower::Time;
+  def("frame", {"float"}, {}, -1).lower = Lower::Frame;
+  def("geomcolor", {"float", "color3", "color4"}, {not_operand(in_i("index", 0))}, -1).lower =
+      Lower::GeomColor;
+  def("geompropvalue", kAllNumeric, {in_s("geomprop", ""), in_t("default", 0)}, -1).lower =
+      Lower::GeomPropValue;
+  // The shading point does not carry the ray direction: viewdirection is
+  // approximated by -N (a head-on view), with a warning naming the node.
+  def("viewdirection", {"vector3"}, {in_s("space", "world")}, -1).lower = Lower::ViewDirection;
   def("clamp", kAllNumeric, {in_t("in", 0), in_t("low", 0), in_t("high", 1)}, PMC_OP_CLAMP);
   def("smoothstep", kAllNumeric, {in_t("in", 0), in_t("low", 0), in_t("high", 1)}, PMC_OP_SMOOTHSTEP);
   def("remap", kAllNumeric,
       {in_t("in", 0), in_t("inlow", 0), in_t("inhigh", 1), in_t("outlow", 0), in_t("outhigh", 1)},
       PMC_OP_REMAP);
-  def("dotproduct", {"float"}, {in_any("in1"), in_any("in2")}, PMC_OP_DOT).emit = Emit::Dot;
+  def("dotproduct", {"float"}, {in_any("in1"), in_any("in2")}, PMC_OP_DOT).emit = Emit::WidthImm;
   Algebra& mix = def("mix", kAllNumeric, {in_t("fg", 0), in_t("bg", 0), in_t("mix", 0)}, PMC_OP_MIX).algebra;
   mix.selector = "mix";
   mix.select0 = "bg";
@@ -279,6 +330,54 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"clearcoat", PMC_P_COAT, VT::Float, {0}},
             {"clearcoatRoughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0.01f}},
             {"pmc_emission_weight", PMC_P_EMISSION, VT::Float, {1}}};
+  // OpenPBR: emission_luminance weights emission_color as standard_surface's
+  // emission does (MaterialX's open_pbr_surface graph multiplies them).
+  if (category == "open_pbr_surface")
+    return {{"base_weight", PMC_P_BASE, VT::Float, {1}},
+            {"base_color", PMC_P_BASE_COLOR, VT::Color3, {0.8f, 0.8f, 0.8f}},
+            {"base_metalness", PMC_P_METALNESS, VT::Float, {0}},
+            {"specular_weight", PMC_P_SPECULAR, VT::Float, {1}},
+            {"specular_color", PMC_P_SPECULAR_COLOR, VT::Color3, {1, 1, 1}},
+            {"specular_roughness", PMC_P_SPECULAR_ROUGHNESS, VT::Float, {0.3f}},
+            {"specular_ior", PMC_P_SPECULAR_IOR, VT::Float, {1.5f}},
+            {"emission_luminance", PMC_P_EMISSION, VT::Float, {0}},
+            {"emission_color", PMC_P_EMISSION_COLOR, VT::Color3, {1, 1, 1}},
+            {"geometry_normal", PMC_P_NORMAL, VT::Vector3, {0, 0, 0}},
+            {"geometry_opacity", PMC_P_OPACITY, VT::Float, {1}},
+            {"coat_weight", PMC_P_COAT, VT::Float, {0}},
+            {"coat_color", PMC_P_COAT_COLOR, VT::Color3, {1, 1, 1}},
+            {"coat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0}}};
+  // glTF: emissive is a colour, emissive_strength its weight; alpha is the
+  // opacity (ignored in alpha_mode OPAQUE, by the reader).
+  if (category == "gltf_pbr")
+    return {{"base_color", PMC_P_BASE_COLOR, VT::Color3, {1, 1, 1}},
+            {"metallic", PMC_P_METALNESS, VT::Float, {1}},
+            {"roughness", PMC_P_SPECULAR_ROUGHNESS, VT::Float, {1}},
+            {"normal", PMC_P_NORMAL, VT::Vector3, {0, 0, 0}},
+            {"specular", PMC_P_SPECULAR, VT::Float, {1}},
+            {"specular_color", PMC_P_SPECULAR_COLOR, VT::Color3, {1, 1, 1}},
+            {"ior", PMC_P_SPECULAR_IOR, VT::Float, {1.5f}},
+            {"alpha", PMC_P_OPACITY, VT::Float, {1}},
+            {"clearcoat", PMC_P_COAT, VT::Float, {0}},
+            {"clearcoat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0}},
+            {"emissive", PMC_P_EMISSION_COLOR, VT::Color3, {0, 0, 0}},
+            {"emissive_strength", PMC_P_EMISSION, VT::Float, {1}}};
+  // Disney: specular 0.5 is F0 = 0.04 (IOR 1.5), so it scales pmc's specular
+  // weight by 2; a clearcoat gloss of 1 is a smooth coat (roughness 1 - gloss).
+  if (category == "disney_principled")
+    return {{"baseColor", PMC_P_BASE_COLOR, VT::Color3, {0.16f, 0.16f, 0.16f}},
+            {"metallic", PMC_P_METALNESS, VT::Float, {0}},
+            {"roughness", PMC_P_SPECULAR_ROUGHNESS, VT::Float, {0.5f}},
+            {"specular", PMC_P_SPECULAR, VT::Float, {0.5f}, 2.0f, 0.0f},
+            {"clearcoat", PMC_P_COAT, VT::Float, {0}},
+            {"clearcoatGloss", PMC_P_COAT_ROUGHNESS, VT::Float, {1}, -1.0f, 1.0f}};
+  // Unlit: emission only, no reflection.
+  if (category == "surface_unlit")
+    return {{"emission", PMC_P_EMISSION, VT::Float, {1}},
+            {"emission_color", PMC_P_EMISSION_COLOR, VT::Color3, {1, 1, 1}},
+            {"opacity", PMC_P_OPACITY, VT::Float, {1}},
+            {"pmc_base", PMC_P_BASE, VT::Float, {0}},
+            {"pmc_specular", PMC_P_SPECULAR, VT::Float, {0}}};
   if (category == "pmc_mtl_surface")
     return {{"model", PMC_P_MODEL, VT::Float, {1}},
             {"base_color", PMC_P_BASE_COLOR, VT::Color3, {0.5f, 0.5f, 0.5f}},

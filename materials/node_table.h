@@ -14,8 +14,9 @@
 //    0 or 1, pass-throughs), as data;
 //  - how it lowers: `emit` (an opcode with the inputs as operands, or one of
 //    the few emitters in emit.cpp: convert, extract, swizzle, combine2, image,
-//    dot), or `lower` (rewritten into other nodes before compiling, by
-//    lowering.cpp: invert, tiledimage, heighttonormal, bump).
+//    operand-width opcodes), or `lower` (rewritten into other nodes before
+//    compiling, by lowering.cpp: invert, tiledimage, heighttonormal, bump,
+//    and the scene-constant nodes time, frame, geomcolor, geompropvalue).
 // Surface shaders (standard_surface, UsdPreviewSurface, pmc_mtl_surface) are
 // listed by surface_params(): which inputs become which BSDF parameters.
 //
@@ -65,14 +66,25 @@ enum class Emit {
   Swizzle,   // SWIZZLE by the `channels` string
   Combine2,  // two MOVEs of any widths side by side
   Image,     // a texture from the pool; IMAGE
-  Dot,       // DOT with imm = the operand width
+  WidthImm,  // `opcode` with imm = the first operand's width (dotproduct, magnitude)
   Lowered,   // rewritten by lowering.cpp before emission
 };
 
 // Graph rewrites before compiling (lowering.cpp), in three phases: plain
 // rewrites in node order, then bumps into normalmap(heighttonormal), then
 // heighttonormal inputs-first (it copies its height sub-graph).
-enum class Lower { None, Invert, TiledImage, Bump, HeightToNormal };
+enum class Lower {
+  None,
+  Invert,
+  TiledImage,
+  Bump,
+  HeightToNormal,
+  Time,
+  Frame,
+  GeomColor,
+  GeomPropValue,
+  ViewDirection
+};
 
 // Identities the folding pass applies (passes.cpp). in1/in2 are the binary
 // operands; NaN means "no such identity".
@@ -107,14 +119,19 @@ ValueType resolve_input_type(const InputDef& def, ValueType node_type);
 std::vector<std::string> supported_categories();
 
 // Surface shader inputs that become surface parameters.
+// An input named "pmc_*" is no input of the shader: a constant the mapping
+// sets (surface_unlit has no diffuse lobe: pmc_base = 0).
 struct SurfaceParam {
   const char* input;
   int param;  // PMC_P_*
   ValueType type;
-  float def[3];  // the surface's own default (UsdPreviewSurface differs from standard_surface)
+  float def[3];                       // the surface's own default (MaterialX 1.39 library values)
+  float scale = 1.0f, offset = 0.0f;  // parameter = input * scale + offset
 };
-// Parameters of a surface category ("standard_surface", "UsdPreviewSurface",
-// "pmc_mtl_surface"); empty if the category is not a surface.
+// Parameters of a surface category (standard_surface, UsdPreviewSurface,
+// open_pbr_surface, gltf_pbr, disney_principled, surface_unlit,
+// pmc_mtl_surface); empty if the category is not a surface. Inputs of the
+// shader not listed here are not modelled (the reader warns once per material).
 std::vector<SurfaceParam> surface_params(const std::string& category);
 
 }  // namespace pmc

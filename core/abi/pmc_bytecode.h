@@ -78,6 +78,22 @@
   X(TILEDSHAPE, 5, 5)     /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */     \
   X(LINEPATTERN, 5, 5)    /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
   X(NORMALMAP, 4, 4)      /* in, scale, normal, tangent */                                     \
+  X(TAN, 1, 1)                                                                                 \
+  X(ASIN, 1, 1)                                                                                \
+  X(ACOS, 1, 1)                                                                                \
+  X(ATAN2, 2, 2)          /* iny, inx */                                                       \
+  X(EXP, 1, 1)                                                                                 \
+  X(LN, 1, 1)                                                                                  \
+  X(SIGN, 1, 1)                                                                                \
+  X(ROUND, 1, 1)          /* halves away from zero */                                          \
+  X(FRACT, 1, 1)          /* x - floor(x) */                                                   \
+  X(LENGTH, 1, 1)         /* imm = operand width */                                            \
+  X(CROSS, 2, 2)                                                                               \
+  X(NOT, 1, 1)            /* a == 0 ? 1 : 0 */                                                 \
+  X(IFEQUAL, 4, 4)        /* value1, value2, in1, in2 */                                       \
+  X(BLEND, 3, 3)          /* fg, bg, mix; imm = PMC_BLEND_* */                                 \
+  X(ROTATE2D, 2, 2)       /* in, amount (degrees) */                                           \
+  X(ROTATE3D, 3, 3)       /* in, amount (degrees), axis */                                     \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
   X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on
@@ -116,6 +132,15 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_SHAPE_HEXAGONS 2u
 #define PMC_LINES_GRID 0u
 #define PMC_LINES_CROSSHATCH 1u
+
+/* Blend modes (imm of BLEND), MaterialX's compositing nodes:
+ * mix * f(fg, bg) + (1 - mix) * bg, lane-wise. */
+#define PMC_BLEND_PLUS 0u       /* fg + bg */
+#define PMC_BLEND_MINUS 1u      /* bg - fg */
+#define PMC_BLEND_DIFFERENCE 2u /* |bg - fg| */
+#define PMC_BLEND_BURN 3u       /* 1 - (1 - bg) / fg; 0 where |fg| < 1e-6 */
+#define PMC_BLEND_DODGE 4u      /* bg / (1 - fg); 0 where |1 - fg| < 1e-6 */
+#define PMC_BLEND_SCREEN 5u     /* 1 - (1 - fg) (1 - bg) */
 
 /* Surface parameters a material program writes with OUTPUT (float offsets
  * into the parameter block). Unwritten parameters keep the defaults set by

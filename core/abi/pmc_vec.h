@@ -91,6 +91,11 @@ PMC_F4_UNARY(ceil)
 PMC_F4_UNARY(sin)
 PMC_F4_UNARY(cos)
 PMC_F4_UNARY(sqrt)
+PMC_F4_UNARY(tan)
+PMC_F4_UNARY(asin)
+PMC_F4_UNARY(acos)
+PMC_F4_UNARY(exp)
+PMC_F4_UNARY(log)
 #undef PMC_F4_UNARY
 #define PMC_F4_BINARY(FN)                                                                \
   PMC_FN float4 FN(float4 a, float4 b) {                                                 \
@@ -99,6 +104,7 @@ PMC_F4_UNARY(sqrt)
 PMC_F4_BINARY(fmin)
 PMC_F4_BINARY(fmax)
 PMC_F4_BINARY(pow)
+PMC_F4_BINARY(atan2)
 #undef PMC_F4_BINARY
 PMC_FN float dot(float3 a, float3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 PMC_FN float dot(float2 a, float2 b) { return a.x * b.x + a.y * b.y; }

@@ -169,6 +169,30 @@ PMC_FN float4 pmc_normalmap(float4 in, float scale, float3 n, float3 t) {
   return make_float4(r.x, r.y, r.z, 0.0f);
 }
 
+/* MaterialX blend nodes, one lane (PMC_BLEND_*). M_FLOAT_EPS of the GLSL is 1e-6. */
+PMC_FN float pmc_blend1(float fg, float bg, float mix, pmc_u32 mode) {
+  float f;
+  if (mode == PMC_BLEND_PLUS)
+    f = fg + bg;
+  else if (mode == PMC_BLEND_MINUS)
+    f = bg - fg;
+  else if (mode == PMC_BLEND_DIFFERENCE)
+    f = fabs(bg - fg);
+  else if (mode == PMC_BLEND_BURN) {
+    if (fabs(fg) < 1e-6f) return 0.0f;
+    f = 1.0f - (1.0f - bg) / fg;
+  } else if (mode == PMC_BLEND_DODGE) {
+    if (fabs(1.0f - fg) < 1e-6f) return 0.0f;
+    f = bg / (1.0f - fg);
+  } else
+    f = 1.0f - (1.0f - fg) * (1.0f - bg);
+  return mix * f + (1.0f - mix) * bg;
+}
+
+PMC_FN float pmc_sign1(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0.0f); }
+/* GLSL round(): halves away from zero (C's round). */
+PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x + 0.5f); }
+
 #define PMC_ARG(i) pmc_load_operand(code, stack, code[pc + 2u + (i)])
 
 /* Runs the program at `pc` until END. `params` receives OUTPUT values. */
@@ -505,6 +529,90 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
       case PMC_OP_NORMALMAP: {
         float4 n = PMC_ARG(2), t = PMC_ARG(3);
         r = pmc_normalmap(PMC_ARG(0), PMC_ARG(1).x, make_float3(n.x, n.y, n.z), make_float3(t.x, t.y, t.z));
+        break;
+      }
+      case PMC_OP_TAN:
+        r = tan(PMC_ARG(0));
+        break;
+      case PMC_OP_ASIN:
+        r = asin(PMC_ARG(0));
+        break;
+      case PMC_OP_ACOS:
+        r = acos(PMC_ARG(0));
+        break;
+      case PMC_OP_ATAN2:
+        r = atan2(PMC_ARG(0), PMC_ARG(1));
+        break;
+      case PMC_OP_EXP:
+        r = exp(PMC_ARG(0));
+        break;
+      case PMC_OP_LN:
+        r = log(PMC_ARG(0));
+        break;
+      case PMC_OP_SIGN: {
+        float4 a = PMC_ARG(0);
+        r = make_float4(pmc_sign1(a.x), pmc_sign1(a.y), pmc_sign1(a.z), pmc_sign1(a.w));
+        break;
+      }
+      case PMC_OP_ROUND: {
+        float4 a = PMC_ARG(0);
+        r = make_float4(pmc_round1(a.x), pmc_round1(a.y), pmc_round1(a.z), pmc_round1(a.w));
+        break;
+      }
+      case PMC_OP_FRACT: {
+        float4 a = PMC_ARG(0);
+        r = a - floor(a);
+        break;
+      }
+      case PMC_OP_LENGTH: {
+        float4 a = PMC_ARG(0);
+        pmc_u32 n = imm == 0u ? 3u : imm; /* imm = operand width */
+        float d = a.x * a.x;
+        if (n > 1u) d += a.y * a.y;
+        if (n > 2u) d += a.z * a.z;
+        if (n > 3u) d += a.w * a.w;
+        r = pmc_broadcast(sqrt(d));
+        break;
+      }
+      case PMC_OP_CROSS: {
+        float4 a = PMC_ARG(0), b = PMC_ARG(1);
+        r = make_float4(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
+        break;
+      }
+      case PMC_OP_NOT: {
+        float4 a = PMC_ARG(0);
+        r = make_float4(a.x == 0.0f ? 1.0f : 0.0f, a.y == 0.0f ? 1.0f : 0.0f, a.z == 0.0f ? 1.0f : 0.0f,
+                        a.w == 0.0f ? 1.0f : 0.0f);
+        break;
+      }
+      case PMC_OP_IFEQUAL:
+        r = PMC_ARG(0).x == PMC_ARG(1).x ? PMC_ARG(2) : PMC_ARG(3);
+        break;
+      case PMC_OP_BLEND: {
+        float4 fg = PMC_ARG(0), bg = PMC_ARG(1), m = PMC_ARG(2);
+        r = make_float4(pmc_blend1(fg.x, bg.x, m.x, imm), pmc_blend1(fg.y, bg.y, m.y, imm),
+                        pmc_blend1(fg.z, bg.z, m.z, imm), pmc_blend1(fg.w, bg.w, m.w, imm));
+        break;
+      }
+      case PMC_OP_ROTATE2D: {
+        /* MaterialX mx_rotate_vector2: (ca x + sa y, -sa x + ca y) */
+        float4 v = PMC_ARG(0);
+        float a = PMC_ARG(1).x * (PMC_PI / 180.0f);
+        float sa = sin(a), ca = cos(a);
+        r = make_float4(ca * v.x + sa * v.y, -sa * v.x + ca * v.y, 0.0f, 0.0f);
+        break;
+      }
+      case PMC_OP_ROTATE3D: {
+        /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
+         * v c + cross(v, axis) s + axis dot(axis, v) (1 - c), axis normalised. */
+        float4 v4 = PMC_ARG(0), ax4 = PMC_ARG(2);
+        float3 v = make_float3(v4.x, v4.y, v4.z), ax = make_float3(ax4.x, ax4.y, ax4.z);
+        float l = length(ax);
+        ax = l > 0.0f ? ax * (1.0f / l) : ax;
+        float a = PMC_ARG(1).x * (PMC_PI / 180.0f);
+        float sn = sin(a), c = cos(a);
+        float3 res = v * c + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - c));
+        r = make_float4(res.x, res.y, res.z, 0.0f);
         break;
       }
       default:

@@ -322,7 +322,10 @@ TEST(ObjLoader, NoMtllibUsesDefaultMaterial) {
   EXPECT_EQ(d.kd_texture, -1);
 }
 
-TEST(ObjLoader, UndefinedMaterialUsesDefault) {
+// A usemtl name no MTL defines keeps its name (a MaterialX material of that
+// name binds to it) with the default material's values; faces before any
+// usemtl get the default material.
+TEST(ObjLoader, UndefinedMaterialKeepsItsNameWithDefaultValues) {
   std::string dir = temp_dir();
   write_file(dir + "/m.mtl", "newmtl red\nKd 1 0 0\n");
   write_file(dir + "/a.obj", "mtllib m.mtl\n" + std::string(kTriangle) +
@@ -332,11 +335,27 @@ TEST(ObjLoader, UndefinedMaterialUsesDefault) {
                                  "usemtl red\n"
                                  "f 1 2 3\n");
   Scene s = load_obj(dir + "/a.obj");
-  ASSERT_EQ(s.materials.size(), 2u);
-  EXPECT_EQ(material_names(s), (std::vector<std::string>{"(default)", "(default)", "red"}));
-  EXPECT_EQ(s.triangles[0].material, 1);
-  EXPECT_EQ(s.triangles[1].material, 1);
-  EXPECT_EQ(s.triangles[2].material, 0);
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_EQ(material_names(s), (std::vector<std::string>{"(default)", "nosuchmaterial", "red"}));
+  const MtlMaterial& undefined = s.materials[size_t(s.triangles[1].material)];
+  EXPECT_FALSE(undefined.defined_by_mtl);
+  EXPECT_EQ(undefined.kd[0], MtlMaterial().kd[0]);
+  EXPECT_TRUE(s.materials[size_t(s.triangles[2].material)].defined_by_mtl);
+  EXPECT_EQ(s.materials[size_t(s.triangles[2].material)].kd[1], 0.0f);
+  // Without any MTL file too.
+  write_file(dir + "/b.obj", std::string(kTriangle) + "usemtl M_Brick\nf 1 2 3\n");
+  Scene b = load_obj(dir + "/b.obj");
+  EXPECT_EQ(material_names(b), (std::vector<std::string>{"M_Brick"}));
+}
+
+TEST(ObjLoader, ObjectAndGroupNamesAreKeptPerTriangle) {
+  std::string dir = temp_dir();
+  write_file(dir + "/a.obj", std::string(kTriangle) + "o wall\nf 1 2 3\ng shelf\nf 1 3 2\nf 2 1 3\n");
+  Scene s = load_obj(dir + "/a.obj");
+  ASSERT_EQ(s.triangle_shapes.size(), 3u);
+  EXPECT_EQ(s.shape_names[s.triangle_shapes[0]], "wall");
+  EXPECT_EQ(s.shape_names[s.triangle_shapes[1]], "shelf");
+  EXPECT_EQ(s.shape_names[s.triangle_shapes[2]], "shelf");
 }
 
 // tinyobjloader quotes material names inside its warnings; a material named

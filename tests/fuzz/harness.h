@@ -160,7 +160,8 @@ inline std::string check_mtlx(const uint8_t* data, size_t size) {
     TexturePool textures;
     MaterialProgram program;
     for (const Graph& original : graphs) {
-      Graph g = original;  // compile_material optimises in place
+      if (!original.error.empty()) continue;  // a material the reader could not build (fails when used)
+      Graph g = original;                     // compile_material optimises in place
       CompileOptions options;
       options.cache = cached;
       options.cache_min_nodes = 2;

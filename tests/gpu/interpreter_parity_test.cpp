@@ -220,6 +220,37 @@ std::vector<OpSpec> op_specs() {
          // Keep the frame well conditioned: a normal not close to zero length.
          v[2][2] = uniform(rng, 0.5f, 1.0f);
        }});
+  add({PMC_OP_TAN, all, {{0, -1.2f, 1.2f}}, Tol::Trig});
+  add({PMC_OP_ASIN, all, {{0, -1, 1}}, Tol::Trig});
+  add({PMC_OP_ACOS, all, {{0, -1, 1}}, Tol::Trig});
+  add({PMC_OP_ATAN2, all, {T, {0, 0.1f, 10, Dist::Signed}}, Tol::Pow});
+  add({PMC_OP_EXP, all, {{0, -5, 5}}, Tol::Trig});
+  add({PMC_OP_LN, all, {{0, 0.01f, 100}}, Tol::Trig});
+  add({PMC_OP_SIGN, all, {{0, -2, 2, Dist::Integer}}, Tol::Exact});
+  add({PMC_OP_ROUND, all, {{0, -100, 100}}, Tol::Exact});
+  add({PMC_OP_FRACT, all, {{0, -100, 100}}, Tol::Exact});
+  OpSpec length{PMC_OP_LENGTH, {2, 3, 4}, {T},
+                Tol::Scaled,   false,     [](int w, int, Rng&) { return uint32_t(w); }};
+  length.out_width = 1;
+  add(length);
+  add({PMC_OP_CROSS, {3}, {{3, -10, 10}, {3, -10, 10}}, Tol::Scaled});
+  add({PMC_OP_NOT, all, {{0, -1, 1, Dist::Integer}}, Tol::Exact});
+  add({PMC_OP_IFEQUAL, all, {{1, 0, 2, Dist::Integer}, {1, 0, 2, Dist::Integer}, T, T}, Tol::Exact});
+  // Burn and dodge jump to 0 within 1e-6 of their singularity; the random
+  // inputs land there with probability ~1e-7.
+  add({PMC_OP_BLEND, all, {T, T, {0, 0, 1}}, Tol::Scaled, false, [](int, int index, Rng&) {
+         return uint32_t(index % 6);
+       }});
+  add({PMC_OP_ROTATE2D, {2}, {{2, -10, 10}, {1, -360, 360}}, Tol::Scaled});
+  add({PMC_OP_ROTATE3D,
+       {3},
+       {{3, -10, 10}, {1, -360, 360}, {3, -1, 1}},
+       Tol::Scaled,
+       false,
+       nullptr,
+       [](Rng& rng, std::array<float, 4>* v) {
+         v[2][2] = uniform(rng, 0.5f, 1.0f);  // an axis well away from zero length
+       }});
   return s;
 }
 

@@ -196,7 +196,79 @@ std::map<std::string, Expected> expectations() {
   };
   e["grid"] = lines(PMC_LINES_GRID);
   e["crosshatch"] = lines(PMC_LINES_CROSSHATCH);
-  // Special emitters (Emit::Convert ... Emit::Dot), with the input types chosen in any_type().
+  e["tan"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::tan); };
+  e["asin"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::asin); };
+  e["acos"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::acos); };
+  e["exp"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::exp); };
+  e["ln"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::log); };
+  e["sign"] = [](const Named& in, const Shading&, int) {
+    return map1(in.at("in"), [](float x) { return x > 0 ? 1.0f : x < 0 ? -1.0f : 0.0f; });
+  };
+  e["round"] = [](const Named& in, const Shading&, int) { return map1(in.at("in"), std::round); };
+  e["fract"] = [](const Named& in, const Shading&, int) {
+    return map1(in.at("in"), [](float x) { return x - std::floor(x); });
+  };
+  e["atan2"] = [](const Named& in, const Shading&, int) {
+    return map4(in.at("iny"), in.at("inx"), [](float y, float x) { return std::atan2(y, x); });
+  };
+  e["magnitude"] = [](const Named& in, const Shading&, int) {  // of a vector3 (any_type)
+    float4 a = in.at("in");
+    return bc(std::sqrt(a.x * a.x + a.y * a.y + a.z * a.z));
+  };
+  e["crossproduct"] = [](const Named& in, const Shading&, int) {
+    float3 c = cross(xyz(in.at("in1")), xyz(in.at("in2")));
+    return f4(c.x, c.y, c.z, 0);
+  };
+  e["and"] = [](const Named& in, const Shading&, int) {
+    return bc(in.at("in1").x != 0 && in.at("in2").x != 0 ? 1.0f : 0.0f);
+  };
+  e["or"] = [](const Named& in, const Shading&, int) {
+    return bc(in.at("in1").x != 0 || in.at("in2").x != 0 ? 1.0f : 0.0f);
+  };
+  e["not"] = [](const Named& in, const Shading&, int) { return bc(in.at("in").x == 0 ? 1.0f : 0.0f); };
+  e["ifequal"] = [](const Named& in, const Shading&, int) {
+    return in.at("value1").x == in.at("value2").x ? in.at("in1") : in.at("in2");
+  };
+  // MaterialX's GLSL: mix * f(fg, bg) + (1 - mix) * bg.
+  auto blend = [](float (*f)(float, float)) {
+    return [f](const Named& in, const Shading&, int) {
+      float4 fg = in.at("fg"), bg = in.at("bg");
+      float m = in.at("mix").x;
+      float4 r;
+      for (int l = 0; l < 4; ++l) {
+        float v = m * f(lane(fg, l), lane(bg, l)) + (1 - m) * lane(bg, l);
+        (l == 0 ? r.x : l == 1 ? r.y : l == 2 ? r.z : r.w) = v;
+      }
+      return r;
+    };
+  };
+  e["plus"] = blend([](float fg, float bg) { return fg + bg; });
+  e["minus"] = blend([](float fg, float bg) { return bg - fg; });
+  e["difference"] = blend([](float fg, float bg) { return std::fabs(bg - fg); });
+  e["burn"] = blend([](float fg, float bg) { return 1 - (1 - bg) / fg; });
+  e["dodge"] = blend([](float fg, float bg) { return bg / (1 - fg); });
+  e["screen"] = blend([](float fg, float bg) { return 1 - (1 - fg) * (1 - bg); });
+  e["rotate2d"] = [](const Named& in, const Shading&, int) {
+    float4 v = in.at("in");
+    double a = double(in.at("amount").x) * M_PI / 180.0;
+    return f4(float(std::cos(a) * v.x + std::sin(a) * v.y), float(-std::sin(a) * v.x + std::cos(a) * v.y), 0,
+              0);
+  };
+  e["rotate3d"] = [](const Named& in, const Shading&, int) {
+    // Rodrigues' rotation of `in` by -amount about the axis (MaterialX's v' = v M).
+    float3 v = xyz(in.at("in")), k = normalize(xyz(in.at("axis")));
+    double a = double(in.at("amount").x) * M_PI / 180.0;
+    float c = float(std::cos(a)), s = float(std::sin(a));
+    float3 r = v * c + cross(v, k) * s + k * (dot(k, v) * (1 - c));
+    return f4(r.x, r.y, r.z, 0);
+  };
+  e["transformpoint"] = [](const Named& in, const Shading&, int) { return in.at("in"); };
+  e["transformvector"] = [](const Named& in, const Shading&, int) { return in.at("in"); };
+  e["transformnormal"] = [](const Named& in, const Shading&, int) {
+    float3 n = normalize(xyz(in.at("in")));
+    return f4(n.x, n.y, n.z, 0);
+  };
+  // Special emitters (Emit::Convert ... Emit::WidthImm), with the input types chosen in any_type().
   e["convert"] = [](const Named& in, const Shading&, int w) {  // from vector2
     float4 a = in.at("in");
     return w <= 2 ? a : f4(a.x, a.y, 0, w == 4 ? 1.0f : 0.0f);
@@ -223,7 +295,7 @@ ValueType any_type(const std::string& category, const std::string& input, ValueT
   if (category == "extract") return ValueType::Color4;
   if (category == "swizzle") return ValueType::Color3;
   if (category == "combine2") return node_type == ValueType::Vector2 ? ValueType::Float : ValueType::Vector2;
-  if (category == "dotproduct") return ValueType::Vector3;
+  if (category == "dotproduct" || category == "magnitude") return ValueType::Vector3;
   ADD_FAILURE() << category << " input " << input << ": no type chosen for an 'any' input";
   return ValueType::Float;
 }

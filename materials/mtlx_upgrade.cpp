@@ -1,0 +1,154 @@
+// mtlx_upgrade.cpp — the 1.36-1.38 -> 1.39 rewrites listed in mtlx_upgrade.h.
+#include "materials/mtlx_upgrade.h"
+
+#include <cstdio>
+#include <functional>
+#include <set>
+#include <vector>
+
+#include "core/error.h"
+
+namespace pmc {
+namespace {
+
+// "1.38" -> 138; 0 if absent or unreadable (treated as current).
+int version_of(pugi::xml_node root) {
+  int major = 0, minor = 0;
+  if (std::sscanf(root.attribute("version").as_string(), "%d.%d", &major, &minor) != 2) return 0;
+  return major * 100 + minor;
+}
+
+void for_each_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn) {
+  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling()) {
+    if (c.type() != pugi::node_element) continue;
+    fn(c);
+    for_each_element(c, fn);
+  }
+}
+
+std::string unique_name(pugi::xml_node graph, const std::string& base) {
+  std::set<std::string> names;
+  for (pugi::xml_node c : graph.children()) names.insert(c.attribute("name").as_string());
+  std::string name = base;
+  for (int i = 2; names.count(name); ++i) name = base + std::to_string(i);
+  return name;
+}
+
+// <material><shaderref node="X"><bindinput .../></shaderref></material> ->
+// <X name=shaderref type=surfaceshader><input .../></X> + <surfacematerial>.
+void upgrade_materials(pugi::xml_node root, const std::string& path) {
+  std::vector<pugi::xml_node> materials;
+  for (pugi::xml_node m : root.children("material"))
+    if (m.child("shaderref")) materials.push_back(m);
+  for (pugi::xml_node m : materials) {
+    const std::string name = m.attribute("name").as_string();
+    pugi::xml_node surface_material = root.insert_child_after("surfacematerial", m);
+    surface_material.append_attribute("name") = name.c_str();
+    surface_material.append_attribute("type") = "material";
+    for (pugi::xml_node sr : m.children("shaderref")) {
+      const std::string node = sr.attribute("node").as_string();
+      if (node.empty())
+        fail(path, ": material '", name, "': shaderref '", sr.attribute("name").as_string(),
+             "' names no shader node");
+      pugi::xml_node shader = root.insert_child_before(node.c_str(), surface_material);
+      std::string shader_name = unique_name(root, sr.attribute("name").as_string());
+      shader.append_attribute("name") = shader_name.c_str();
+      std::string type = sr.attribute("type").as_string();
+      shader.append_attribute("type") = type.empty() ? "surfaceshader" : type.c_str();
+      for (pugi::xml_node b : sr.children()) {
+        if (std::string(b.name()) != "bindinput" && std::string(b.name()) != "bindparam") continue;
+        pugi::xml_node in = shader.append_child("input");
+        for (pugi::xml_attribute a : b.attributes()) in.append_attribute(a.name()) = a.value();
+      }
+      std::string port = type.empty() || type == "surfaceshader" ? "surfaceshader" : type;
+      if (surface_material.find_child_by_attribute("input", "name", port.c_str())) continue;
+      pugi::xml_node in = surface_material.append_child("input");
+      in.append_attribute("name") = port.c_str();
+      in.append_attribute("type") = port.c_str();
+      in.append_attribute("nodename") = shader_name.c_str();
+    }
+    root.remove_child(m);
+  }
+}
+
+// An input with a `channels` attribute reads a swizzle of its source.
+void upgrade_channels(pugi::xml_node root) {
+  std::vector<pugi::xml_node> inputs;
+  for_each_element(root, [&](pugi::xml_node e) {
+    if (std::string(e.name()) == "input" && e.attribute("channels") &&
+        (e.attribute("nodename") || e.attribute("nodegraph")))
+      inputs.push_back(e);
+  });
+  for (pugi::xml_node in : inputs) {
+    pugi::xml_node node = in.parent(), graph = node.parent();
+    if (!graph) continue;
+    // The source's type: a node of the same graph, or a nodegraph's output.
+    std::string source_type;
+    if (in.attribute("nodegraph")) {
+      pugi::xml_node ng =
+          root.find_child_by_attribute("nodegraph", "name", in.attribute("nodegraph").as_string());
+      if (!ng) continue;  // dangling: the reader reports it
+      std::string out = in.attribute("output").as_string();
+      pugi::xml_node o =
+          out.empty() ? ng.child("output") : ng.find_child_by_attribute("output", "name", out.c_str());
+      if (!o) continue;
+      source_type = o.attribute("type").as_string();
+    } else {
+      for (pugi::xml_node c : graph.children())
+        if (std::string(c.attribute("name").as_string()) == in.attribute("nodename").as_string())
+          source_type = c.attribute("type").as_string();
+      if (source_type.empty()) continue;
+    }
+    pugi::xml_node sw = graph.insert_child_before("swizzle", node);
+    std::string name = unique_name(graph, std::string(node.attribute("name").as_string()) + "_" +
+                                              in.attribute("name").as_string() + "_swizzle");
+    sw.append_attribute("name") = name.c_str();
+    sw.append_attribute("type") = in.attribute("type").as_string();
+    pugi::xml_node from = sw.append_child("input");
+    from.append_attribute("name") = "in";
+    from.append_attribute("type") = source_type.c_str();
+    for (const char* a : {"nodename", "nodegraph", "output"})
+      if (in.attribute(a)) {
+        from.append_attribute(a) = in.attribute(a).as_string();
+        if (std::string(a) != "nodename") in.remove_attribute(a);
+      }
+    if (!in.attribute("nodename")) in.append_attribute("nodename");
+    pugi::xml_node ch = sw.append_child("input");
+    ch.append_attribute("name") = "channels";
+    ch.append_attribute("type") = "string";
+    ch.append_attribute("value") = in.attribute("channels").as_string();
+    in.attribute("nodename").set_value(name.c_str());
+    in.remove_attribute("channels");
+  }
+}
+
+}  // namespace
+
+void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
+  const int version = version_of(root);
+  if (version == 0 || version >= 139) return;
+  if (version < 138) {
+    for_each_element(root, [](pugi::xml_node e) {
+      if (std::string(e.name()) == "geomattrvalue") e.set_name("geompropvalue");
+    });
+  }
+  // 1.38: parameters are inputs; materials are surfacematerial nodes; channels are swizzles.
+  for_each_element(root, [](pugi::xml_node e) {
+    if (std::string(e.name()) == "parameter") e.set_name("input");
+  });
+  upgrade_materials(root, path);
+  upgrade_channels(root);
+  // atan2's inputs: 1.38 swapped in1 and in2, 1.39 named them iny and inx
+  // (so 1.36/1.37's in1 is inx, 1.38's in1 is iny).
+  for_each_element(root, [version](pugi::xml_node e) {
+    if (std::string(e.name()) != "atan2") return;
+    for (pugi::xml_node in : e.children("input")) {
+      std::string n = in.attribute("name").as_string();
+      if (n == "in1") in.attribute("name").set_value(version < 138 ? "inx" : "iny");
+      if (n == "in2") in.attribute("name").set_value(version < 138 ? "iny" : "inx");
+    }
+  });
+  root.attribute("version").set_value("1.39");
+}
+
+}  // namespace pmc
