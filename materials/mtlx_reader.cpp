@@ -336,9 +336,18 @@ class Reader {
         return;
       }
       pugi::xml_node decl = scope.graph.find_child_by_attribute("input", "name", iface.c_str());
-      if (!decl || scope.graph == root_)
-        fail(context, ": interfacename '", iface,
-             "' is not an input of the enclosing nodegraph (dangling reference)");
+      if (!decl || scope.graph == root_) {
+        if (!el.attribute("value"))
+          fail(context, ": interfacename '", iface,
+               "' is not an input of the enclosing nodegraph (dangling reference)");
+        // Like MaterialX, an interface name with nothing behind it leaves the input's own value.
+        warn(context + ": interfacename '" + iface + "' has no enclosing nodegraph input; using its value");
+        in.linked = false;
+        ValueType t = in.type != ValueType::None ? in.type : parse_type(el.attribute("type").as_string());
+        in.value = parse_value(el.attribute("value").as_string(), t, context);
+        finish_filename(el, in);
+        return;
+      }
       if (decl.attribute("nodename") || decl.attribute("nodegraph")) {
         connect(Scope{root_, 0, nullptr, ""}, decl, in, context);
         return;
@@ -530,6 +539,7 @@ class Reader {
       } else {
         in.value =
             parse_value(d.attribute("value").as_string(), in.type, ctx + " (definition " + nd_name + ")");
+        finish_filename(d, in);
       }
       iface[in.name] = in;
     }

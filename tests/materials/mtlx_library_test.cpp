@@ -214,6 +214,38 @@ TEST(MtlxLibrary, ClosureGraphsAndUnknownNodesFailNamingTheNode) {
   EXPECT_MENTIONS(e, "unsupported node 'sparkle'");
 }
 
+// As MaterialX reads them: an interfacename with no enclosing nodegraph
+// input leaves the input's own value; a custom node's filename defaults
+// resolve like the document's own filenames.
+TEST(MtlxLibrary, LenientInterfaceNamesAndDefinitionFilenames) {
+  const std::string dir = test::temp_dir();
+  test::write_file(dir + "/grid.png", "x");
+  std::string xml =
+      "<?xml version=\"1.0\"?><materialx version=\"1.39\">"
+      "<constant name=\"c\" type=\"color3\"><input name=\"value\" type=\"color3\" interfacename=\"tint\" "
+      "value=\"0.5, 0.25, 0.125\"/></constant>"
+      "<nodedef name=\"ND_tex\" node=\"tex\"><input name=\"f\" type=\"filename\" value=\"grid.png\"/>"
+      "<output name=\"out\" type=\"color3\"/></nodedef>"
+      "<nodegraph name=\"NG_tex\" nodedef=\"ND_tex\"><image name=\"i\" type=\"color3\">"
+      "<input name=\"file\" type=\"filename\" interfacename=\"f\"/></image>"
+      "<output name=\"out\" type=\"color3\" nodename=\"i\"/></nodegraph>"
+      "<tex name=\"t\" type=\"color3\"/>"
+      "<standard_surface name=\"SR\" type=\"surfaceshader\"><input name=\"base_color\" type=\"color3\" "
+      "nodename=\"c\"/><input name=\"coat_color\" type=\"color3\" nodename=\"t\"/></standard_surface>"
+      "<surfacematerial name=\"M\" type=\"material\"><input name=\"surfaceshader\" type=\"surfaceshader\" "
+      "nodename=\"SR\"/></surfacematerial></materialx>";
+  const Graph g = only(read_mtlx_string(xml, dir + "/doc.mtlx"));
+  bool found_image = false;
+  for (const Node& n : g.nodes) {
+    if (n.name == "c") EXPECT_EQ(n.input("value")->value.f[1], 0.25f);
+    if (n.category == "image") {
+      found_image = true;
+      EXPECT_EQ(n.input("file")->value.text, dir + "/grid.png");
+    }
+  }
+  EXPECT_TRUE(found_image);
+}
+
 TEST(MtlxLibrary, AMaterialThatCannotBeBuiltFailsOnlyWhenUsed) {
   std::string xml =
       "<?xml version=\"1.0\"?><materialx version=\"1.39\">"
