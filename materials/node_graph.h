@@ -1,12 +1,13 @@
 // node_graph.h — the typed node graph every material becomes before compiling.
 //
-// A Graph is one material, flattened: nodegraphs are inlined, interface
-// inputs resolved, and every input is either a constant Value or a link to
-// another node's output. Geometric defaults (an unconnected texcoord means
-// UV0, position means Pobject ...) are explicit nodes, so the dependency
-// analysis sees them. The root is a surface node (standard_surface,
-// UsdPreviewSurface, or the MTL model) whose inputs become surface parameters.
-// Nodes remember the file and element they came from for error messages.
+// A Graph is one material, flattened: nodegraphs are inlined, nodes MaterialX
+// defines as nodegraphs are expanded, interface inputs resolved, and every
+// input is either a constant Value or a link to another node's output.
+// Geometric defaults (an unconnected texcoord means UV0, position means
+// Pobject ...) are explicit nodes, so the dependency analysis sees them. The
+// root is a surface node (one of node_table.h's surface_params categories,
+// or the MTL model) whose inputs become surface parameters. Nodes remember
+// the file and element they came from for error messages.
 #pragma once
 
 #include <array>
