@@ -32,11 +32,12 @@ nlohmann::json stats_json(const RenderSettings& s, const RenderStats& st, const 
   j["rays_per_second"] = st.render_seconds > 0 ? double(st.rays) / st.render_seconds : 0.0;
   j["nan_pixels"] = st.nan_pixels;
   j["bad_samples"] = st.bad_samples;
-  j["stage_seconds"] = {{"camera", st.stages.camera},    {"trace", st.stages.trace},
-                        {"shade", st.stages.shade},      {"shadow", st.stages.shadow},
-                        {"resolve", st.stages.resolve},  {"film", st.stages.film},
-                        {"transfer", st.stages.transfer}};
+  j["stage_seconds"] = {{"camera", st.stages.camera}, {"trace", st.stages.trace},
+                        {"sort", st.stages.sort},     {"shade", st.stages.shade},
+                        {"shadow", st.stages.shadow}, {"resolve", st.stages.resolve},
+                        {"film", st.stages.film},     {"transfer", st.stages.transfer}};
   j["transfer_mode"] = st.transfer;
+  j["shade_lanes"] = st.shade_lanes;
   j["device"] = st.device;
   nlohmann::json c;
   c["enabled"] = s.cache.on;

@@ -66,6 +66,10 @@ void declare_render_options(ArgParser& p) {
            "how hits reach the device: mapped host-visible buffers (no copies; CPU devices) or explicit "
            "copies streamed in chunks (discrete GPUs)",
            "auto: zero-copy on CPU devices, copy otherwise");
+  p.option("--shade-lanes", "N",
+           "hits of one material shaded together by one work-item (a power of two up to 64): the "
+           "material interpreter decodes each instruction once per batch",
+           "16 on CPU devices, 1 on GPUs");
 }
 
 namespace {
@@ -120,6 +124,7 @@ RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
   c.trace_mode = parse_trace_mode(p.get("--trace-mode", "single"));
   c.chunk_rays = p.get_int64("--chunk-rays", c.chunk_rays);
   c.transfer = parse_transfer_mode(p.get("--transfer", "auto"));
+  c.shade_lanes = p.get_int("--shade-lanes", c.shade_lanes);
   c.validate();
   return c;
 }

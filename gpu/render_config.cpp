@@ -44,6 +44,9 @@ void RenderConfig::validate() const {
   if (env_rotate && !std::isfinite(*env_rotate))
     fail_config(setting("env_rotate"), ": must be a finite angle in degrees, got ", *env_rotate);
   if (chunk_rays < 0) fail_config(setting("chunk_rays"), ": must not be negative");
+  if (shade_lanes < 0 || shade_lanes > 64 || (shade_lanes & (shade_lanes - 1)) != 0)
+    fail_config(setting("shade_lanes"), ": must be 0 (automatic) or a power of two up to 64, got ",
+                shade_lanes);
   if (threads && *threads <= 0) fail_config(setting("threads"), ": must be at least 1, got ", *threads);
 
   if (fov && !(*fov > 0.0f && *fov < 180.0f))

@@ -81,8 +81,9 @@ struct RenderConfig {
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)
   std::optional<int> threads;  // host and PoCL worker threads (unset: all cores)
   TraceMode trace_mode = TraceMode::Single;
-  int64_t chunk_rays = 65536;     // copy transfers: rays per streamed chunk (0: the whole queue)
+  int64_t chunk_rays = 65536;                  // copy transfers: rays per streamed chunk (0: the whole queue)
   TransferMode transfer = TransferMode::Auto;  // how hits reach the device (gpu/host_link.h)
+  int shade_lanes = 0;  // hits per shade work-item: 1, 2, 4 ... 64 (0: 16 on CPU devices, 1 on GPUs)
   uint32_t min_kernel_stack = 0;  // floats; kernels get at least this stack (0: the materials' peak),
                                   // so renders of different scenes can share one kernel build
 

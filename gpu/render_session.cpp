@@ -130,7 +130,7 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
   cutout_ = std::make_unique<CutoutTester>(scene_, materials_);
   tracer_ =
       std::make_unique<EmbreeTracer>(scene_, config_.trace_mode, cutout_->any() ? cutout_.get() : nullptr);
-  renderer_ = std::make_unique<WavefrontRenderer>(cl, scene_, materials_, *tracer_);
+  renderer_ = std::make_unique<WavefrontRenderer>(cl, scene_, materials_, *tracer_, config_.shade_lanes);
 }
 
 RenderSession::~RenderSession() = default;

@@ -7,6 +7,9 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   for (const PmcMaterialInfo& m : mats.infos)
     for (int i = 0; i < 3; ++i) emission.push_back(m.emission[i]);
   texture_count = uint32_t(scene.textures.size());
+  triangle_material.reserve(scene.triangles.size());
+  for (const PmcTriangle& t : scene.triangles) triangle_material.push_back(t.material);
+  material_count = int(mats.infos.size());
   buffers[kScene_positions] = cl.buffer_of(scene.positions);
   buffers[kScene_normals] = cl.buffer_of(scene.normals);
   buffers[kScene_uvs] = cl.buffer_of(scene.uvs);

@@ -30,6 +30,8 @@ struct SceneBuffers {
   LightTable lights;            // set by upload_lights()
   std::vector<float> emission;  // per material, rgb: its emissive triangles are lights
   uint32_t texture_count = 0;
+  std::vector<int32_t> triangle_material;  // host copy: the material sort reads it per hit
+  int material_count = 0;
 
   SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& materials);
   // The light table depends on the render's settings (lights file,

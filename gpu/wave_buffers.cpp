@@ -7,9 +7,9 @@
 
 namespace pmc {
 
-WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, size_t pixels,
-                         size_t cache_words)
-    : paths(n) {
+WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, size_t order_entries,
+                         size_t pixels, size_t cache_words)
+    : paths(n), order_capacity(order_entries) {
   const cl_mem_flags host = link.buffer_flags();
   frame = cl.buffer(sizeof(PmcFrame));
   rays[0] = cl.buffer(n * sizeof(PmcRay), nullptr, host);
@@ -20,6 +20,7 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
   shadow_loads = cl.buffer(n * sizeof(PmcShadowLoad));
   occluded = cl.buffer(n, nullptr, host);
   counters = cl.buffer(sizeof(PmcCounters));
+  order = cl.buffer(order_entries * sizeof(uint32_t), nullptr, host);
   film = cl.buffer(pixels * sizeof(PmcFilmPixel));
   cache_entries = cl.buffer(std::max<size_t>(1, cache_words) * sizeof(uint64_t));
   cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
@@ -27,6 +28,7 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
     host_rays.resize(n);
     host_hits.resize(n);
     host_occluded.resize(n);
+    host_order.resize(order_entries);
   }
   clear(cl, pixels, cache_words);
 }

@@ -5,9 +5,9 @@
 // and appends continuations to the other), the hit records Embree writes,
 // the path states, the shadow-ray queue with the light sample each shadow
 // ray carries, the occlusion bytes Embree writes for them, and the queue
-// counters. The film, the material cache's table and its counters live for
-// the whole render. Buffers the host reads or writes between launches are
-// allocated with the HostLink's flags (host-visible for zero-copy).
+// counters, and the order in which the shade kernel takes the hits. The film, the material cache's table and
+// its counters live for the whole render. Buffers the host reads or writes between launches are allocated
+// with the HostLink's flags (host-visible for zero-copy).
 #pragma once
 
 #include <cstddef>
@@ -30,6 +30,8 @@ struct WaveBuffers {
   ClBuffer shadow_loads;
   ClBuffer occluded;
   ClBuffer counters;
+  ClBuffer order;  // material-sorted ray indices (gpu/material_sort.h)
+  size_t order_capacity = 0;
   ClBuffer film;
   ClBuffer cache_entries;  // cells x ways 64-bit entries (one word when the cache is off)
   ClBuffer cache_stats;    // PMC_CSTAT_COUNT 64-bit counters
@@ -39,8 +41,11 @@ struct WaveBuffers {
   std::vector<PmcRay> host_rays;
   std::vector<PmcHit> host_hits;
   std::vector<uint8_t> host_occluded;
+  std::vector<uint32_t> host_order;
 
-  WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t pixels, size_t cache_words);
+  // `order_capacity`: entries of the material-sorted order (every chunk of a queue).
+  WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t order_capacity, size_t pixels,
+              size_t cache_words);
   // Zeroes the film, the cache table and its counters.
   void clear(const ClContext& cl, size_t pixels, size_t cache_words);
 };

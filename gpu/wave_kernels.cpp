@@ -3,36 +3,39 @@
 
 #include <algorithm>
 
+#include "core/error.h"
+
 namespace pmc {
 
-std::string wave_program_options(const MaterialSet& mats) {
+int default_shade_lanes(const ClContext& cl) { return cl.info().is_gpu ? 1 : 16; }
+
+std::string wave_program_options(const MaterialSet& mats, int lanes) {
   uint32_t peak = 0;
   for (const CompiledMaterial& m : mats.program.materials) peak = std::max(peak, m.peak_stack);
   uint32_t size = 16;
   while (size < peak) size *= 2;
-  return "-DPMC_STACK_SIZE=" + std::to_string(size);
+  return "-DPMC_STACK_SIZE=" + std::to_string(size) + " -DPMC_LANES=" + std::to_string(lanes);
 }
 
-WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials)
-    : cl_(cl), program_(cl, "pmc_kernels.cl", wave_program_options(materials)) {
+WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes)
+    : cl_(cl), lanes_(lanes), program_(cl, "pmc_kernels.cl", wave_program_options(materials, lanes)) {
+  PMC_CHECK(lanes >= 1 && size_t(lanes) <= kLocalSize && (lanes & (lanes - 1)) == 0, "shade lanes ", lanes);
   camera_ = program_.kernel("pmc_camera_rays");
   shade_ = program_.kernel("pmc_shade");
   resolve_ = program_.kernel("pmc_resolve_shadows");
   film_ = program_.kernel("pmc_film_accumulate");
-  check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 11);
+  check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 12);
 }
 
-void WaveKernels::launch(cl_kernel k, size_t count, cl_event* done) {
-  const size_t local = kLocalSize;
+void WaveKernels::launch(cl_kernel k, size_t count, size_t local, cl_event* done) {
   const size_t global = std::max<size_t>(1, (count + local - 1) / local) * local;
   cl_check(clEnqueueNDRangeKernel(cl_.queue(), k, 1, nullptr, &global, &local, 0, nullptr, done),
            "clEnqueueNDRangeKernel");
 }
 
 void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
-  // One full work-group each (global = local = kLocalSize), exactly the
-  // geometry of every later launch; the kernels return at once for indices
-  // beyond their range.
+  // One full work-group each, exactly the geometry of every later launch;
+  // the kernels do nothing for indices beyond their range.
   camera_rays(wave, 0, 0, nullptr);
   shade(scene, wave, 0, 0, 0, nullptr);
   resolve_shadows(wave, 0, 0, nullptr);
@@ -42,11 +45,11 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
 
 void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
   set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states);
-  launch(camera_, count, done);
+  launch(camera_, count, kLocalSize, done);
 }
 
-void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, size_t first, size_t end,
-                        cl_event* done) {
+void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, size_t order_first,
+                        size_t batches, cl_event* done) {
   cl_uint arg = 0;
   set_kernel_arg(shade_, arg++, w.frame);
   for (const ClBuffer& b : scene.buffers) set_kernel_arg(shade_, arg++, b);
@@ -59,19 +62,20 @@ void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, si
   set_kernel_arg(shade_, arg++, w.counters);
   set_kernel_arg(shade_, arg++, w.cache_entries);
   set_kernel_arg(shade_, arg++, w.cache_stats);
-  set_kernel_arg(shade_, arg++, cl_uint(first));
-  set_kernel_arg(shade_, arg++, cl_uint(end));
-  launch(shade_, end - first, done);
+  set_kernel_arg(shade_, arg++, w.order);
+  set_kernel_arg(shade_, arg++, cl_uint(order_first));
+  set_kernel_arg(shade_, arg++, cl_uint(batches));
+  launch(shade_, batches, kLocalSize / size_t(lanes_), done);
 }
 
 void WaveKernels::resolve_shadows(WaveBuffers& w, size_t first, size_t end, cl_event* done) {
   set_kernel_args(resolve_, w.shadow_loads, w.occluded, w.path_states, cl_uint(first), cl_uint(end));
-  launch(resolve_, end - first, done);
+  launch(resolve_, end - first, kLocalSize, done);
 }
 
 void WaveKernels::accumulate(WaveBuffers& w, size_t count, cl_event* done) {
   set_kernel_args(film_, w.frame, w.path_states, w.film);
-  launch(film_, count, done);
+  launch(film_, count, kLocalSize, done);
 }
 
 }  // namespace pmc

@@ -1,8 +1,10 @@
 // wave_kernels.h — the wavefront program and one typed launcher per kernel.
 //
 // Builds gpu/kernels/pmc_kernels.cl once per renderer (the interpreter's stack
-// size comes from the materials) and launches its kernels with fixed
-// work-groups of kLocalSize items over an index range passed as arguments.
+// size comes from the materials, the shade kernel's batch size `lanes` from
+// the device) and launches its kernels with fixed work-groups over an index
+// range passed as arguments: kLocalSize items, or for the shade kernel
+// kLocalSize / lanes batches of `lanes` hits.
 // Each launcher sets every argument of its kernel in one place, from the
 // named buffers, so no caller counts positional arguments. warm_up() runs
 // every kernel once with the render's own launch geometry and no work: PoCL
@@ -25,8 +27,10 @@ class WaveKernels {
  public:
   static constexpr size_t kLocalSize = 64;
 
-  WaveKernels(const ClContext& cl, const MaterialSet& materials);
+  // `lanes`: hits per shade work-item (a power of two up to kLocalSize).
+  WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes);
   double build_seconds() const { return program_.build_seconds(); }
+  int lanes() const { return lanes_; }
 
   // Every kernel once, with no rays (frame.path_count must be 0 and the
   // frame uploaded); returns when they are done.
@@ -43,14 +47,21 @@ class WaveKernels {
   void accumulate(WaveBuffers& wave, size_t count, cl_event* done);
 
  private:
-  void launch(cl_kernel k, size_t count, cl_event* done);
+  void launch(cl_kernel k, size_t count, size_t local, cl_event* done);
   const ClContext& cl_;
+  int lanes_;
   ClProgram program_;
   cl_kernel camera_ = nullptr, shade_ = nullptr, resolve_ = nullptr, film_ = nullptr;
 };
 
 // -DPMC_STACK_SIZE=...: the materials' peak stack rounded up to a power of
-// two (at least 16), so few distinct builds exist across scenes.
-std::string wave_program_options(const MaterialSet& materials);
+// two (at least 16), so few distinct builds exist across scenes; and
+// -DPMC_LANES=lanes.
+std::string wave_program_options(const MaterialSet& materials, int lanes);
+
+// The shade kernel's batch size for a device when none is asked for: 16 hits
+// per work-item on CPU devices (the interpreter's dispatch is paid once per
+// batch and its arithmetic vectorises over the batch), 1 on GPUs.
+int default_shade_lanes(const ClContext& cl);
 
 }  // namespace pmc

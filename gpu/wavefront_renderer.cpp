@@ -8,6 +8,7 @@
 
 #include "core/device/pmc_cache.h"
 #include "core/error.h"
+#include "gpu/material_sort.h"
 #include "gpu/scene_buffers.h"
 #include "gpu/stage_timer.h"
 #include "gpu/wave_buffers.h"
@@ -21,10 +22,16 @@ struct WavefrontRenderer::Impl {
   const EmbreeTracer& tracer;
   WaveKernels kernels;
   SceneBuffers scene_buffers;
+  MaterialSorter sorter;
   bool warmed_up = false;
 
-  Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t)
-      : cl(c), scene(s), tracer(t), kernels(c, mats), scene_buffers(c, s, mats) {}
+  Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t, int lanes)
+      : cl(c),
+        scene(s),
+        tracer(t),
+        kernels(c, mats, lanes > 0 ? lanes : default_shade_lanes(c)),
+        scene_buffers(c, s, mats),
+        sorter(scene_buffers.triangle_material, scene_buffers.material_count, kernels.lanes()) {}
 };
 
 namespace {
@@ -33,12 +40,14 @@ namespace {
 class WaveLoop {
  public:
   WaveLoop(const ClContext& cl, HostLink& link, WaveKernels& kernels, const SceneBuffers& scene,
-           const EmbreeTracer& tracer, WaveBuffers& wave, size_t chunk, RenderStats& stats)
+           const EmbreeTracer& tracer, MaterialSorter& sorter, WaveBuffers& wave, size_t chunk,
+           RenderStats& stats)
       : cl_(cl),
         link_(link),
         kernels_(kernels),
         scene_(scene),
         tracer_(tracer),
+        sorter_(sorter),
         wave_(wave),
         chunk_(chunk),
         st_(stats) {}
@@ -72,10 +81,12 @@ class WaveLoop {
     st_.paths += n;
   }
 
-  // 2-3. Embree intersects the queue on the host; the device shades the hits
-  // (material against the cache, emission, a light sample, a BSDF sample)
-  // and appends continuations to the other queue and shadow rays to theirs.
-  // Zero-copy traces the whole queue in place; copies stream it in chunks.
+  // 2-3. Embree intersects the queue on the host and the host orders the hits
+  // by material; the device shades them (material against the cache for a
+  // batch of hits of one material at a time, emission, a light sample, a
+  // BSDF sample) and appends continuations to the other queue and shadow
+  // rays to theirs. Zero-copy traces the whole queue in place; copies stream
+  // it in chunks.
   void intersect_and_shade(int queue, size_t count, bool coherent) {
     reset_counters();
     const PmcRay* rays;
@@ -83,7 +94,8 @@ class WaveLoop {
       ScopedStage t(st_.stages.transfer);
       rays = link_.read(wave_.rays[queue], 0, count, wave_.host_rays);
     }
-    const size_t chunk = link_.zero_copy() || chunk_ == 0 ? count : chunk_;
+    const size_t chunk = chunk_size(count);
+    size_t order_at = 0;  // each chunk sorts into its own part of the order
     for (size_t c0 = 0; c0 < count; c0 += chunk) {
       const size_t cn = std::min(chunk, count - c0);
       PmcHit* hits = link_.write(wave_.hits, c0, cn, wave_.host_hits);
@@ -91,11 +103,21 @@ class WaveLoop {
         ScopedStage t(st_.stages.trace);
         tracer_.intersect(rays + c0, hits, cn, coherent);
       }
+      size_t entries;
+      {
+        ScopedStage t(st_.stages.sort);
+        const size_t room = sorter_.capacity(cn);
+        PMC_CHECK(order_at + room <= wave_.order_capacity, "material order overflow");
+        uint32_t* order = link_.write(wave_.order, order_at, room, wave_.host_order);
+        entries = sorter_.sort(hits, cn, uint32_t(c0), order);
+      }
       {
         ScopedStage t(st_.stages.transfer);
         link_.publish();
       }
-      kernels_.shade(scene_, wave_, queue, c0, c0 + cn, events_.add(st_.stages.shade));
+      kernels_.shade(scene_, wave_, queue, order_at, entries / size_t(sorter_.lanes()),
+                     events_.add(st_.stages.shade));
+      order_at += sorter_.capacity(cn);
       clFlush(cl_.queue());
     }
   }
@@ -109,7 +131,7 @@ class WaveLoop {
       ScopedStage t(st_.stages.transfer);
       rays = link_.read(wave_.shadow_rays, 0, count, wave_.host_rays);
     }
-    const size_t chunk = link_.zero_copy() || chunk_ == 0 ? count : chunk_;
+    const size_t chunk = chunk_size(count);
     for (size_t c0 = 0; c0 < count; c0 += chunk) {
       const size_t cn = std::min(chunk, count - c0);
       uint8_t* occluded = link_.write(wave_.occluded, c0, cn, wave_.host_occluded);
@@ -133,6 +155,8 @@ class WaveLoop {
     events_.collect();
   }
 
+  size_t chunk_size(size_t count) const { return link_.zero_copy() || chunk_ == 0 ? count : chunk_; }
+
   void reset_counters() {
     static const PmcCounters zero{};
     cl_.write(wave_.counters, 0, sizeof(zero), &zero, false);
@@ -150,6 +174,7 @@ class WaveLoop {
   WaveKernels& kernels_;
   const SceneBuffers& scene_;
   const EmbreeTracer& tracer_;
+  MaterialSorter& sorter_;
   WaveBuffers& wave_;
   const size_t chunk_;
   RenderStats& st_;
@@ -224,8 +249,8 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
 }  // namespace
 
 WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
-                                     const EmbreeTracer& tracer)
-    : impl_(std::make_unique<Impl>(cl, scene, materials, tracer)) {}
+                                     const EmbreeTracer& tracer, int shade_lanes)
+    : impl_(std::make_unique<Impl>(cl, scene, materials, tracer, shade_lanes)) {}
 WavefrontRenderer::~WavefrontRenderer() = default;
 
 RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn& progress) {
@@ -248,8 +273,14 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
 
   HostLink link(m.cl, s.transfer);
   st.transfer = link.zero_copy() ? "zero-copy" : "copy";
+  st.shade_lanes = m.kernels.lanes();
+  // Every chunk of a queue sorts into its own part of the material order.
+  const size_t chunk =
+      link.zero_copy() || s.chunk_rays == 0 ? wave_paths : std::min(wave_paths, s.chunk_rays);
+  const size_t chunks = (wave_paths + chunk - 1) / chunk;
+  const size_t order_entries = chunks * m.sorter.capacity(chunk);
   // The cache table lives for the whole render: all samples, all bounces.
-  WaveBuffers wave(m.cl, link, wave_paths, pixels, cache_words);
+  WaveBuffers wave(m.cl, link, wave_paths, order_entries, pixels, cache_words);
   // The lights of this render: its lights file and environment (else the
   // constant s.env) plus the scene's emissive triangles (core/lights.h).
   SceneLights lights = s.lights;
@@ -267,7 +298,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     m.warmed_up = true;
   }
 
-  WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, wave, s.chunk_rays, st);
+  WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
   for (int sample = 0; sample < s.spp; ++sample) {
     for (size_t block = 0; block < pixels; block += wave_paths) {
       frame.sample = uint32_t(sample);

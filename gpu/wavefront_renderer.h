@@ -68,6 +68,7 @@ struct RenderSettings {
 struct StageSeconds {
   double camera = 0;    // device: camera rays
   double trace = 0;     // host: Embree intersect
+  double sort = 0;      // host: hits ordered by material
   double shade = 0;     // device: materials, lights, BSDF
   double shadow = 0;    // host: Embree occlusion
   double resolve = 0;   // device: shadow-ray results into paths
@@ -80,6 +81,7 @@ struct RenderStats {
   double kernel_build_seconds = 0;   // clBuildProgram
   double kernel_warmup_seconds = 0;  // first (empty) launches: PoCL compiles work-group code there
   std::string transfer;              // "zero-copy" or "copy"
+  int shade_lanes = 1;               // hits per shade work-item
   uint64_t paths = 0;
   uint64_t rays = 0;  // camera + continuation + shadow rays traced
   uint64_t shadow_rays = 0;
@@ -101,8 +103,10 @@ using ProgressFn = std::function<void(int samples_done, int samples_total, uint6
 
 class WavefrontRenderer {
  public:
+  // `shade_lanes`: hits per shade work-item (a power of two, at most 64;
+  // 0: 16 on CPU devices, 1 on GPUs; see gpu/wave_kernels.h).
   WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
-                    const EmbreeTracer& tracer);
+                    const EmbreeTracer& tracer, int shade_lanes = 0);
   ~WavefrontRenderer();
   RenderOutput render(const RenderSettings& settings, const ProgressFn& progress = {});
 

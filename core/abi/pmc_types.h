@@ -30,6 +30,10 @@ typedef struct PmcHit {
   pmc_i32 prim;
 } PmcHit;
 
+/* An empty slot of the shade kernel's material-sorted order (padding that
+ * rounds each material's run up to a whole batch). */
+#define PMC_NO_RAY 0xffffffffu
+
 /* Path flags. */
 #define PMC_PATH_SPECULAR 1u /* last bounce was near-specular: no MIS on emitters */
 

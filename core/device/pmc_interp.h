@@ -1,12 +1,31 @@
 /* pmc_interp.h — the material bytecode interpreter, one source for both sides.
  *
- * pmc_interp_run() executes one material program (see pmc_bytecode.h) for one
- * shading point: it reads operands from the float stack or inline constants,
- * computes on float4 lanes and writes `width` floats to the destination slot,
- * until END. OUTPUT instructions fill the surface parameter block that
- * pmc_surface_to_bsdf() turns into a BSDF. The OpenCL shade kernel and the
- * host's reference interpreter (materials/cpu_interpreter.cpp) both compile
- * this file, so tests can run every opcode on both and compare.
+ * pmc_interp_lanes() executes one material program (see pmc_bytecode.h) for
+ * a batch of up to PMC_LANES shading points of that material at once, one
+ * instruction for every point before the next: on a CPU device the decode and
+ * dispatch of an instruction are paid once per batch instead of once per
+ * point, and the arithmetic runs as short loops over the points that the
+ * compiler vectorises. Values live in a lane-major stack, stack[slot *
+ * PMC_LANES + lane]; an instruction reads its operands (stack slots or inline
+ * constants; a one-float operand broadcasts over the components, which is how
+ * MaterialX's "FA" variants work), computes component by component, or point
+ * by point for the nodes that need a whole vector (noise, images, colour
+ * spaces), and writes `width` floats per point. OUTPUT instructions fill each
+ * point's surface parameter block, params[lane * PMC_P_COUNT + p], which
+ * pmc_surface_to_bsdf() turns into a BSDF.
+ *
+ * PMC_LANES is 1 on the host (the reference interpreter,
+ * materials/cpu_interpreter.cpp) and on GPUs (the SIMT hardware batches work
+ * items itself); the shade kernel on CPU devices sets it higher. Both compile
+ * this same file, so tests run every opcode through both and compare.
+ *
+ * The material cache: a program's cache points form one group at its start
+ * (lookups, the union of their sub-graphs, stores; materials/compiler.h).
+ * Each point looks its values up; the group's sub-graphs then run only for
+ * the points that missed, packed into the first lanes ("virtual lanes" that
+ * read their shading inputs through lane_of[]), and each store inserts and
+ * delivers those values back to the points they belong to. A batch in which
+ * every point hit skips the group entirely.
  */
 #ifndef PMC_INTERP_H
 #define PMC_INTERP_H
@@ -48,24 +67,50 @@ typedef struct PmcCacheContext {
   pmc_u32 counts[PMC_CSTAT_COUNT];
 } PmcCacheContext;
 
+#ifndef PMC_LANES
+#define PMC_LANES 1
+#endif
+/* Loop bound over a batch's points: a constant 1 when batches are single
+ * points, so those builds carry no loops. */
+#if PMC_LANES == 1
+#define PMC_BATCH(n) 1
+#else
+#define PMC_BATCH(n) (n)
+#endif
+
 PMC_FN float4 pmc_broadcast(float v) { return make_float4(v, v, v, v); }
 
-PMC_FN float4 pmc_load_operand(PMC_GLOBAL const pmc_u32* code, const float* stack, pmc_u32 o) {
+/* Components [0, ncomp) of operand word `o` for lanes [0, n) into v[c][lane],
+ * as a float4 would hold them: a one-float operand in every component, a
+ * wider one in its own components and 0 beyond them. */
+PMC_FN void pmc_fetch(PMC_GLOBAL const pmc_u32* code, const float* stack, pmc_u32 o, int ncomp, int n,
+                      float v[4][PMC_LANES]) {
   pmc_u32 index = o & PMC_OPERAND_INDEX_MASK;
-  pmc_u32 w = (o >> 28) & 3u; /* width - 1 */
-  if (o & PMC_OPERAND_CONST) {
-    PMC_GLOBAL const pmc_u32* c = code + index;
-    float x = as_float((int)c[0]);
-    if (w == 0u) return pmc_broadcast(x);
-    float y = as_float((int)c[1]);
-    if (w == 1u) return make_float4(x, y, 0.0f, 0.0f);
-    float z = as_float((int)c[2]);
-    return make_float4(x, y, z, w == 2u ? 0.0f : as_float((int)c[3]));
+  int w = (int)((o >> 28) & 3u); /* width - 1 */
+  (void)n;                       /* unused when PMC_LANES is 1 */
+  for (int c = 0; c < ncomp; ++c) {
+    int src = w == 0 ? 0 : c;
+    if (w != 0 && c > w) {
+      for (int k = 0; k < PMC_BATCH(n); ++k) v[c][k] = 0.0f;
+    } else if (o & PMC_OPERAND_CONST) {
+      float x = as_float((int)code[index + (pmc_u32)src]);
+      for (int k = 0; k < PMC_BATCH(n); ++k) v[c][k] = x;
+    } else {
+      const float* row = stack + (index + (pmc_u32)src) * PMC_LANES;
+      for (int k = 0; k < PMC_BATCH(n); ++k) v[c][k] = row[k];
+    }
   }
-  const float* p = stack + index;
-  if (w == 0u) return pmc_broadcast(p[0]);
-  if (w == 1u) return make_float4(p[0], p[1], 0.0f, 0.0f);
-  return make_float4(p[0], p[1], p[2], w == 2u ? 0.0f : p[3]);
+}
+
+PMC_FN float4 pmc_lanes4(float v[4][PMC_LANES], int k) {
+  return make_float4(v[0][k], v[1][k], v[2][k], v[3][k]);
+}
+
+PMC_FN void pmc_set_lanes4(float v[4][PMC_LANES], int k, float4 r) {
+  v[0][k] = r.x;
+  v[1][k] = r.y;
+  v[2][k] = r.z;
+  v[3][k] = r.w;
 }
 
 /* Float to int without undefined behaviour for NaN or huge values. */
@@ -76,16 +121,6 @@ PMC_FN int pmc_to_int(float x) {
 }
 
 PMC_FN float pmc_lane(float4 v, int i) { return i == 0 ? v.x : (i == 1 ? v.y : (i == 2 ? v.z : v.w)); }
-
-/* Lane-wise a > b ? x : y */
-PMC_FN float4 pmc_where_greater(float4 a, float4 b, float4 x, float4 y, int or_equal) {
-  float4 r;
-  r.x = (or_equal ? a.x >= b.x : a.x > b.x) ? x.x : y.x;
-  r.y = (or_equal ? a.y >= b.y : a.y > b.y) ? x.y : y.y;
-  r.z = (or_equal ? a.z >= b.z : a.z > b.z) ? x.z : y.z;
-  r.w = (or_equal ? a.w >= b.w : a.w > b.w) ? x.w : y.w;
-  return r;
-}
 
 PMC_FN float pmc_smoothstep1(float x, float lo, float hi) {
   if (x >= hi) return 1.0f;
@@ -193,22 +228,53 @@ PMC_FN float pmc_sign1(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0
 /* GLSL round(): halves away from zero (C's round). */
 PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x + 0.5f); }
 
-#define PMC_ARG(i) pmc_load_operand(code, stack, code[pc + 2u + (i)])
+/* Componentwise instruction bodies: `expr` of the operands' components a, b
+ * (t, d, e) for every component c < width of every lane k < nn, into R. */
+#define PMC_CW(fetches, expr)          \
+  fetches;                             \
+  for (int c = 0; c < (int)width; ++c) \
+    for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = (expr);
+#define PMC_A pmc_fetch(code, stack, code[pc + 2u], (int)width, nn, A)
+#define PMC_B pmc_fetch(code, stack, code[pc + 3u], (int)width, nn, B)
+#define PMC_T pmc_fetch(code, stack, code[pc + 4u], (int)width, nn, T)
+#define PMC_D pmc_fetch(code, stack, code[pc + 5u], (int)width, nn, D)
+#define PMC_E pmc_fetch(code, stack, code[pc + 6u], (int)width, nn, E)
+/* The same operands with all four components (for per-point bodies). */
+#define PMC_FETCH4(V, i) pmc_fetch(code, stack, code[pc + 2u + (i)], 4, nn, V)
 
-/* Runs the program at `pc` until END. `params` receives OUTPUT values. */
-PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
-                           const PmcTextureSet* ts, float* stack, float* params, PmcCacheContext* cache) {
-  /* While a --cache-eval center miss evaluates its block: the texel's centre
-   * and width replace the hit's uv and ray-cone footprint, so the stored value
-   * depends on the texel alone. */
-  float2 uv_now = in->uv;
-  float footprint_now = in->footprint;
-  /* The cache group: lookups and stores so far, and which lookups missed. */
-  pmc_u32 n_lookups = 0u, n_stores = 0u, missed = 0u;
-  /* The cache descriptor's texel: the caller's, or computed at the first lookup. */
-  PmcCacheTexel texel;
-  texel.ready = 0u;
-  if (cache) texel = cache->texel;
+/* Runs the program at `pc` until END for the `n` points `in[0..n)` (n <=
+ * PMC_LANES). `stack` holds PMC_STACK_SIZE * PMC_LANES floats, `params` n
+ * parameter blocks (filled by OUTPUT; the caller sets their defaults),
+ * `cache` n contexts (one per point, all of the same material and table) or
+ * null: then every lookup misses. */
+PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in, int n,
+                             const PmcTextureSet* ts, float* stack, float* params, PmcCacheContext* cache) {
+  /* Operands and result, [component][lane]. */
+  float A[4][PMC_LANES], B[4][PMC_LANES], T[4][PMC_LANES], D[4][PMC_LANES], E[4][PMC_LANES], F[4][PMC_LANES],
+      R[4][PMC_LANES];
+  /* Active lanes: nn of them; virtual lane k is point lane_of[k] (the
+   * identity but inside a cache group's sub-graphs, where the points that
+   * missed are packed to the front). uv_now / footprint_now are the uv and
+   * the texture footprint the virtual lane's nodes read: the point's own, or
+   * in --cache-eval center the centre and width of its texel, so the stored
+   * value depends on the texel alone. */
+  int nn = n;
+  int lane_of[PMC_LANES];
+  float2 uv_now[PMC_LANES];
+  float footprint_now[PMC_LANES];
+  /* The cache group: lookups and stores so far, and per point which lookups
+   * missed; every cache point of a point shares its texel. */
+  pmc_u32 n_lookups = 0u, n_stores = 0u;
+  pmc_u32 missed[PMC_LANES];
+  PmcCacheTexel texel[PMC_LANES];
+  for (int k = 0; k < PMC_BATCH(n); ++k) {
+    lane_of[k] = k;
+    uv_now[k] = in[k].uv;
+    footprint_now[k] = in[k].footprint;
+    missed[k] = 0u;
+    texel[k].ready = 0u;
+    if (cache) texel[k] = cache[k].texel;
+  }
   for (int guard = 0; guard < 1 << 16; ++guard) {
     pmc_u32 h = code[pc];
     pmc_u32 op = pmc_op_code(h);
@@ -216,72 +282,115 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
     pmc_u32 nargs = pmc_op_nargs(h);
     pmc_u32 imm = pmc_op_imm(h);
     pmc_u32 dst = code[pc + 1u];
-    float4 r = pmc_broadcast(0.0f);
     if (op == PMC_OP_END) return;
     switch (op) {
       case PMC_OP_OUTPUT: {
-        float4 a = PMC_ARG(0);
-        for (pmc_u32 i = 0; i < width && imm + i < PMC_P_COUNT; ++i) params[imm + i] = pmc_lane(a, (int)i);
+        PMC_FETCH4(A, 0);
+        for (pmc_u32 i = 0; i < width && imm + i < PMC_P_COUNT; ++i)
+          for (int k = 0; k < PMC_BATCH(nn); ++k) params[k * PMC_P_COUNT + (int)(imm + i)] = A[i][k];
         pc += 2u + nargs;
         continue;
       }
       case PMC_OP_MOVE:
-        r = PMC_ARG(0);
+        PMC_CW(PMC_A, A[c][k])
         break;
       case PMC_OP_SWIZZLE: {
-        float4 a = PMC_ARG(0);
-        float v[4];
-        for (int i = 0; i < 4; ++i) {
-          pmc_u32 sel = (imm >> (3 * i)) & 7u;
-          v[i] = sel < 4u ? pmc_lane(a, (int)sel) : (sel == 5u ? 1.0f : 0.0f);
+        PMC_FETCH4(A, 0);
+        for (int c = 0; c < (int)width; ++c) {
+          pmc_u32 sel = (imm >> (3 * c)) & 7u;
+          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = sel < 4u ? A[sel][k] : (sel == 5u ? 1.0f : 0.0f);
         }
-        r = make_float4(v[0], v[1], v[2], v[3]);
         break;
       }
-      case PMC_OP_COMBINE: {
-        float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (pmc_u32 i = 0; i < nargs && i < 4u; ++i) v[i] = PMC_ARG(i).x;
-        r = make_float4(v[0], v[1], v[2], v[3]);
+      case PMC_OP_COMBINE:
+        for (int c = 0; c < (int)width; ++c) {
+          if ((pmc_u32)c < nargs && c < 4) pmc_fetch(code, stack, code[pc + 2u + (pmc_u32)c], 1, nn, A);
+          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = (pmc_u32)c < nargs ? A[0][k] : 0.0f;
+        }
         break;
-      }
       case PMC_OP_TEXCOORD:
-        r = make_float4(uv_now.x, uv_now.y, 0.0f, 0.0f);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k, make_float4(uv_now[k].x, uv_now[k].y, 0.0f, 0.0f));
+        break;
+      case PMC_OP_POSITION:
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 v = in[lane_of[k]].position;
+          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+        }
+        break;
+      case PMC_OP_NORMAL:
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 v = in[lane_of[k]].normal;
+          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+        }
+        break;
+      case PMC_OP_TANGENT:
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 v = in[lane_of[k]].tangent;
+          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+        }
+        break;
+      case PMC_OP_BITANGENT:
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 v = in[lane_of[k]].bitangent;
+          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+        }
         break;
       case PMC_OP_CACHE_LOOKUP: {
         /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
-         * the number of words to skip on a hit when no earlier lookup of the
-         * group missed (0 but for the group's last lookup, whose skip passes
-         * the group's sub-graphs and STOREs). Without a cache context every
-         * lookup misses. */
+         * the number of words to skip when no point needs the group (0 but
+         * for the group's last lookup, whose skip passes the group's
+         * sub-graphs and STOREs). A hit delivers its value at once. */
         pmc_u32 bit = 1u << (n_lookups & 31u);
         n_lookups += 1u;
-        if (cache) {
-          if (!texel.ready) /* once per evaluation: every cache point shares the texel */
-            texel =
-                pmc_cache_texel_of(in->uv, cache->g1, cache->g2, cache->bias, cache->jitter, cache->material);
-          PmcCacheKey key =
-              pmc_cache_key_at(texel.hash, texel.base, cache->material, imm & 0x3fffu, n_lookups - 1u);
-          pmc_u32 bits;
-          cache->counts[PMC_CSTAT_LOOKUPS] += 1u;
-          if (pmc_cache_lookup(&cache->table, key, &bits)) {
-            float4 v = pmc_cache_decode(bits, imm >> 14);
-            stack[dst] = v.x;
-            if (width > 1u) stack[dst + 1u] = v.y;
-            if (width > 2u) stack[dst + 2u] = v.z;
-            cache->hits += 1u;
-            cache->counts[PMC_CSTAT_HITS] += 1u;
-            pc += 3u + (missed == 0u ? code[pc + 2u] : 0u);
-            continue;
+        for (int k = 0; k < PMC_BATCH(n); ++k) {
+          int hit = 0;
+          if (cache) {
+            PmcCacheContext* cx = &cache[k];
+            if (!texel[k].ready) /* once per point: every cache point shares the texel */
+              texel[k] = pmc_cache_texel_of(in[k].uv, cx->g1, cx->g2, cx->bias, cx->jitter, cx->material);
+            PmcCacheKey key =
+                pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_lookups - 1u);
+            pmc_u32 bits;
+            cx->counts[PMC_CSTAT_LOOKUPS] += 1u;
+            if (pmc_cache_lookup(&cx->table, key, &bits)) {
+              float4 v = pmc_cache_decode(bits, imm >> 14);
+              float* row = stack + dst * PMC_LANES + k;
+              row[0] = v.x;
+              if (width > 1u) row[PMC_LANES] = v.y;
+              if (width > 2u) row[2 * PMC_LANES] = v.z;
+              cx->hits += 1u;
+              cx->counts[PMC_CSTAT_HITS] += 1u;
+              hit = 1;
+            } else {
+              cx->counts[PMC_CSTAT_MISSES] += 1u;
+            }
           }
-          cache->counts[PMC_CSTAT_MISSES] += 1u;
-          if (cache->center) {
-            uv_now = make_float2(pmc_cache_texel_center(texel.tx, texel.lambda),
-                                 pmc_cache_texel_center(texel.ty, texel.lambda));
-            footprint_now = pmc_cache_texel_footprint(texel.lambda, cache->bias);
+          if (!hit) missed[k] |= bit;
+        }
+        pmc_u32 skip = code[pc + 2u];
+        pc += 3u;
+        if (skip != 0u) { /* the group's last lookup: pack the points that need it */
+          nn = 0;
+          for (int k = 0; k < PMC_BATCH(n); ++k)
+            if (missed[k] != 0u) {
+              lane_of[nn] = k;
+              if (cache && cache[k].center) {
+                uv_now[nn] = make_float2(pmc_cache_texel_center(texel[k].tx, texel[k].lambda),
+                                         pmc_cache_texel_center(texel[k].ty, texel[k].lambda));
+                footprint_now[nn] = pmc_cache_texel_footprint(texel[k].lambda, cache[k].bias);
+              } else {
+                uv_now[nn] = in[k].uv;
+                footprint_now[nn] = in[k].footprint;
+              }
+              ++nn;
+            }
+          if (nn == 0) { /* every point hit: skip the sub-graphs and stores */
+            pc += skip;
+            nn = n;
+            for (int k = 0; k < PMC_BATCH(n); ++k) lane_of[k] = k;
           }
         }
-        missed |= bit;
-        pc += 3u;
         continue;
       }
       case PMC_OP_CACHE_STORE: {
@@ -293,340 +402,385 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
          * center-mode renders independent of who inserts). */
         pmc_u32 bit = 1u << (n_stores & 31u);
         n_stores += 1u;
-        if (missed & bit) {
-          float4 v = PMC_ARG(0);
+        PMC_FETCH4(A, 0);
+        for (int j = 0; j < PMC_BATCH(nn); ++j) {
+          int k = lane_of[j];
+          if (!(missed[k] & bit)) continue;
+          float4 v = pmc_lanes4(A, j);
           if (cache) {
+            PmcCacheContext* cx = &cache[k];
             pmc_u32 bits;
             if (pmc_cache_encode(v, imm >> 14, &bits)) {
-              if (cache->center) v = pmc_cache_decode(bits, imm >> 14);
+              if (cx->center) v = pmc_cache_decode(bits, imm >> 14);
               PmcCacheKey key =
-                  pmc_cache_key_at(texel.hash, texel.base, cache->material, imm & 0x3fffu, n_stores - 1u);
-              int result = pmc_cache_insert(&cache->table, key, bits);
-              if (result > 0) cache->counts[PMC_CSTAT_INSERTS] += 1u;
-              if (result == 0) cache->counts[PMC_CSTAT_ALREADY_PRESENT] += 1u;
-              if (result < 0) cache->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
+                  pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_stores - 1u);
+              int result = pmc_cache_insert(&cx->table, key, bits);
+              if (result > 0) cx->counts[PMC_CSTAT_INSERTS] += 1u;
+              if (result == 0) cx->counts[PMC_CSTAT_ALREADY_PRESENT] += 1u;
+              if (result < 0) cx->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
             } else {
-              cache->counts[PMC_CSTAT_NOT_ENCODABLE] += 1u;
+              cx->counts[PMC_CSTAT_NOT_ENCODABLE] += 1u;
             }
           }
-          stack[dst] = v.x;
-          if (width > 1u) stack[dst + 1u] = v.y;
-          if (width > 2u) stack[dst + 2u] = v.z;
-          if (width > 3u) stack[dst + 3u] = v.w;
+          float* row = stack + dst * PMC_LANES + k;
+          row[0] = v.x;
+          if (width > 1u) row[PMC_LANES] = v.y;
+          if (width > 2u) row[2 * PMC_LANES] = v.z;
+          if (width > 3u) row[3 * PMC_LANES] = v.w;
         }
-        uv_now = in->uv;
-        footprint_now = in->footprint;
+        if (n_stores == n_lookups) { /* the group is done: every point again */
+          nn = n;
+          for (int k = 0; k < PMC_BATCH(n); ++k) {
+            lane_of[k] = k;
+            uv_now[k] = in[k].uv;
+            footprint_now[k] = in[k].footprint;
+          }
+        }
         pc += 2u + nargs;
         continue;
       }
-      case PMC_OP_POSITION:
-        r = make_float4(in->position.x, in->position.y, in->position.z, 0.0f);
-        break;
-      case PMC_OP_NORMAL:
-        r = make_float4(in->normal.x, in->normal.y, in->normal.z, 0.0f);
-        break;
-      case PMC_OP_TANGENT:
-        r = make_float4(in->tangent.x, in->tangent.y, in->tangent.z, 0.0f);
-        break;
-      case PMC_OP_BITANGENT:
-        r = make_float4(in->bitangent.x, in->bitangent.y, in->bitangent.z, 0.0f);
-        break;
       case PMC_OP_ADD:
-        r = PMC_ARG(0) + PMC_ARG(1);
+        PMC_CW(PMC_A; PMC_B, A[c][k] + B[c][k])
         break;
       case PMC_OP_SUB:
-        r = PMC_ARG(0) - PMC_ARG(1);
+        PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k])
         break;
       case PMC_OP_MUL:
-        r = PMC_ARG(0) * PMC_ARG(1);
+        PMC_CW(PMC_A; PMC_B, A[c][k] * B[c][k])
         break;
       case PMC_OP_DIV:
-        r = PMC_ARG(0) / PMC_ARG(1);
+        PMC_CW(PMC_A; PMC_B, A[c][k] / B[c][k])
         break;
-      case PMC_OP_MOD: {
-        float4 a = PMC_ARG(0), b = PMC_ARG(1);
-        r = a - b * floor(a / b);
+      case PMC_OP_MOD:
+        PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k] * floor(A[c][k] / B[c][k]))
         break;
-      }
       case PMC_OP_POW:
-        r = pow(PMC_ARG(0), PMC_ARG(1));
+        PMC_CW(PMC_A; PMC_B, pow(A[c][k], B[c][k]))
         break;
       case PMC_OP_MIN:
-        r = fmin(PMC_ARG(0), PMC_ARG(1));
+        PMC_CW(PMC_A; PMC_B, fmin(A[c][k], B[c][k]))
         break;
       case PMC_OP_MAX:
-        r = fmax(PMC_ARG(0), PMC_ARG(1));
+        PMC_CW(PMC_A; PMC_B, fmax(A[c][k], B[c][k]))
         break;
       case PMC_OP_DOT: {
-        float4 a = PMC_ARG(0), b = PMC_ARG(1);
-        pmc_u32 n = imm == 0u ? 3u : imm; /* imm = operand width */
-        float d = a.x * b.x;
-        if (n > 1u) d += a.y * b.y;
-        if (n > 2u) d += a.z * b.z;
-        if (n > 3u) d += a.w * b.w;
-        r = pmc_broadcast(d);
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float d = A[0][k] * B[0][k];
+          if (m > 1u) d += A[1][k] * B[1][k];
+          if (m > 2u) d += A[2][k] * B[2][k];
+          if (m > 3u) d += A[3][k] * B[3][k];
+          pmc_set_lanes4(R, k, pmc_broadcast(d));
+        }
         break;
       }
       case PMC_OP_ABS:
-        r = fabs(PMC_ARG(0));
+        PMC_CW(PMC_A, fabs(A[c][k]))
         break;
       case PMC_OP_FLOOR:
-        r = floor(PMC_ARG(0));
+        PMC_CW(PMC_A, floor(A[c][k]))
         break;
       case PMC_OP_CEIL:
-        r = ceil(PMC_ARG(0));
+        PMC_CW(PMC_A, ceil(A[c][k]))
         break;
       case PMC_OP_SIN:
-        r = sin(PMC_ARG(0));
+        PMC_CW(PMC_A, sin(A[c][k]))
         break;
       case PMC_OP_COS:
-        r = cos(PMC_ARG(0));
+        PMC_CW(PMC_A, cos(A[c][k]))
         break;
       case PMC_OP_SQRT:
-        r = sqrt(PMC_ARG(0));
+        PMC_CW(PMC_A, sqrt(A[c][k]))
         break;
       case PMC_OP_NORMALIZE: {
-        float4 a = PMC_ARG(0);
-        float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
-                   (width > 3u ? a.w * a.w : 0.0f);
-        r = l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a;
+        PMC_FETCH4(A, 0);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float4 a = pmc_lanes4(A, k);
+          float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
+                     (width > 3u ? a.w * a.w : 0.0f);
+          pmc_set_lanes4(R, k, l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a);
+        }
         break;
       }
       case PMC_OP_CLAMP:
-        r = fmin(fmax(PMC_ARG(0), PMC_ARG(1)), PMC_ARG(2));
+        PMC_CW(PMC_A; PMC_B; PMC_T, fmin(fmax(A[c][k], B[c][k]), T[c][k]))
         break;
-      case PMC_OP_SMOOTHSTEP: {
-        float4 a = PMC_ARG(0), lo = PMC_ARG(1), hi = PMC_ARG(2);
-        r = make_float4(pmc_smoothstep1(a.x, lo.x, hi.x), pmc_smoothstep1(a.y, lo.y, hi.y),
-                        pmc_smoothstep1(a.z, lo.z, hi.z), pmc_smoothstep1(a.w, lo.w, hi.w));
+      case PMC_OP_SMOOTHSTEP:
+        PMC_CW(PMC_A; PMC_B; PMC_T, pmc_smoothstep1(A[c][k], B[c][k], T[c][k]))
         break;
-      }
-      case PMC_OP_MIX: {
-        float4 fg = PMC_ARG(0), bg = PMC_ARG(1), t = PMC_ARG(2);
-        r = bg + (fg - bg) * t;
+      case PMC_OP_MIX: /* fg, bg, mix: bg + (fg - bg) * mix */
+        PMC_CW(PMC_A; PMC_B; PMC_T, B[c][k] + (A[c][k] - B[c][k]) * T[c][k])
         break;
-      }
-      case PMC_OP_REMAP: {
-        float4 a = PMC_ARG(0), il = PMC_ARG(1), ih = PMC_ARG(2), ol = PMC_ARG(3), oh = PMC_ARG(4);
-        r = ol + (a - il) * (oh - ol) / (ih - il);
+      case PMC_OP_REMAP: /* in, inlow, inhigh, outlow, outhigh */
+        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D;
+               PMC_E, D[c][k] + (A[c][k] - B[c][k]) * (E[c][k] - D[c][k]) / (T[c][k] - B[c][k]))
         break;
-      }
-      case PMC_OP_IFGREATER:
-        r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 0);
+      case PMC_OP_IFGREATER: /* value1, value2, in1, in2 */
+        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] > B[c][k] ? T[c][k] : D[c][k])
         break;
       case PMC_OP_IFGREATEREQ:
-        r = pmc_where_greater(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3), 1);
+        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] >= B[c][k] ? T[c][k] : D[c][k])
         break;
       case PMC_OP_LUMINANCE: {
-        float4 c = PMC_ARG(0), k = PMC_ARG(1);
-        float l = c.x * k.x + c.y * k.y + c.z * k.z;
-        r = make_float4(l, l, l, c.w);
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float l = A[0][k] * B[0][k] + A[1][k] * B[1][k] + A[2][k] * B[2][k];
+          pmc_set_lanes4(R, k, make_float4(l, l, l, A[3][k]));
+        }
         break;
       }
       case PMC_OP_RGBTOHSV:
-        r = pmc_rgb_to_hsv(PMC_ARG(0));
+        PMC_FETCH4(A, 0);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_rgb_to_hsv(pmc_lanes4(A, k)));
         break;
       case PMC_OP_HSVTORGB:
-        r = pmc_hsv_to_rgb(PMC_ARG(0));
+        PMC_FETCH4(A, 0);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_hsv_to_rgb(pmc_lanes4(A, k)));
         break;
-      case PMC_OP_IMAGE: {
-        float4 uv = PMC_ARG(0), def = PMC_ARG(1), mode = PMC_ARG(2);
-        pmc_u32 bits = (pmc_u32)pmc_to_int(mode.x);
-        float4 c = pmc_texture_sample(ts, imm, make_float2(uv.x, uv.y), footprint_now * mode.y, bits & 3u,
-                                      (bits >> 2) & 3u, (bits >> 4) & 3u, def);
-        /* A float image reads the first channel. */
-        r = width == 1u ? pmc_broadcast(c.x) : c;
+      case PMC_OP_IMAGE: { /* uv, default, mode; imm = texture index */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
+          float4 c = pmc_texture_sample(ts, imm, make_float2(A[0][k], A[1][k]), footprint_now[k] * T[1][k],
+                                        bits & 3u, (bits >> 2) & 3u, (bits >> 4) & 3u, pmc_lanes4(B, k));
+          /* A float image reads the first channel. */
+          pmc_set_lanes4(R, k, width == 1u ? pmc_broadcast(c.x) : c);
+        }
         break;
       }
       case PMC_OP_PLACE2D:
-        r = pmc_place2d(PMC_ARG(0), PMC_ARG(1), PMC_ARG(2), PMC_ARG(3).x, PMC_ARG(4),
-                        pmc_to_int(PMC_ARG(5).x));
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        PMC_FETCH4(D, 3);
+        PMC_FETCH4(E, 4);
+        PMC_FETCH4(F, 5);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k,
+                         pmc_place2d(pmc_lanes4(A, k), pmc_lanes4(B, k), pmc_lanes4(T, k), D[0][k],
+                                     pmc_lanes4(E, k), pmc_to_int(F[0][k])));
         break;
-      case PMC_OP_NOISE2D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_noise2d(make_float2(p.x, p.y), width) * PMC_ARG(1) + PMC_ARG(2);
-        break;
-      }
-      case PMC_OP_NOISE3D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_noise3d(make_float3(p.x, p.y, p.z), width) * PMC_ARG(1) + PMC_ARG(2);
-        break;
-      }
-      case PMC_OP_FRACTAL2D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_fractal2d(make_float2(p.x, p.y), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x,
-                             width) *
-            PMC_ARG(1);
-        break;
-      }
-      case PMC_OP_FRACTAL3D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_fractal3d(make_float3(p.x, p.y, p.z), pmc_to_int(PMC_ARG(2).x), PMC_ARG(3).x, PMC_ARG(4).x,
-                             width) *
-            PMC_ARG(1);
+      case PMC_OP_NOISE2D:   /* texcoord, amplitude, pivot */
+      case PMC_OP_NOISE3D: { /* position, amplitude, pivot */
+        const int dims = op == PMC_OP_NOISE3D ? 3 : 2;
+        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        pmc_noise_lanes(dims, A[0], A[1], A[2], width, nn, R);
+        for (int c = 0; c < 4; ++c)
+          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k] + T[c][k];
         break;
       }
-      case PMC_OP_CELLNOISE2D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_broadcast(pmc_op_cellnoise2d(make_float2(p.x, p.y)));
+      case PMC_OP_FRACTAL2D:   /* texcoord, amplitude, octaves, lacunarity, diminish */
+      case PMC_OP_FRACTAL3D: { /* position, ... */
+        const int dims = op == PMC_OP_FRACTAL3D ? 3 : 2;
+        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
+        PMC_FETCH4(B, 1);
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        pmc_fetch(code, stack, code[pc + 5u], 1, nn, D);
+        pmc_fetch(code, stack, code[pc + 6u], 1, nn, E);
+        int octaves[PMC_LANES];
+        for (int k = 0; k < PMC_BATCH(nn); ++k) octaves[k] = pmc_to_int(T[0][k]);
+        pmc_fractal_lanes(dims, A[0], A[1], A[2], octaves, D[0], E[0], width, nn, R);
+        for (int c = 0; c < 4; ++c)
+          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k];
         break;
       }
+      case PMC_OP_CELLNOISE2D:
       case PMC_OP_CELLNOISE3D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_broadcast(pmc_op_cellnoise3d(make_float3(p.x, p.y, p.z)));
+        const int dims = op == PMC_OP_CELLNOISE3D ? 3 : 2;
+        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
+        pmc_cellnoise_lanes(dims, A[0], A[1], A[2], nn, R[0]);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) R[1][k] = R[2][k] = R[3][k] = R[0][k];
         break;
       }
-      case PMC_OP_WORLEY2D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_worley2d(make_float2(p.x, p.y), PMC_ARG(1).x, pmc_to_int(PMC_ARG(2).x), width);
+      case PMC_OP_WORLEY2D: /* texcoord, jitter, style */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k,
+                         pmc_op_worley2d(make_float2(A[0][k], A[1][k]), B[0][k], pmc_to_int(T[0][k]), width));
+        break;
+      case PMC_OP_WORLEY3D:
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(
+              R, k,
+              pmc_op_worley3d(make_float3(A[0][k], A[1][k], A[2][k]), B[0][k], pmc_to_int(T[0][k]), width));
+        break;
+      case PMC_OP_RAMPLR: /* valuel, valuer, texcoord */
+        pmc_fetch(code, stack, code[pc + 4u], 2, nn, T);
+        PMC_CW(PMC_A; PMC_B, A[c][k] + (B[c][k] - A[c][k]) * clamp(T[0][k], 0.0f, 1.0f))
+        break;
+      case PMC_OP_RAMPTB: /* valuet, valueb, texcoord */
+        pmc_fetch(code, stack, code[pc + 4u], 2, nn, T);
+        PMC_CW(PMC_A; PMC_B, B[c][k] + (A[c][k] - B[c][k]) * clamp(T[1][k], 0.0f, 1.0f))
+        break;
+      case PMC_OP_RAMP4: { /* tl, tr, bl, br, texcoord */
+        pmc_fetch(code, stack, code[pc + 6u], 2, nn, E);
+        PMC_A;
+        PMC_B;
+        PMC_T;
+        PMC_D;
+        for (int c = 0; c < (int)width; ++c)
+          for (int k = 0; k < PMC_BATCH(nn); ++k) {
+            float s = clamp(E[0][k], 0.0f, 1.0f), t = clamp(E[1][k], 0.0f, 1.0f);
+            float top = A[c][k] + (B[c][k] - A[c][k]) * s;
+            float bottom = T[c][k] + (D[c][k] - T[c][k]) * s;
+            R[c][k] = bottom + (top - bottom) * t;
+          }
         break;
       }
-      case PMC_OP_WORLEY3D: {
-        float4 p = PMC_ARG(0);
-        r = pmc_op_worley3d(make_float3(p.x, p.y, p.z), PMC_ARG(1).x, pmc_to_int(PMC_ARG(2).x), width);
+      case PMC_OP_SPLITLR: /* valuel, valuer, center, texcoord */
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        pmc_fetch(code, stack, code[pc + 5u], 2, nn, D);
+        PMC_CW(PMC_A; PMC_B, D[0][k] < T[0][k] ? A[c][k] : B[c][k])
         break;
-      }
-      case PMC_OP_RAMPLR: {
-        float4 uv = PMC_ARG(2);
-        r = PMC_ARG(0) + (PMC_ARG(1) - PMC_ARG(0)) * clamp(uv.x, 0.0f, 1.0f);
+      case PMC_OP_SPLITTB: /* valuet, valueb, center, texcoord */
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        pmc_fetch(code, stack, code[pc + 5u], 2, nn, D);
+        PMC_CW(PMC_A; PMC_B, D[1][k] > T[0][k] ? A[c][k] : B[c][k])
         break;
-      }
-      case PMC_OP_RAMPTB: {
-        float4 uv = PMC_ARG(2);
-        r = PMC_ARG(1) + (PMC_ARG(0) - PMC_ARG(1)) * clamp(uv.y, 0.0f, 1.0f);
+      case PMC_OP_TILEDSHAPE:  /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */
+      case PMC_OP_LINEPATTERN: /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        PMC_FETCH4(D, 3);
+        PMC_FETCH4(E, 4);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float2 uv = make_float2(A[0][k], A[1][k]), tiling = make_float2(B[0][k], B[1][k]);
+          float2 offset = make_float2(T[0][k], T[1][k]);
+          pmc_set_lanes4(R, k,
+                         op == PMC_OP_TILEDSHAPE
+                             ? pmc_op_tiledshape(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm)
+                             : pmc_op_linepattern(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm));
+        }
         break;
-      }
-      case PMC_OP_RAMP4: {
-        float4 uv = PMC_ARG(4);
-        float s = clamp(uv.x, 0.0f, 1.0f), t = clamp(uv.y, 0.0f, 1.0f);
-        float4 top = PMC_ARG(0) + (PMC_ARG(1) - PMC_ARG(0)) * s;
-        float4 bottom = PMC_ARG(2) + (PMC_ARG(3) - PMC_ARG(2)) * s;
-        r = bottom + (top - bottom) * t;
+      case PMC_OP_NORMALMAP: /* in, scale, normal, tangent */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        PMC_FETCH4(T, 2);
+        PMC_FETCH4(D, 3);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k,
+                         pmc_normalmap(pmc_lanes4(A, k), B[0][k], make_float3(T[0][k], T[1][k], T[2][k]),
+                                       make_float3(D[0][k], D[1][k], D[2][k])));
         break;
-      }
-      case PMC_OP_SPLITLR: {
-        float4 uv = PMC_ARG(3);
-        r = uv.x < PMC_ARG(2).x ? PMC_ARG(0) : PMC_ARG(1);
-        break;
-      }
-      case PMC_OP_SPLITTB: {
-        float4 uv = PMC_ARG(3);
-        r = uv.y > PMC_ARG(2).x ? PMC_ARG(0) : PMC_ARG(1);
-        break;
-      }
-      case PMC_OP_TILEDSHAPE: {
-        float4 uv = PMC_ARG(0), tiling = PMC_ARG(1), offset = PMC_ARG(2);
-        r = pmc_op_tiledshape(make_float2(uv.x, uv.y), make_float2(tiling.x, tiling.y),
-                              make_float2(offset.x, offset.y), PMC_ARG(3).x, PMC_ARG(4).x != 0.0f, imm);
-        break;
-      }
-      case PMC_OP_LINEPATTERN: {
-        float4 uv = PMC_ARG(0), tiling = PMC_ARG(1), offset = PMC_ARG(2);
-        r = pmc_op_linepattern(make_float2(uv.x, uv.y), make_float2(tiling.x, tiling.y),
-                               make_float2(offset.x, offset.y), PMC_ARG(3).x, PMC_ARG(4).x != 0.0f, imm);
-        break;
-      }
-      case PMC_OP_NORMALMAP: {
-        float4 n = PMC_ARG(2), t = PMC_ARG(3);
-        r = pmc_normalmap(PMC_ARG(0), PMC_ARG(1).x, make_float3(n.x, n.y, n.z), make_float3(t.x, t.y, t.z));
-        break;
-      }
       case PMC_OP_TAN:
-        r = tan(PMC_ARG(0));
+        PMC_CW(PMC_A, tan(A[c][k]))
         break;
       case PMC_OP_ASIN:
-        r = asin(PMC_ARG(0));
+        PMC_CW(PMC_A, asin(A[c][k]))
         break;
       case PMC_OP_ACOS:
-        r = acos(PMC_ARG(0));
+        PMC_CW(PMC_A, acos(A[c][k]))
         break;
       case PMC_OP_ATAN2:
-        r = atan2(PMC_ARG(0), PMC_ARG(1));
+        PMC_CW(PMC_A; PMC_B, atan2(A[c][k], B[c][k]))
         break;
       case PMC_OP_EXP:
-        r = exp(PMC_ARG(0));
+        PMC_CW(PMC_A, exp(A[c][k]))
         break;
       case PMC_OP_LN:
-        r = log(PMC_ARG(0));
+        PMC_CW(PMC_A, log(A[c][k]))
         break;
-      case PMC_OP_SIGN: {
-        float4 a = PMC_ARG(0);
-        r = make_float4(pmc_sign1(a.x), pmc_sign1(a.y), pmc_sign1(a.z), pmc_sign1(a.w));
+      case PMC_OP_SIGN:
+        PMC_CW(PMC_A, pmc_sign1(A[c][k]))
         break;
-      }
-      case PMC_OP_ROUND: {
-        float4 a = PMC_ARG(0);
-        r = make_float4(pmc_round1(a.x), pmc_round1(a.y), pmc_round1(a.z), pmc_round1(a.w));
+      case PMC_OP_ROUND:
+        PMC_CW(PMC_A, pmc_round1(A[c][k]))
         break;
-      }
-      case PMC_OP_FRACT: {
-        float4 a = PMC_ARG(0);
-        r = a - floor(a);
+      case PMC_OP_FRACT:
+        PMC_CW(PMC_A, A[c][k] - floor(A[c][k]))
         break;
-      }
       case PMC_OP_LENGTH: {
-        float4 a = PMC_ARG(0);
-        pmc_u32 n = imm == 0u ? 3u : imm; /* imm = operand width */
-        float d = a.x * a.x;
-        if (n > 1u) d += a.y * a.y;
-        if (n > 2u) d += a.z * a.z;
-        if (n > 3u) d += a.w * a.w;
-        r = pmc_broadcast(sqrt(d));
+        PMC_FETCH4(A, 0);
+        pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float d = A[0][k] * A[0][k];
+          if (m > 1u) d += A[1][k] * A[1][k];
+          if (m > 2u) d += A[2][k] * A[2][k];
+          if (m > 3u) d += A[3][k] * A[3][k];
+          pmc_set_lanes4(R, k, pmc_broadcast(sqrt(d)));
+        }
         break;
       }
-      case PMC_OP_CROSS: {
-        float4 a = PMC_ARG(0), b = PMC_ARG(1);
-        r = make_float4(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x, 0.0f);
+      case PMC_OP_CROSS:
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k,
+                         make_float4(A[1][k] * B[2][k] - A[2][k] * B[1][k], A[2][k] * B[0][k] - A[0][k] * B[2][k],
+                                     A[0][k] * B[1][k] - A[1][k] * B[0][k], 0.0f));
         break;
-      }
-      case PMC_OP_NOT: {
-        float4 a = PMC_ARG(0);
-        r = make_float4(a.x == 0.0f ? 1.0f : 0.0f, a.y == 0.0f ? 1.0f : 0.0f, a.z == 0.0f ? 1.0f : 0.0f,
-                        a.w == 0.0f ? 1.0f : 0.0f);
+      case PMC_OP_NOT:
+        PMC_CW(PMC_A, A[c][k] == 0.0f ? 1.0f : 0.0f)
         break;
-      }
-      case PMC_OP_IFEQUAL:
-        r = PMC_ARG(0).x == PMC_ARG(1).x ? PMC_ARG(2) : PMC_ARG(3);
+      case PMC_OP_IFEQUAL: /* value1, value2, in1, in2 (values compared on their first component) */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        PMC_CW(PMC_T; PMC_D, A[0][k] == B[0][k] ? T[c][k] : D[c][k])
         break;
-      case PMC_OP_BLEND: {
-        float4 fg = PMC_ARG(0), bg = PMC_ARG(1), m = PMC_ARG(2);
-        r = make_float4(pmc_blend1(fg.x, bg.x, m.x, imm), pmc_blend1(fg.y, bg.y, m.y, imm),
-                        pmc_blend1(fg.z, bg.z, m.z, imm), pmc_blend1(fg.w, bg.w, m.w, imm));
+      case PMC_OP_BLEND: /* fg, bg, mix; imm = mode */
+        PMC_CW(PMC_A; PMC_B; PMC_T, pmc_blend1(A[c][k], B[c][k], T[c][k], imm))
         break;
-      }
-      case PMC_OP_ROTATE2D: {
-        /* MaterialX mx_rotate_vector2: (ca x + sa y, -sa x + ca y) */
-        float4 v = PMC_ARG(0);
-        float a = PMC_ARG(1).x * (PMC_PI / 180.0f);
-        float sa = sin(a), ca = cos(a);
-        r = make_float4(ca * v.x + sa * v.y, -sa * v.x + ca * v.y, 0.0f, 0.0f);
+      case PMC_OP_ROTATE2D: /* MaterialX mx_rotate_vector2: (ca x + sa y, -sa x + ca y) */
+        PMC_FETCH4(A, 0);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float a = B[0][k] * (PMC_PI / 180.0f);
+          float sa = sin(a), ca = cos(a);
+          pmc_set_lanes4(R, k, make_float4(ca * A[0][k] + sa * A[1][k], -sa * A[0][k] + ca * A[1][k], 0.0f, 0.0f));
+        }
         break;
-      }
-      case PMC_OP_ROTATE3D: {
-        /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
-         * v c + cross(v, axis) s + axis dot(axis, v) (1 - c), axis normalised. */
-        float4 v4 = PMC_ARG(0), ax4 = PMC_ARG(2);
-        float3 v = make_float3(v4.x, v4.y, v4.z), ax = make_float3(ax4.x, ax4.y, ax4.z);
-        float l = length(ax);
-        ax = l > 0.0f ? ax * (1.0f / l) : ax;
-        float a = PMC_ARG(1).x * (PMC_PI / 180.0f);
-        float sn = sin(a), c = cos(a);
-        float3 res = v * c + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - c));
-        r = make_float4(res.x, res.y, res.z, 0.0f);
+      case PMC_OP_ROTATE3D: /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
+                             * v c + cross(v, axis) s + axis dot(axis, v) (1 - c), axis normalised. */
+        PMC_FETCH4(A, 0);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        PMC_FETCH4(T, 2);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 v = make_float3(A[0][k], A[1][k], A[2][k]), ax = make_float3(T[0][k], T[1][k], T[2][k]);
+          float l = length(ax);
+          ax = l > 0.0f ? ax * (1.0f / l) : ax;
+          float a = B[0][k] * (PMC_PI / 180.0f);
+          float sn = sin(a), cs = cos(a);
+          float3 res = v * cs + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - cs));
+          pmc_set_lanes4(R, k, make_float4(res.x, res.y, res.z, 0.0f));
+        }
         break;
-      }
       default:
         return; /* unknown opcode: the compiler never emits one; stop safely */
     }
-    stack[dst] = r.x;
-    if (width > 1u) stack[dst + 1u] = r.y;
-    if (width > 2u) stack[dst + 2u] = r.z;
-    if (width > 3u) stack[dst + 3u] = r.w;
+    for (int c = 0; c < (int)width; ++c) {
+      float* row = stack + (dst + (pmc_u32)c) * PMC_LANES;
+      for (int k = 0; k < PMC_BATCH(nn); ++k) row[k] = R[c][k];
+    }
     pc += 2u + nargs;
   }
 }
 
-#undef PMC_ARG
+/* One shading point (PMC_LANES must be 1: the host reference and tests). */
+PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
+                           const PmcTextureSet* ts, float* stack, float* params, PmcCacheContext* cache) {
+  pmc_interp_lanes(code, pc, in, 1, ts, stack, params, cache);
+}
+
+#undef PMC_CW
+#undef PMC_A
+#undef PMC_B
+#undef PMC_T
+#undef PMC_D
+#undef PMC_E
+#undef PMC_FETCH4
 
 /* Parameter defaults of standard_surface (PMC_STANDARD_SURFACE); the normal
  * defaults to the shading normal. */

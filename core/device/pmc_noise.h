@@ -66,24 +66,16 @@ PMC_FN float pmc_noise_sanitize(float x) {
   return x;
 }
 
-PMC_FN float pmc_noise_fmod(float x, float y) {
-#ifdef __OPENCL_VERSION__
-  return fmod(x, y);
-#else
-  return std::fmod(x, y);
-#endif
-}
-
 /* Cell index of an integer-valued finite float `fl` (a floor() result):
  * exactly (uint)(int)fl where that conversion is defined, else fl mod 2^32.
- * fmod is exact, and once |fl| >= 2^31 every float is a multiple of 256, so
- * the adjustments below are exact too. */
+ * Branch-free, and without fmod (a library call the compiler would otherwise
+ * speculate for every cell): beyond 2^31 every float is a multiple of 256,
+ * so fl - 2^32 floor(fl / 2^32) and the shift into [-2^31, 2^31) are exact. */
 PMC_FN pmc_u32 pmc_noise_cell(float fl) {
-  if (fabs(fl) < 2147483648.0f) return (pmc_u32)(pmc_i32)fl;
-  float r = pmc_noise_fmod(fl, 4294967296.0f); /* (-2^32, 2^32) */
-  if (r >= 2147483648.0f) r -= 4294967296.0f;
-  if (r < -2147483648.0f) r += 4294967296.0f; /* now in [-2^31, 2^31) */
-  return (pmc_u32)(pmc_i32)r;
+  float big = fl - 4294967296.0f * floor(fl * (1.0f / 4294967296.0f)); /* [0, 2^32) */
+  big = big >= 2147483648.0f ? big - 4294967296.0f : big;              /* [-2^31, 2^31) */
+  float v = fabs(fl) < 2147483648.0f ? fl : big;
+  return (pmc_u32)(pmc_i32)v;
 }
 
 /* floor(x) as a cell index, returns the fraction x - floor(x) in [0, 1]. */
@@ -490,6 +482,219 @@ PMC_FN float4 pmc_op_worley3d(float3 p, float jitter, int style, pmc_u32 width) 
     }
   }
   return pmc_noise_worley_out(style, width, d0, d1, d2, c0, c1, c2);
+}
+
+/* ---- the same noises for a batch of points ------------------------------ */
+/* The interpreter evaluates a node for up to PMC_LANES points at once
+ * (core/device/pmc_interp.h). These versions compute exactly what the
+ * single-point functions above compute, point by point, but as straight-line
+ * loops over the points that a compiler vectorises; positions and octave
+ * counts may differ per point. Arrays are indexed by point, [0, n). */
+
+#ifndef PMC_LANES
+#define PMC_LANES 1
+#endif
+
+/* 2D Perlin of finite points: o0 (and with three, o1 and o2 from hash bytes
+ * 1 and 2), before any scaling beyond the 0.6616 of pmc_noise_perlin2. */
+PMC_FN void pmc_perlin2_lanes(const float* px, const float* py, int n, int three, float* o0, float* o1,
+                              float* o2) {
+  for (int k = 0; k < n; ++k) {
+    float flx = floor(px[k]), fly = floor(py[k]);
+    pmc_u32 X = pmc_noise_cell(flx), Y = pmc_noise_cell(fly);
+    float fx = px[k] - flx, fy = py[k] - fly;
+    float u = pmc_noise_fade(fx), v = pmc_noise_fade(fy);
+    pmc_u32 h00 = pmc_noise_hash2(X, Y), h10 = pmc_noise_hash2(X + 1u, Y);
+    pmc_u32 h01 = pmc_noise_hash2(X, Y + 1u), h11 = pmc_noise_hash2(X + 1u, Y + 1u);
+    o0[k] = 0.6616f * pmc_noise_bilerp(pmc_noise_grad2(h00, fx, fy), pmc_noise_grad2(h10, fx - 1.0f, fy),
+                                       pmc_noise_grad2(h01, fx, fy - 1.0f),
+                                       pmc_noise_grad2(h11, fx - 1.0f, fy - 1.0f), u, v);
+    if (three) {
+      o1[k] = 0.6616f * pmc_noise_bilerp(pmc_noise_grad2(h00 >> 8, fx, fy),
+                                         pmc_noise_grad2(h10 >> 8, fx - 1.0f, fy),
+                                         pmc_noise_grad2(h01 >> 8, fx, fy - 1.0f),
+                                         pmc_noise_grad2(h11 >> 8, fx - 1.0f, fy - 1.0f), u, v);
+      o2[k] = 0.6616f * pmc_noise_bilerp(pmc_noise_grad2(h00 >> 16, fx, fy),
+                                         pmc_noise_grad2(h10 >> 16, fx - 1.0f, fy),
+                                         pmc_noise_grad2(h01 >> 16, fx, fy - 1.0f),
+                                         pmc_noise_grad2(h11 >> 16, fx - 1.0f, fy - 1.0f), u, v);
+    }
+  }
+}
+
+PMC_FN void pmc_perlin3_lanes(const float* px, const float* py, const float* pz, int n, int three, float* o0,
+                              float* o1, float* o2) {
+  for (int k = 0; k < n; ++k) {
+    float flx = floor(px[k]), fly = floor(py[k]), flz = floor(pz[k]);
+    pmc_u32 X = pmc_noise_cell(flx), Y = pmc_noise_cell(fly), Z = pmc_noise_cell(flz);
+    float fx = px[k] - flx, fy = py[k] - fly, fz = pz[k] - flz;
+    float u = pmc_noise_fade(fx), v = pmc_noise_fade(fy), w = pmc_noise_fade(fz);
+    pmc_u32 h000 = pmc_noise_hash3(X, Y, Z), h100 = pmc_noise_hash3(X + 1u, Y, Z);
+    pmc_u32 h010 = pmc_noise_hash3(X, Y + 1u, Z), h110 = pmc_noise_hash3(X + 1u, Y + 1u, Z);
+    pmc_u32 h001 = pmc_noise_hash3(X, Y, Z + 1u), h101 = pmc_noise_hash3(X + 1u, Y, Z + 1u);
+    pmc_u32 h011 = pmc_noise_hash3(X, Y + 1u, Z + 1u), h111 = pmc_noise_hash3(X + 1u, Y + 1u, Z + 1u);
+    float gx = fx - 1.0f, gy = fy - 1.0f, gz = fz - 1.0f;
+    for (int c = 0; c < (three ? 3 : 1); ++c) {
+      int sh = 8 * c;
+      float r =
+          0.9820f *
+          pmc_noise_trilerp(pmc_noise_grad3(h000 >> sh, fx, fy, fz), pmc_noise_grad3(h100 >> sh, gx, fy, fz),
+                            pmc_noise_grad3(h010 >> sh, fx, gy, fz), pmc_noise_grad3(h110 >> sh, gx, gy, fz),
+                            pmc_noise_grad3(h001 >> sh, fx, fy, gz), pmc_noise_grad3(h101 >> sh, gx, fy, gz),
+                            pmc_noise_grad3(h011 >> sh, fx, gy, gz), pmc_noise_grad3(h111 >> sh, gx, gy, gz),
+                            u, v, w);
+      if (c == 0)
+        o0[k] = r;
+      else if (c == 1)
+        o1[k] = r;
+      else
+        o2[k] = r;
+    }
+  }
+}
+
+/* Octave sums (pmc_noise_fbm2/3) for a batch: a point stops at its own
+ * octave count or once its position or amplitude is no longer finite. `dims`
+ * is 2 or 3 (pz unused for 2). */
+PMC_FN void pmc_fbm_lanes(int dims, const float* px, const float* py, const float* pz, const int* octaves,
+                          const float* lacunarity, const float* diminish, int n, int three, float* s0,
+                          float* s1, float* s2) {
+  float x[PMC_LANES], y[PMC_LANES], z[PMC_LANES], amp[PMC_LANES], v0[PMC_LANES], v1[PMC_LANES], v2[PMC_LANES];
+  int alive[PMC_LANES], oct[PMC_LANES];
+  int most = 0;
+  for (int k = 0; k < n; ++k) {
+    x[k] = px[k];
+    y[k] = py[k];
+    z[k] = dims == 3 ? pz[k] : 0.0f;
+    amp[k] = 1.0f;
+    alive[k] = 1;
+    oct[k] = pmc_noise_octaves(octaves[k]);
+    most = oct[k] > most ? oct[k] : most;
+    s0[k] = s1[k] = s2[k] = 0.0f;
+  }
+  for (int i = 0; i < most; ++i) {
+    float qx[PMC_LANES], qy[PMC_LANES], qz[PMC_LANES];
+    for (int k = 0; k < n; ++k) {
+      alive[k] = alive[k] && i < oct[k] && pmc_noise_finite(x[k]) && pmc_noise_finite(y[k]) &&
+                 pmc_noise_finite(z[k]) && pmc_noise_finite(amp[k]);
+      qx[k] = alive[k] ? x[k] : 0.0f; /* finite inputs for the lanes that stopped */
+      qy[k] = alive[k] ? y[k] : 0.0f;
+      qz[k] = alive[k] ? z[k] : 0.0f;
+    }
+    if (dims == 3)
+      pmc_perlin3_lanes(qx, qy, qz, n, three, v0, v1, v2);
+    else
+      pmc_perlin2_lanes(qx, qy, n, three, v0, v1, v2);
+    for (int k = 0; k < n; ++k) {
+      if (alive[k]) {
+        s0[k] += amp[k] * v0[k];
+        if (three) {
+          s1[k] += amp[k] * v1[k];
+          s2[k] += amp[k] * v2[k];
+        }
+      }
+      amp[k] *= diminish[k];
+      x[k] *= lacunarity[k];
+      y[k] *= lacunarity[k];
+      z[k] *= lacunarity[k];
+    }
+  }
+  for (int k = 0; k < n; ++k) {
+    s0[k] = pmc_noise_sanitize(s0[k]);
+    s1[k] = pmc_noise_sanitize(s1[k]);
+    s2[k] = pmc_noise_sanitize(s2[k]);
+  }
+}
+
+/* pmc_op_noise2d / pmc_op_noise3d for a batch (dims 2 or 3): out[c][k] is
+ * component c of point k's result (4 components). */
+PMC_FN void pmc_noise_lanes(int dims, const float* px, const float* py, const float* pz, pmc_u32 width, int n,
+                            float out[4][PMC_LANES]) {
+  float qx[PMC_LANES], qy[PMC_LANES], qz[PMC_LANES], w0[PMC_LANES], w1[PMC_LANES], w2[PMC_LANES];
+  int bad[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    bad[k] = !pmc_noise_finite(px[k]) || !pmc_noise_finite(py[k]) || (dims == 3 && !pmc_noise_finite(pz[k]));
+    qx[k] = bad[k] ? 0.0f : px[k];
+    qy[k] = bad[k] ? 0.0f : py[k];
+    qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k];
+  }
+  const int three = width > 1u;
+  if (dims == 3)
+    pmc_perlin3_lanes(qx, qy, qz, n, three, out[0], out[1], out[2]);
+  else
+    pmc_perlin2_lanes(qx, qy, n, three, out[0], out[1], out[2]);
+  for (int k = 0; k < n; ++k) {
+    if (!three) out[1][k] = out[2][k] = out[3][k] = out[0][k];
+    if (width == 2u) out[2][k] = 0.0f;
+    if (three) out[3][k] = 0.0f;
+  }
+  if (width >= 4u) { /* w: the float noise at an offset position */
+    for (int k = 0; k < n; ++k) {
+      qx[k] = bad[k] ? 0.0f : px[k] + 19.0f;
+      qy[k] = bad[k] ? 0.0f : py[k] + 73.0f;
+      qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k] + 29.0f;
+    }
+    if (dims == 3)
+      pmc_perlin3_lanes(qx, qy, qz, n, 0, w0, w1, w2);
+    else
+      pmc_perlin2_lanes(qx, qy, n, 0, w0, w1, w2);
+    for (int k = 0; k < n; ++k) out[3][k] = w0[k];
+  }
+  for (int k = 0; k < n; ++k)
+    if (bad[k]) out[0][k] = out[1][k] = out[2][k] = out[3][k] = 0.0f;
+}
+
+/* pmc_op_fractal2d / pmc_op_fractal3d for a batch (dims 2 or 3). */
+PMC_FN void pmc_fractal_lanes(int dims, const float* px, const float* py, const float* pz, const int* octaves,
+                              const float* lacunarity, const float* diminish, pmc_u32 width, int n,
+                              float out[4][PMC_LANES]) {
+  float qx[PMC_LANES], qy[PMC_LANES], qz[PMC_LANES], w0[PMC_LANES], w1[PMC_LANES], w2[PMC_LANES];
+  int bad[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    bad[k] = !pmc_noise_finite(px[k]) || !pmc_noise_finite(py[k]) ||
+             (dims == 3 && !pmc_noise_finite(pz[k])) || !pmc_noise_finite(lacunarity[k]) ||
+             !pmc_noise_finite(diminish[k]);
+    qx[k] = bad[k] ? 0.0f : px[k];
+    qy[k] = bad[k] ? 0.0f : py[k];
+    qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k];
+  }
+  const int three = width > 2u;
+  pmc_fbm_lanes(dims, qx, qy, qz, octaves, lacunarity, diminish, n, three, out[0], out[1], out[2]);
+  if (width <= 1u) {
+    for (int k = 0; k < n; ++k) out[1][k] = out[2][k] = out[3][k] = out[0][k];
+  } else {
+    if (width == 2u || width >= 4u) { /* the second value: the float fractal at an offset position */
+      for (int k = 0; k < n; ++k) {
+        qx[k] = bad[k] ? 0.0f : px[k] + 19.0f;
+        qy[k] = bad[k] ? 0.0f : py[k] + 193.0f;
+        qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k] + 17.0f;
+      }
+      pmc_fbm_lanes(dims, qx, qy, qz, octaves, lacunarity, diminish, n, 0, w0, w1, w2);
+    }
+    for (int k = 0; k < n; ++k) {
+      if (width == 2u) {
+        out[1][k] = w0[k];
+        out[2][k] = 0.0f;
+        out[3][k] = 0.0f;
+      } else {
+        out[3][k] = width >= 4u ? w0[k] : 0.0f;
+      }
+    }
+  }
+  for (int k = 0; k < n; ++k)
+    if (bad[k]) out[0][k] = out[1][k] = out[2][k] = out[3][k] = 0.0f;
+}
+
+/* pmc_op_cellnoise2d / 3d for a batch. */
+PMC_FN void pmc_cellnoise_lanes(int dims, const float* px, const float* py, const float* pz, int n,
+                                float* out) {
+  for (int k = 0; k < n; ++k) {
+    int bad = !pmc_noise_finite(px[k]) || !pmc_noise_finite(py[k]) || (dims == 3 && !pmc_noise_finite(pz[k]));
+    float x = bad ? 0.0f : px[k], y = bad ? 0.0f : py[k], z = bad || dims != 3 ? 0.0f : pz[k];
+    pmc_u32 X = pmc_noise_cell(floor(x)), Y = pmc_noise_cell(floor(y)), Z = pmc_noise_cell(floor(z));
+    pmc_u32 h = dims == 3 ? pmc_noise_hash3(X, Y, Z) : pmc_noise_hash2(X, Y);
+    out[k] = bad ? 0.0f : pmc_noise_to01(h);
+  }
 }
 
 #endif /* PMC_NOISE_H */

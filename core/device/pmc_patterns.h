@@ -38,15 +38,37 @@
 
 PMC_FN int pmc_pattern_finite(float x) { return fabs(x) <= PMC_PATTERN_FLT_MAX; }
 
-/* MaterialX modulo for b > 0: in [0, b]. fmod is exact; adding b to a
- * negative remainder rounds (to b itself for tiny remainders, as the GLSL
- * a - b * floor(a / b) does). */
+/* MaterialX modulo for b > 0: in [0, b]. The remainder is fmod's, exact:
+ * a - q b with the truncated quotient q, computed with one fma once q is
+ * known to be right (a / b rounds q off by at most one, which the sign or
+ * size of the remainder reveals). No library fmod: the compiler would
+ * evaluate that call on every path. Beyond 2^23 periods a float has no
+ * fraction left and the GLSL formula a - b floor(a / b) is used. Adding b to
+ * a negative remainder rounds (to b itself for tiny remainders, as GLSL's
+ * does). */
 PMC_FN float pmc_pattern_mod(float a, float b) {
 #ifdef __OPENCL_VERSION__
-  float r = fmod(a, b);
+#define PMC_TRUNC trunc
+#define PMC_FMA fma
 #else
-  float r = std::fmod(a, b);
+#define PMC_TRUNC std::trunc
+#define PMC_FMA std::fma
 #endif
+  float q = PMC_TRUNC(a / b);
+  float r;
+  if (fabs(q) < 8388608.0f) {
+    float s = a < 0.0f ? -1.0f : 1.0f;
+    r = PMC_FMA(-q, b, a);
+    if (r != 0.0f && (r < 0.0f) != (a < 0.0f))
+      r = PMC_FMA(-(q - s), b, a); /* q one past the quotient */
+    else if (fabs(r) >= b)
+      r = PMC_FMA(-(q + s), b, a);              /* q one short */
+    if (r == 0.0f) r = a < 0.0f ? -0.0f : 0.0f; /* fmod keeps the sign of a */
+  } else {
+    r = a - b * floor(a / b);
+  }
+#undef PMC_TRUNC
+#undef PMC_FMA
   return r < 0.0f ? r + b : r;
 }
 

@@ -1,12 +1,14 @@
-/* material_network.cl — the one entry point that turns a hit into a BSDF.
+/* material_network.cl — the entry point that turns hits into BSDFs.
  *
- * pmc_eval_material() runs the material's bytecode (core/abi/pmc_interp.h)
- * from its entry offset in the shared program buffer, starting from the
- * standard_surface defaults, and converts the resulting surface parameters
- * into a BSDF. A normal written by the program (normal maps) replaces the
- * shading normal. `cache` is the progressive material cache (null when the
- * cache is off: those programs contain no cache instructions). Every material of every scene goes through this function:
- * there are no per-material kernels.
+ * pmc_eval_material_lanes() runs one material's bytecode
+ * (core/device/pmc_interp.h) from its entry offset in the shared program
+ * buffer for a batch of shading points of that material at once (PMC_LANES
+ * of them at most), each starting from the standard_surface defaults, and
+ * converts each point's surface parameters into a BSDF. A normal written by
+ * the program (normal maps) replaces the point's shading normal. `cache`
+ * holds one context per point (null when the cache is off: those programs
+ * contain no cache instructions). Every material of every scene goes through
+ * this function: there are no per-material kernels.
  */
 
 typedef struct PmcMaterialData {
@@ -15,16 +17,19 @@ typedef struct PmcMaterialData {
   PmcTextureSet textures;
 } PmcMaterialData;
 
-static inline PmcBsdf pmc_eval_material(const PmcMaterialData* md, int material, PmcShadingInputs* sp,
-                                        PmcCacheContext* cache) {
-  float stack[PMC_STACK_SIZE];
-  float params[PMC_P_COUNT];
-  pmc_surface_defaults(params, sp->normal);
-  pmc_interp_run(md->code, md->materials[material].entry, sp, &md->textures, stack, params, cache);
-  float3 n = make_float3(params[PMC_P_NORMAL], params[PMC_P_NORMAL + 1], params[PMC_P_NORMAL + 2]);
-  float nl = length(n);
-  if (nl > 0.0f && isfinite(nl)) sp->normal = n * (1.0f / nl);
-  return pmc_surface_to_bsdf(params);
+static inline void pmc_eval_material_lanes(const PmcMaterialData* md, int material, PmcShadingInputs* sp,
+                                           int n, PmcCacheContext* cache, PmcBsdf* bsdf) {
+  float stack[PMC_STACK_SIZE * PMC_LANES];
+  float params[PMC_P_COUNT * PMC_LANES];
+  for (int k = 0; k < n; ++k) pmc_surface_defaults(&params[k * PMC_P_COUNT], sp[k].normal);
+  pmc_interp_lanes(md->code, md->materials[material].entry, sp, n, &md->textures, stack, params, cache);
+  for (int k = 0; k < n; ++k) {
+    const float* p = &params[k * PMC_P_COUNT];
+    float3 nrm = make_float3(p[PMC_P_NORMAL], p[PMC_P_NORMAL + 1], p[PMC_P_NORMAL + 2]);
+    float nl = length(nrm);
+    if (nl > 0.0f && isfinite(nl)) sp[k].normal = nrm * (1.0f / nl);
+    bsdf[k] = pmc_surface_to_bsdf(p);
+  }
 }
 
 /* Emitted radiance of a material, for light sampling (its constant part). */

@@ -90,8 +90,8 @@ static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float
   r->flags = 0u;
 }
 
-/* The geometry of one ray's hit: what pmc_shade_surface needs (the first
- * pass of pmc_shade computes it for the whole work-group). */
+/* The geometry of one ray's hit: what the material and pmc_shade_surface
+ * need (computed for every hit of a batch before any material runs). */
 typedef struct PmcHitPoint {
   float3 dir, pos, ng, ns, tangent;
   float2 uv, g1, g2; /* texture coordinates and their ray-cone gradients */
@@ -121,7 +121,6 @@ typedef struct PmcShadeOut {
   float3 shadow_org, shadow_dir, shadow_rgb; /* the light sample, if `shadow` */
   float shadow_tfar;
   int next, shadow;
-  uint cache_counts[PMC_CSTAT_COUNT]; /* PMC_CSTAT_* events of this evaluation */
 } PmcShadeOut;
 
 /* Pass 1: the lights the ray met (quads before its hit; the environment and
@@ -225,18 +224,32 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   }
 }
 
-/* Pass 3: the material (against the cache), emission, next-event estimation
- * and the BSDF sample for the next bounce. */
-static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
-                                     const PmcHitPoint* hp, __global PmcPathState* paths,
-                                     __global volatile ulong* cache_entries, PmcShadeOut* out) {
-  __global PmcPathState* path = &paths[hp->path];
-  float3 throughput = pmc_load3(path->throughput);
-  float3 radiance = pmc_load3(path->radiance);
-  uint depth = path->depth;
-  float3 dir = hp->dir, pos = hp->pos, ng = hp->ng, ns = hp->ns;
-  float3 wo_world = -dir;
+/* The material's shading inputs and, with the cache, its cache context at
+ * one hit. */
+static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitPoint* hp,
+                                       __global volatile ulong* cache_entries, PmcShadingInputs* sp,
+                                       PmcCacheContext* cache) {
+  sp->uv = hp->uv;
+  sp->position = hp->pos;
+  sp->normal = hp->ns;
+  sp->tangent = hp->tangent;
+  sp->bitangent = cross(hp->ns, hp->tangent);
+  sp->footprint = 2.0f * fmax(length(hp->g1), length(hp->g2));
+  if (cache) {
+    cache->table = pmc_frame_cache_table(frame, cache_entries);
+    cache->g1 = hp->g1;
+    cache->g2 = hp->g2;
+    cache->bias = frame->mip_bias;
+    cache->material = (uint)hp->material;
+    cache->center = frame->cache_center;
+    cache->jitter = hp->cache_jitter;
+    cache->texel = hp->texel;
+    cache->hits = 0u;
+    for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache->counts[c] = 0u;
+  }
+}
 
+static inline PmcMaterialData pmc_material_data(const PmcSceneData* scene) {
   PmcMaterialData md;
   md.code = scene->code;
   md.materials = scene->materials;
@@ -244,34 +257,23 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   md.textures.texels = scene->texels;
   md.textures.srgb_lut = scene->srgb_lut;
   md.textures.count = scene->texture_count;
-  PmcShadingInputs sp;
-  sp.uv = hp->uv;
-  sp.position = pos;
-  sp.normal = ns;
-  sp.tangent = hp->tangent;
-  sp.bitangent = cross(ns, hp->tangent);
-  sp.footprint = 2.0f * fmax(length(hp->g1), length(hp->g2));
-  PmcCacheContext cache;
-  PmcCacheContext* cache_ptr = 0;
-  if (frame->cache_on && hp->cache_points > 0u) {
-    cache.table = pmc_frame_cache_table(frame, cache_entries);
-    cache.g1 = hp->g1;
-    cache.g2 = hp->g2;
-    cache.bias = frame->mip_bias;
-    cache.material = (uint)hp->material;
-    cache.center = frame->cache_center;
-    cache.jitter = hp->cache_jitter;
-    cache.texel = hp->texel;
-    cache.hits = 0u;
-    for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache.counts[c] = 0u;
-    cache_ptr = &cache;
-  }
-  PmcBsdf bsdf = pmc_eval_material(&md, hp->material, &sp, cache_ptr);
-  if (cache_ptr) {
-    path->cache_hits += cache.hits;
-    for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out->cache_counts[c] = cache.counts[c];
-  }
-  if (dot(sp.normal, wo_world) > 0.0f) ns = sp.normal; /* normal maps, unless they face away */
+  return md;
+}
+
+/* After the material: emission, next-event estimation and the BSDF sample
+ * for the next bounce of one hit. `shading_normal` is the material's normal
+ * (normal maps) or the hit's. */
+static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                     const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
+                                     __global PmcPathState* paths, PmcShadeOut* out) {
+  __global PmcPathState* path = &paths[hp->path];
+  float3 throughput = pmc_load3(path->throughput);
+  float3 radiance = pmc_load3(path->radiance);
+  uint depth = path->depth;
+  float3 dir = hp->dir, pos = hp->pos, ng = hp->ng, ns = hp->ns;
+  float3 wo_world = -dir;
+  PmcBsdf bsdf = *bsdf_in;
+  if (dot(shading_normal, wo_world) > 0.0f) ns = shading_normal; /* normal maps, unless they face away */
 
   /* Emission reached by the path: MIS against light sampling. */
   if (pmc_max3(bsdf.emission) > 0.0f) {
@@ -389,30 +391,69 @@ static inline void pmc_touch_vertices(const PmcSceneData* scene, __global const 
   }
 }
 
-/* Shades one chunk of hits in passes over each work-group, split by barriers
- * (every work-item reaches them: no early return in this kernel):
- *   0-1. prefetch the group's scene data: first the triangle records and path
- *      states its hits name, then the vertex positions, normals and uvs those
+/* The materials of one batch of hits, then the rest of their shading. The
+ * host sorts hits by material, so a batch normally holds one material; any
+ * mix still works: each run of one material is evaluated together. */
+static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneData* scene, PmcHitPoint* hp,
+                                   int n, __global PmcPathState* paths,
+                                   __global volatile ulong* cache_entries, PmcShadeOut* out,
+                                   uint* cache_counts) {
+  PmcMaterialData md = pmc_material_data(scene);
+  int done[PMC_LANES];
+  for (int k = 0; k < n; ++k) done[k] = !hp[k].surface;
+  for (int first = 0; first < n; ++first) {
+    if (done[first]) continue;
+    const int material = hp[first].material;
+    int lane[PMC_LANES], m = 0;
+    for (int k = first; k < n; ++k)
+      if (!done[k] && hp[k].material == material) {
+        lane[m++] = k;
+        done[k] = 1;
+      }
+    PmcShadingInputs sp[PMC_LANES];
+    PmcCacheContext cache[PMC_LANES];
+    const int cached = frame->cache_on && hp[first].cache_points > 0u;
+    for (int j = 0; j < m; ++j)
+      pmc_material_inputs(frame, &hp[lane[j]], cache_entries, &sp[j], cached ? &cache[j] : 0);
+    PmcBsdf bsdf[PMC_LANES];
+    pmc_eval_material_lanes(&md, material, sp, m, cached ? cache : 0, bsdf);
+    for (int j = 0; j < m; ++j) {
+      const int k = lane[j];
+      if (cached) {
+        paths[hp[k].path].cache_hits += cache[j].hits;
+        for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache_counts[c] += cache[j].counts[c];
+      }
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, paths, &out[k]);
+    }
+  }
+}
+
+/* Shades one queue of hits. Each work-item takes one batch of up to
+ * PMC_LANES hits from the host's material-sorted order (order[first + b *
+ * PMC_LANES + lane], PMC_NO_RAY for padding), in passes over its lanes:
+ *   0-1. prefetch its scene data: first the triangle records and path states
+ *      its hits name, then the vertex positions, normals and uvs those
  *      triangles name. A hit's data sits at random addresses, one miss
- *      depending on the other (hit -> triangle -> vertices); loading it inside
- *      pass 2 makes each work-item wait for its misses in turn (PoCL runs a
- *      work-group as a loop over its work-items), while these short loops
- *      have the whole group's misses in flight at once. On a GPU they are a
- *      few cached reads;
+ *      depending on the other (hit -> triangle -> vertices); these short
+ *      loops have the batch's misses in flight at once instead of waiting
+ *      for each in turn;
  *   2. geometry and the cache texel of every hit (pmc_hit_point);
- *   3. the same for the cache cells the group's materials will look up;
- *   4. materials, lights and the next bounce (pmc_shade_surface);
- *   5. queue compaction: each work-item takes a slot in local memory, one
- *      work-item reserves the group's range with one global atomic, then
- *      everyone writes its rays (one global atomic per ray makes the cores
- *      fight over the counters' cache line). The cache's event counts are
- *      summed the same way. */
+ *   3. the same prefetch for the cache cells its material will look up;
+ *   4. the material for the whole batch (one interpreter pass over all its
+ *      lanes), then lights and the next bounce per hit (pmc_shade_batch);
+ *   5. queue compaction: each work-item takes a range in local memory for
+ *      its rays, one work-item reserves the group's range with one global
+ *      atomic, then everyone writes its rays. The cache's event counts are
+ *      summed the same way.
+ * PMC_LANES is 1 on GPUs (a work-item per hit, as SIMT wants) and larger on
+ * CPU devices, where one pass of the interpreter then serves many hits. */
 __kernel void pmc_shade(__constant PmcFrame* frame,
                         PMC_SCENE_BUFFERS(PMC_SCENE_PARAM) __global const PmcRay* rays,
                         __global const PmcHit* hits, __global PmcPathState* paths, __global PmcRay* next_rays,
                         __global PmcRay* shadow_rays, __global PmcShadowLoad* shadow_loads,
                         __global PmcCounters* counters, __global volatile ulong* cache_entries,
-                        __global volatile ulong* cache_stats, uint first, uint ray_count) {
+                        __global volatile ulong* cache_stats, __global const uint* order, uint order_first,
+                        uint batch_count) {
   PmcSceneData s;
   PMC_SCENE_BUFFERS(PMC_SCENE_INIT)
   s.texture_count = frame->texture_count;
@@ -425,39 +466,48 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   uint lid = (uint)get_local_id(0);
   if (lid == 0u)
     for (int c = 0; c < 2 + PMC_CSTAT_COUNT; ++c) group_count[c] = 0u;
-
-  /* Chunks start at `first` (an argument, not a global offset: PoCL would
-   * compile a second work-group function for non-zero offsets). */
-  uint i = first + (uint)get_global_id(0);
-  if (i < ray_count) pmc_touch_triangle(scene, hits, rays, paths, i);
-  barrier(CLK_LOCAL_MEM_FENCE);
-  if (i < ray_count) pmc_touch_vertices(scene, hits, i);
   barrier(CLK_LOCAL_MEM_FENCE);
 
-  PmcHitPoint hp;
-  hp.surface = 0;
-  if (i < ray_count) pmc_hit_point(frame, scene, rays, hits, paths, i, &hp);
-  barrier(CLK_LOCAL_MEM_FENCE);
-
-  if (hp.surface && hp.texel.ready) {
+  /* Batches start at `order_first` (an argument, not a global offset: PoCL
+   * would compile a second work-group function for non-zero offsets). */
+  uint b = (uint)get_global_id(0);
+  uint idx[PMC_LANES];
+  int n = 0;
+  if (b < batch_count)
+    for (int k = 0; k < PMC_LANES; ++k) {
+      uint i = order[order_first + b * PMC_LANES + (uint)k];
+      if (i != PMC_NO_RAY) idx[n++] = i;
+    }
+  for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
+  for (int k = 0; k < n; ++k) pmc_touch_vertices(scene, hits, idx[k]);
+  PmcHitPoint hp[PMC_LANES];
+  for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k]);
+  if (frame->cache_on) {
     const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
-    uint n = min(hp.cache_points, 8u);
-    for (uint k = 0u; k < n; ++k) /* cell of the k-th point (pmc_cache_key_at); volatile: the load happens */
-      (void)cache_entries[pmc_cache_cell(&table, hp.texel.base + (ulong)k) * (ulong)table.ways];
+    for (int k = 0; k < n; ++k)
+      if (hp[k].surface && hp[k].texel.ready) {
+        uint points = min(hp[k].cache_points, 8u);
+        for (uint p = 0u; p < points; ++p) /* cell of the p-th point (pmc_cache_key_at); volatile: loaded */
+          (void)cache_entries[pmc_cache_cell(&table, hp[k].texel.base + (ulong)p) * (ulong)table.ways];
+      }
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
 
-  PmcShadeOut out;
-  out.next = 0;
-  out.shadow = 0;
-  for (int c = 0; c < PMC_CSTAT_COUNT; ++c) out.cache_counts[c] = 0u;
-  if (hp.surface) pmc_shade_surface(frame, scene, &hp, paths, cache_entries, &out);
+  PmcShadeOut out[PMC_LANES];
+  for (int k = 0; k < n; ++k) out[k].next = out[k].shadow = 0;
+  uint counts[PMC_CSTAT_COUNT];
+  for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
+  pmc_shade_batch(frame, scene, hp, n, paths, cache_entries, out, counts);
 
-  uint next_slot = out.next ? atomic_inc(&group_count[0]) : 0u;
-  uint shadow_slot = out.shadow ? atomic_inc(&group_count[1]) : 0u;
+  uint n_next = 0u, n_shadow = 0u;
+  for (int k = 0; k < n; ++k) {
+    n_next += out[k].next ? 1u : 0u;
+    n_shadow += out[k].shadow ? 1u : 0u;
+  }
+  uint next_slot = n_next ? atomic_add(&group_count[0], n_next) : 0u;
+  uint shadow_slot = n_shadow ? atomic_add(&group_count[1], n_shadow) : 0u;
   if (frame->cache_on)
     for (int c = 0; c < PMC_CSTAT_COUNT; ++c)
-      if (out.cache_counts[c]) atomic_add(&group_count[2 + c], out.cache_counts[c]);
+      if (counts[c]) atomic_add(&group_count[2 + c], counts[c]);
   barrier(CLK_LOCAL_MEM_FENCE);
   if (lid == 0u) {
     group_base[0] = group_count[0] ? atomic_add(&counters->next_rays, group_count[0]) : 0u;
@@ -468,16 +518,20 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   }
   barrier(CLK_LOCAL_MEM_FENCE);
 
-  if (out.next)
-    pmc_append_ray(next_rays, group_base[0] + next_slot, out.next_org, out.next_dir, INFINITY, hp.path);
-  if (out.shadow) {
-    uint slot = group_base[1] + shadow_slot;
-    pmc_append_ray(shadow_rays, slot, out.shadow_org, out.shadow_dir, out.shadow_tfar, hp.path);
-    __global PmcShadowLoad* sl = &shadow_loads[slot];
-    sl->rgb[0] = out.shadow_rgb.x;
-    sl->rgb[1] = out.shadow_rgb.y;
-    sl->rgb[2] = out.shadow_rgb.z;
-    sl->path = hp.path;
+  next_slot += group_base[0];
+  shadow_slot += group_base[1];
+  for (int k = 0; k < n; ++k) {
+    if (out[k].next)
+      pmc_append_ray(next_rays, next_slot++, out[k].next_org, out[k].next_dir, INFINITY, hp[k].path);
+    if (out[k].shadow) {
+      uint slot = shadow_slot++;
+      pmc_append_ray(shadow_rays, slot, out[k].shadow_org, out[k].shadow_dir, out[k].shadow_tfar, hp[k].path);
+      __global PmcShadowLoad* sl = &shadow_loads[slot];
+      sl->rgb[0] = out[k].shadow_rgb.x;
+      sl->rgb[1] = out[k].shadow_rgb.y;
+      sl->rgb[2] = out[k].shadow_rgb.z;
+      sl->path = hp[k].path;
+    }
   }
 }
 

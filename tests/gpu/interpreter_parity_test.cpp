@@ -11,7 +11,9 @@
 // with PMC_TEST_SEED=<seed> to reproduce), once with every operand in a stack
 // slot and once with a mix of inline constants and broadcast scalars. Each
 // program is <op> <OUTPUT> <END>, so END and OUTPUT are exercised by every
-// case; CACHE_LOOKUP / CACHE_STORE run (as misses: no cache context) around a
+// case, once with a work-item per item and once with 16 items per work-item
+// (the lane-batched interpreter the shade kernel runs on CPU devices);
+// CACHE_LOOKUP / CACHE_STORE run (as misses: no cache context) around a
 // block in a chained program whose result must be the block's on both sides. Lanes beyond an instruction's
 // width must stay untouched (a sentinel) on both sides. A table-completeness test fails when PMC_OPCODES
 // gains an opcode without a case here.
@@ -450,6 +452,44 @@ __kernel void interp_parity(__global const uint* code, __global const uint* entr
     out[8 * i + 4 + k] = params[k];
   }
 }
+
+/* The same items in batches of PMC_LANES (consecutive items share a program),
+ * as the shade kernel runs materials on CPU devices. */
+__kernel void interp_parity_lanes(__global const uint* code, __global const uint* entries,
+                                  __global const float* data, __global const PmcTexture* textures,
+                                  __global const uint* texels, __constant float* srgb_lut,
+                                  uint texture_count, __global float* out, uint n) {
+  uint first = get_global_id(0) * PMC_LANES;
+  if (first >= n) return;
+  int m = (int)min((uint)PMC_LANES, n - first);
+  float stack[PMC_STACK_SIZE * PMC_LANES];
+  float params[PMC_P_COUNT * PMC_LANES];
+  PmcShadingInputs in[PMC_LANES];
+  for (int l = 0; l < m; ++l) {
+    __global const float* d = data + (size_t)(first + l) * KDATA;
+    for (int k = 0; k < PMC_STACK_SIZE; ++k) stack[k * PMC_LANES + l] = k < KPRELOAD ? d[k] : 0.0f;
+    for (int k = 0; k < 4; ++k) stack[(KDST + k) * PMC_LANES + l] = KSENTINEL;
+    for (int k = 0; k < PMC_P_COUNT; ++k) params[l * PMC_P_COUNT + k] = KSENTINEL;
+    __global const float* s = d + KPRELOAD;
+    in[l].uv = make_float2(s[0], s[1]);
+    in[l].position = make_float3(s[2], s[3], s[4]);
+    in[l].normal = make_float3(s[5], s[6], s[7]);
+    in[l].tangent = make_float3(s[8], s[9], s[10]);
+    in[l].bitangent = make_float3(s[11], s[12], s[13]);
+    in[l].footprint = s[14];
+  }
+  PmcTextureSet ts;
+  ts.textures = textures;
+  ts.texels = texels;
+  ts.srgb_lut = srgb_lut;
+  ts.count = texture_count;
+  pmc_interp_lanes(code, entries[first], in, m, &ts, stack, params, 0);
+  for (int l = 0; l < m; ++l)
+    for (int k = 0; k < 4; ++k) {
+      out[8 * (first + l) + k] = stack[(KDST + k) * PMC_LANES + l];
+      out[8 * (first + l) + 4 + k] = params[l * PMC_P_COUNT + k];
+    }
+}
 )CL";
 
 // A tiny texture set: an 8x4 sRGB and a 5x3 linear RGBA8 texture with random
@@ -618,110 +658,121 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
     cases.push_back(std::move(c));
   }
 
-  // Device run.
+  // Device runs: one item per work-item, and batches of 16 items per
+  // work-item (the lane-batched interpreter of CPU devices).
   const ClContext& cl = test::cl();
-  std::ostringstream opts;
-  opts << "-DKDATA=" << kData << " -DKPRELOAD=" << kPreload << " -DKDST=" << kDst
-       << " -DKSENTINEL=" << kSentinel << "f";
-  ClProgram program = ClProgram::from_text(cl, "interpreter_parity_test.cl", kKernel, opts.str());
   const size_t n = entries.size();
-  ClBuffer code_buf = cl.buffer_of(code);
-  ClBuffer entry_buf = cl.buffer_of(entries);
-  ClBuffer data_buf = cl.buffer_of(data);
-  ClBuffer tex_buf = cl.buffer_of(tex.pool.textures());
-  ClBuffer texel_buf = cl.buffer_of(tex.words);
-  ClBuffer lut_buf = cl.buffer_of(tex.lut);
-  ClBuffer out_buf = cl.buffer(n * 8 * sizeof(float));
-  cl_kernel k = program.kernel("interp_parity");
-  set_kernel_args(k, code_buf, entry_buf, data_buf, tex_buf, texel_buf, lut_buf, cl_uint(tex.pool.size()),
-                  out_buf, cl_uint(n));
-  enqueue_1d(cl.queue(), k, n);
-  std::vector<float> dev(n * 8);
-  cl.read(out_buf, 0, dev.size() * sizeof(float), dev.data());
+  ASSERT_EQ(kItems % 16, 0) << "a batch must not straddle two programs";
+  auto run_device = [&](int lanes) {
+    std::ostringstream opts;
+    opts << "-DKDATA=" << kData << " -DKPRELOAD=" << kPreload << " -DKDST=" << kDst
+         << " -DKSENTINEL=" << kSentinel << "f -DPMC_LANES=" << lanes;
+    ClProgram program = ClProgram::from_text(cl, "interpreter_parity_test.cl", kKernel, opts.str());
+    ClBuffer code_buf = cl.buffer_of(code);
+    ClBuffer entry_buf = cl.buffer_of(entries);
+    ClBuffer data_buf = cl.buffer_of(data);
+    ClBuffer tex_buf = cl.buffer_of(tex.pool.textures());
+    ClBuffer texel_buf = cl.buffer_of(tex.words);
+    ClBuffer lut_buf = cl.buffer_of(tex.lut);
+    ClBuffer out_buf = cl.buffer(n * 8 * sizeof(float));
+    cl_kernel k = program.kernel(lanes == 1 ? "interp_parity" : "interp_parity_lanes");
+    set_kernel_args(k, code_buf, entry_buf, data_buf, tex_buf, texel_buf, lut_buf, cl_uint(tex.pool.size()),
+                    out_buf, cl_uint(n));
+    enqueue_1d(cl.queue(), k, (n + size_t(lanes) - 1) / size_t(lanes));
+    std::vector<float> out(n * 8);
+    cl.read(out_buf, 0, out.size() * sizeof(float), out.data());
+    return out;
+  };
 
-  // Compare.
+  // Compare each device run with the host.
   std::map<std::string, double> worst;  // op -> max |d - h| / tolerance unit, for the record
-  for (const Case& c : cases) {
-    int skipped = 0, failures = 0;
-    for (int item = 0; item < kItems; ++item) {
-      const size_t i = c.first_item + size_t(item);
-      const float* d = &data[i * kData];
-      float host[8];
-      host_run(code, c.entry, d, host_ts, host);
-      const float* gpu = &dev[i * 8];
-      // Operand values as the program sees them (slots or inline constants).
-      auto arg = [&](size_t k2, int l) {
-        return c.arg_const[k2] ? c.const_vals[k2][size_t(l)] : d[4 * k2 + size_t(l)];
-      };
-      double m = 0;
-      for (size_t k2 = 0; k2 < c.arg_width.size(); ++k2)
-        for (int l = 0; l < c.arg_width[k2]; ++l) m = std::max(m, double(std::fabs(arg(k2, l))));
-      if (c.spec && c.spec->args.empty()) m = 100;  // geometric inputs
+  for (int lanes : {1, 16}) {
+    SCOPED_TRACE(lanes == 1 ? "device: one item per work-item" : "device: 16 items per work-item");
+    const std::vector<float> dev = run_device(lanes);
+    for (const Case& c : cases) {
+      int skipped = 0, failures = 0;
+      for (int item = 0; item < kItems; ++item) {
+        const size_t i = c.first_item + size_t(item);
+        const float* d = &data[i * kData];
+        float host[8];
+        host_run(code, c.entry, d, host_ts, host);
+        const float* gpu = &dev[i * 8];
+        // Operand values as the program sees them (slots or inline constants).
+        auto arg = [&](size_t k2, int l) {
+          return c.arg_const[k2] ? c.const_vals[k2][size_t(l)] : d[4 * k2 + size_t(l)];
+        };
+        double m = 0;
+        for (size_t k2 = 0; k2 < c.arg_width.size(); ++k2)
+          for (int l = 0; l < c.arg_width[k2]; ++l) m = std::max(m, double(std::fabs(arg(k2, l))));
+        if (c.spec && c.spec->args.empty()) m = 100;  // geometric inputs
 
-      // Lanes beyond the width stay untouched; OUTPUT copies the result exactly.
-      for (int l = c.out_width; l < 4; ++l) {
-        EXPECT_EQ(host[l], kSentinel) << c.label << ": host wrote lane " << l;
-        EXPECT_EQ(gpu[l], kSentinel) << c.label << ": device wrote lane " << l;
-        EXPECT_EQ(host[4 + l], kSentinel) << c.label << ": host OUTPUT wrote param " << l;
-        EXPECT_EQ(gpu[4 + l], kSentinel) << c.label << ": device OUTPUT wrote param " << l;
+        // Lanes beyond the width stay untouched; OUTPUT copies the result exactly.
+        for (int l = c.out_width; l < 4; ++l) {
+          EXPECT_EQ(host[l], kSentinel) << c.label << ": host wrote lane " << l;
+          EXPECT_EQ(gpu[l], kSentinel) << c.label << ": device wrote lane " << l;
+          EXPECT_EQ(host[4 + l], kSentinel) << c.label << ": host OUTPUT wrote param " << l;
+          EXPECT_EQ(gpu[4 + l], kSentinel) << c.label << ": device OUTPUT wrote param " << l;
+        }
+        if (!c.spec)  // the chained program: a miss runs the block, (a + b) * a
+          for (int l = 0; l < 4; ++l)
+            EXPECT_EQ(host[l], (d[l] + d[4 + l]) * d[l]) << c.label << " lane " << l;
+        bool ok = true;
+        std::ostringstream why;
+        why << std::setprecision(9);
+        for (int l = 0; l < c.out_width; ++l) {
+          if (c.spec) {  // OUTPUT is exact on each side
+            EXPECT_EQ(std::memcmp(&host[l], &host[4 + l], 4), 0) << c.label << ": host OUTPUT lane " << l;
+            EXPECT_EQ(std::memcmp(&gpu[l], &gpu[4 + l], 4), 0) << c.label << ": device OUTPUT lane " << l;
+          }
+          const double tol = tolerance(c.tol, host[l], m);
+          const double err = std::fabs(double(gpu[l]) - double(host[l]));
+          const bool finite = std::isfinite(host[l]) && std::isfinite(gpu[l]);
+          if (!finite && !(c.spec == nullptr && std::memcmp(&host[l], &gpu[l], 4) == 0)) ok = false;
+          if (finite && err > tol) ok = false;
+          if (finite && c.spec) {
+            const double unit = tol > 0 ? tol : kEps;
+            double& w = worst[op_name(c.spec->op)];
+            w = std::max(w, err / unit);
+          }
+          why << (l ? ", " : "") << "lane " << l << ": device " << gpu[l] << " host " << host[l]
+              << " (|diff| " << err << ", tolerance " << tol << ")";
+        }
+        if (ok) continue;
+        if (c.discontinuous) {
+          // Is the item within ~1e-4 of a jump? Nudge the continuous inputs and
+          // see whether the host result itself changes by more than the tolerance.
+          bool near = false;
+          for (int trial = 0; trial < 8 && !near; ++trial) {
+            std::vector<float> p(d, d + kData);
+            for (size_t q = 0; q < p.size(); ++q)
+              if (c.perturb[q]) p[q] += uniform(rng, -1e-4f, 1e-4f) * std::max(1.0f, std::fabs(p[q]));
+            float h2[8];
+            host_run(code, c.entry, p.data(), host_ts, h2);
+            for (int l = 0; l < c.out_width; ++l)
+              near = near || !(std::fabs(double(h2[l]) - double(host[l])) <= tolerance(c.tol, host[l], m));
+          }
+          if (near) {
+            ++skipped;
+            continue;
+          }
+        }
+        if (++failures <= 3) {
+          std::ostringstream inputs;
+          inputs << std::setprecision(9);
+          for (size_t k2 = 0; k2 < c.arg_width.size(); ++k2) {
+            inputs << " arg" << k2 << (c.arg_const[k2] ? "(const)" : "") << "=(";
+            for (int l = 0; l < c.arg_width[k2]; ++l) inputs << (l ? " " : "") << arg(k2, l);
+            inputs << ")";
+          }
+          ADD_FAILURE() << c.label << ", item " << item << ":" << inputs.str() << " uv=(" << d[kPreload]
+                        << " " << d[kPreload + 1] << ") footprint " << d[kPreload + 14] << "\n  "
+                        << why.str();
+        }
       }
-      if (!c.spec)  // the chained program: a miss runs the block, (a + b) * a
-        for (int l = 0; l < 4; ++l) EXPECT_EQ(host[l], (d[l] + d[4 + l]) * d[l]) << c.label << " lane " << l;
-      bool ok = true;
-      std::ostringstream why;
-      why << std::setprecision(9);
-      for (int l = 0; l < c.out_width; ++l) {
-        if (c.spec) {  // OUTPUT is exact on each side
-          EXPECT_EQ(std::memcmp(&host[l], &host[4 + l], 4), 0) << c.label << ": host OUTPUT lane " << l;
-          EXPECT_EQ(std::memcmp(&gpu[l], &gpu[4 + l], 4), 0) << c.label << ": device OUTPUT lane " << l;
-        }
-        const double tol = tolerance(c.tol, host[l], m);
-        const double err = std::fabs(double(gpu[l]) - double(host[l]));
-        const bool finite = std::isfinite(host[l]) && std::isfinite(gpu[l]);
-        if (!finite && !(c.spec == nullptr && std::memcmp(&host[l], &gpu[l], 4) == 0)) ok = false;
-        if (finite && err > tol) ok = false;
-        if (finite && c.spec) {
-          const double unit = tol > 0 ? tol : kEps;
-          double& w = worst[op_name(c.spec->op)];
-          w = std::max(w, err / unit);
-        }
-        why << (l ? ", " : "") << "lane " << l << ": device " << gpu[l] << " host " << host[l] << " (|diff| "
-            << err << ", tolerance " << tol << ")";
-      }
-      if (ok) continue;
-      if (c.discontinuous) {
-        // Is the item within ~1e-4 of a jump? Nudge the continuous inputs and
-        // see whether the host result itself changes by more than the tolerance.
-        bool near = false;
-        for (int trial = 0; trial < 8 && !near; ++trial) {
-          std::vector<float> p(d, d + kData);
-          for (size_t q = 0; q < p.size(); ++q)
-            if (c.perturb[q]) p[q] += uniform(rng, -1e-4f, 1e-4f) * std::max(1.0f, std::fabs(p[q]));
-          float h2[8];
-          host_run(code, c.entry, p.data(), host_ts, h2);
-          for (int l = 0; l < c.out_width; ++l)
-            near = near || !(std::fabs(double(h2[l]) - double(host[l])) <= tolerance(c.tol, host[l], m));
-        }
-        if (near) {
-          ++skipped;
-          continue;
-        }
-      }
-      if (++failures <= 3) {
-        std::ostringstream inputs;
-        inputs << std::setprecision(9);
-        for (size_t k2 = 0; k2 < c.arg_width.size(); ++k2) {
-          inputs << " arg" << k2 << (c.arg_const[k2] ? "(const)" : "") << "=(";
-          for (int l = 0; l < c.arg_width[k2]; ++l) inputs << (l ? " " : "") << arg(k2, l);
-          inputs << ")";
-        }
-        ADD_FAILURE() << c.label << ", item " << item << ":" << inputs.str() << " uv=(" << d[kPreload] << " "
-                      << d[kPreload + 1] << ") footprint " << d[kPreload + 14] << "\n  " << why.str();
-      }
+      EXPECT_EQ(failures, 0) << c.label;
+      // The skip must stay rare, or the comparison says nothing.
+      EXPECT_LE(skipped, kItems / 20) << c.label << ": too many inputs near a discontinuity";
     }
-    EXPECT_EQ(failures, 0) << c.label;
-    // The skip must stay rare, or the comparison says nothing.
-    EXPECT_LE(skipped, kItems / 20) << c.label << ": too many inputs near a discontinuity";
   }
   std::ostringstream summary;
   for (const auto& [name, w] : worst) summary << name << "=" << w << " ";
