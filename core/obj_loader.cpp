@@ -10,9 +10,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -138,10 +138,22 @@ std::vector<std::vector<std::string>> directive_words(const std::string& text, c
   return out;
 }
 
+// True for a name that opens a regular file. A name with a NUL byte would
+// open only its prefix (often the OBJ's folder), and reading a directory
+// throws from inside libstdc++.
+bool is_readable_file(const std::string& path) {
+  std::error_code ec;
+  return path.find('\0') == std::string::npos && std::filesystem::is_regular_file(path, ec);
+}
+
+// The whole file, or "" when `path` is not a readable regular file.
 std::string read_text(const std::string& path) {
+  if (!is_readable_file(path)) return "";
   std::ifstream in(path, std::ios::binary);
   if (!in) return "";
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
 
 // tinyobj drops a `usemtl` name that no MTL defines (its faces get no
@@ -156,9 +168,8 @@ std::vector<std::string> reparse_keeping_usemtl_names(const std::string& path, t
   std::string mtl;
   for (const auto& files : directive_words(obj, "mtllib"))
     for (const std::string& f : files) {  // tinyobj takes the first file of a line that loads
-      std::string text = read_text(dirname_of(path) + f);
-      if (text.empty() && !std::filesystem::exists(dirname_of(path) + f)) continue;
-      mtl += text + "\n";
+      if (!is_readable_file(dirname_of(path) + f)) continue;
+      mtl += read_text(dirname_of(path) + f) + "\n";
       break;
     }
   std::set<std::string> defined;
