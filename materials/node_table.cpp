@@ -187,6 +187,20 @@ std::map<std::string, NodeDef> build() {
                   Blend{"dodge", PMC_BLEND_DODGE}, Blend{"screen", PMC_BLEND_SCREEN}})
     def(b.name, {"float", "color3", "color4"}, {in_t("fg", 0), in_t("bg", 0), in_f("mix", 1)}, PMC_OP_BLEND,
         b.mode);
+  // Merge nodes on color4 (pmc_compositing.h); the masking nodes on any width.
+  struct Comp {
+    const char* name;
+    unsigned mode;
+  };
+  for (Comp c :
+       {Comp{"disjointover", PMC_COMP_DISJOINTOVER}, Comp{"in", PMC_COMP_IN}, Comp{"mask", PMC_COMP_MASK},
+        Comp{"matte", PMC_COMP_MATTE}, Comp{"out", PMC_COMP_OUT}, Comp{"over", PMC_COMP_OVER}})
+    def(c.name, {"color4"}, {in_t("fg", 0), in_t("bg", 0), in_f("mix", 1)}, PMC_OP_COMPOSITE, c.mode);
+  const InputDef opaque_black = {"in", "T", num(0, 0, 0, 1), GeomDefault::None};
+  def("premult", {"color4"}, {opaque_black}, PMC_OP_PREMULT, 0);
+  def("unpremult", {"color4"}, {opaque_black}, PMC_OP_PREMULT, 1);
+  def("inside", {"float", "color3", "color4"}, {in_t("in", 0), in_f("mask", 1)}, PMC_OP_MUL);
+  def("outside", {"float", "color3", "color4"}, {in_t("in", 0), in_f("mask", 0)}, PMC_OP_OUTSIDE);
   def("rotate2d", {"vector2"}, {in_t("in", 0), in_f("amount", 0)}, PMC_OP_ROTATE2D);
   def("rotate3d", {"vector3"},
       {in_t("in", 0), in_f("amount", 0), {"axis", "vector3", num(0, 1, 0), GeomDefault::None}},

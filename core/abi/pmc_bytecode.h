@@ -94,6 +94,9 @@
   X(BLEND, 3, 3)          /* fg, bg, mix; imm = PMC_BLEND_* */                                 \
   X(ROTATE2D, 2, 2)       /* in, amount (degrees) */                                           \
   X(ROTATE3D, 3, 3)       /* in, amount (degrees), axis */                                     \
+  X(COMPOSITE, 3, 3)      /* fg, bg, mix; imm = PMC_COMP_* (color4 merge nodes) */             \
+  X(PREMULT, 1, 1)        /* imm 0: RGB * alpha, 1: RGB / alpha (alpha 0: unchanged) */        \
+  X(OUTSIDE, 2, 2)        /* in, mask: in * (1 - mask) */                                      \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
   X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on
@@ -141,6 +144,15 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_BLEND_BURN 3u       /* 1 - (1 - bg) / fg; 0 where |fg| < 1e-6 */
 #define PMC_BLEND_DODGE 4u      /* bg / (1 - fg); 0 where |1 - fg| < 1e-6 */
 #define PMC_BLEND_SCREEN 5u     /* 1 - (1 - fg) (1 - bg) */
+
+/* Merge nodes (imm of COMPOSITE), MaterialX's color4 compositing nodes
+ * (core/device/pmc_compositing.h has the formulas). */
+#define PMC_COMP_DISJOINTOVER 0u
+#define PMC_COMP_IN 1u
+#define PMC_COMP_MASK 2u
+#define PMC_COMP_MATTE 3u
+#define PMC_COMP_OUT 4u
+#define PMC_COMP_OVER 5u
 
 /* Surface parameters a material program writes with OUTPUT (float offsets
  * into the parameter block). Unwritten parameters keep the defaults set by

@@ -33,6 +33,7 @@
 #include "../abi/pmc_bytecode.h"
 #include "pmc_bsdf.h"
 #include "pmc_cache.h"
+#include "pmc_compositing.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_texture.h"
@@ -718,9 +719,10 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         PMC_FETCH4(A, 0);
         PMC_FETCH4(B, 1);
         for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k,
-                         make_float4(A[1][k] * B[2][k] - A[2][k] * B[1][k], A[2][k] * B[0][k] - A[0][k] * B[2][k],
-                                     A[0][k] * B[1][k] - A[1][k] * B[0][k], 0.0f));
+          pmc_set_lanes4(
+              R, k,
+              make_float4(A[1][k] * B[2][k] - A[2][k] * B[1][k], A[2][k] * B[0][k] - A[0][k] * B[2][k],
+                          A[0][k] * B[1][k] - A[1][k] * B[0][k], 0.0f));
         break;
       case PMC_OP_NOT:
         PMC_CW(PMC_A, A[c][k] == 0.0f ? 1.0f : 0.0f)
@@ -739,7 +741,8 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         for (int k = 0; k < PMC_BATCH(nn); ++k) {
           float a = B[0][k] * (PMC_PI / 180.0f);
           float sa = sin(a), ca = cos(a);
-          pmc_set_lanes4(R, k, make_float4(ca * A[0][k] + sa * A[1][k], -sa * A[0][k] + ca * A[1][k], 0.0f, 0.0f));
+          pmc_set_lanes4(R, k,
+                         make_float4(ca * A[0][k] + sa * A[1][k], -sa * A[0][k] + ca * A[1][k], 0.0f, 0.0f));
         }
         break;
       case PMC_OP_ROTATE3D: /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
@@ -756,6 +759,21 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
           float3 res = v * cs + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - cs));
           pmc_set_lanes4(R, k, make_float4(res.x, res.y, res.z, 0.0f));
         }
+        break;
+      case PMC_OP_COMPOSITE: /* fg, bg, mix; imm = PMC_COMP_* */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k, pmc_composite(pmc_lanes4(A, k), pmc_lanes4(B, k), T[0][k], imm));
+        break;
+      case PMC_OP_PREMULT: /* imm 0: premult, 1: unpremult */
+        PMC_FETCH4(A, 0);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_premult(pmc_lanes4(A, k), imm));
+        break;
+      case PMC_OP_OUTSIDE: /* in, mask (one float) */
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        PMC_CW(PMC_A, A[c][k] * (1.0f - B[0][k]))
         break;
       default:
         return; /* unknown opcode: the compiler never emits one; stop safely */

@@ -243,6 +243,24 @@ std::vector<OpSpec> op_specs() {
   add({PMC_OP_BLEND, all, {T, T, {0, 0, 1}}, Tol::Scaled, false, [](int, int index, Rng&) {
          return uint32_t(index % 6);
        }});
+  // disjointover's two branches: f + b above and below 1 both occur.
+  add({PMC_OP_COMPOSITE,
+       {4},
+       {{4, 0, 1}, {4, 0, 1}, {1, 0, 1}},
+       Tol::Scaled,
+       false,
+       [](int, int index, Rng&) { return uint32_t(index % 6); }});
+  add({PMC_OP_PREMULT,
+       {4},
+       {{4, -2, 2}},
+       Tol::Scaled,
+       false,
+       [](int, int index, Rng&) { return uint32_t(index % 2); },
+       [](Rng& rng, std::array<float, 4>* v) {
+         v[0][3] =
+             uniform(rng, 0.0f, 1.0f) < 0.1f ? 0.0f : uniform(rng, 0.1f, 1.0f);  // alpha 0 passes through
+       }});
+  add({PMC_OP_OUTSIDE, all, {T, {1, 0, 1}}, Tol::Scaled});
   add({PMC_OP_ROTATE2D, {2}, {{2, -10, 10}, {1, -360, 360}}, Tol::Scaled});
   add({PMC_OP_ROTATE3D,
        {3},

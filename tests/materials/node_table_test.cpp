@@ -248,6 +248,38 @@ std::map<std::string, Expected> expectations() {
   e["burn"] = blend([](float fg, float bg) { return 1 - (1 - bg) / fg; });
   e["dodge"] = blend([](float fg, float bg) { return bg / (1 - fg); });
   e["screen"] = blend([](float fg, float bg) { return 1 - (1 - fg) * (1 - bg); });
+  // MaterialX Standard Nodes, merge nodes: F, B colours, f, b alphas;
+  // mix * result + (1 - mix) * bg.
+  auto merge = [](float4 (*f)(float4 fg, float4 bg)) {
+    return [f](const Named& in, const Shading&, int) {
+      float4 bg = in.at("bg");
+      float m = in.at("mix").x;
+      return f(in.at("fg"), bg) * m + bg * (1 - m);
+    };
+  };
+  e["disjointover"] = merge([](float4 F, float4 B) {
+    float4 r = F.w + B.w <= 1 ? F + B : F + B * ((1 - F.w) / B.w);
+    r.w = std::fmin(F.w + B.w, 1.0f);
+    return r;
+  });
+  e["in"] = merge([](float4 F, float4 B) { return f4(F.x * B.w, F.y * B.w, F.z * B.w, F.w * B.w); });
+  e["mask"] = merge([](float4 F, float4 B) { return f4(B.x * F.w, B.y * F.w, B.z * F.w, B.w * F.w); });
+  e["matte"] = merge([](float4 F, float4 B) {
+    return f4(F.x * F.w + B.x * (1 - F.w), F.y * F.w + B.y * (1 - F.w), F.z * F.w + B.z * (1 - F.w),
+              F.w + B.w * (1 - F.w));
+  });
+  e["out"] = merge([](float4 F, float4 B) { return F * (1 - B.w); });
+  e["over"] = merge([](float4 F, float4 B) { return F + B * (1 - F.w); });
+  e["premult"] = [](const Named& in, const Shading&, int) {
+    float4 a = in.at("in");
+    return f4(a.x * a.w, a.y * a.w, a.z * a.w, a.w);
+  };
+  e["unpremult"] = [](const Named& in, const Shading&, int) {
+    float4 a = in.at("in");
+    return f4(a.x / a.w, a.y / a.w, a.z / a.w, a.w);
+  };
+  e["inside"] = [](const Named& in, const Shading&, int) { return in.at("in") * in.at("mask").x; };
+  e["outside"] = [](const Named& in, const Shading&, int) { return in.at("in") * (1 - in.at("mask").x); };
   e["rotate2d"] = [](const Named& in, const Shading&, int) {
     float4 v = in.at("in");
     double a = double(in.at("amount").x) * M_PI / 180.0;

@@ -9,9 +9,9 @@ import unittest
 from contextlib import redirect_stdout
 from unittest import mock
 
-from bench import cache, common
+from bench import cache, common, mtlx_conformance
 
-MODULES = ["cache", "cacheless", "materials", "sweep", "trace"]
+MODULES = ["cache", "cacheless", "materials", "mtlx_conformance", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -121,3 +121,24 @@ class CacheReport(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class MtlxConformance(unittest.TestCase):
+    def test_reasons_name_the_node_shader_or_type(self):
+        r = mtlx_conformance.reason_of
+        self.assertEqual(r("a.mtlx: premult 'p': unsupported node 'premult' (ND_premult_color4): pmc has no"),
+                         "node premult")
+        self.assertEqual(r("a.mtlx: node 's': 'toon' is not a supported surface shader (pmc supports ...)"),
+                         "shader toon")
+        self.assertEqual(r("a.mtlx: c 'x': node 'oren_nayar_diffuse_bsdf' (ND_x) outputs a BSDF closure: generic"),
+                         "closure graph (BSDF node oren_nayar_diffuse_bsdf)")
+        self.assertEqual(r("a.mtlx: input 'm': values of type matrix33 are not supported"), "type matrix33")
+
+    def test_spheres_bind_each_material(self):
+        with tempfile.TemporaryDirectory() as d:
+            path = os.path.join(d, "s.obj")
+            mtlx_conformance.sphere_obj(path, ["A", "B"], rings=2, segments=3)
+            text = common.read_text(path)
+            self.assertEqual([l for l in text.splitlines() if l.startswith("usemtl")], ["usemtl A", "usemtl B"])
+            self.assertEqual(sum(l.startswith("f ") for l in text.splitlines()), 2 * 2 * 2 * 3)
+            self.assertEqual(sum(l.startswith("v ") for l in text.splitlines()), 2 * 3 * 4)
