@@ -45,7 +45,7 @@
 #include <string>
 
 #include "core/image_io.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {
@@ -74,8 +74,8 @@ struct Render {
 // Per process: ctest -j runs each test in its own process, at the same time.
 const std::string& shared_dir() {
   static std::string dir = [] {
-    std::filesystem::path p = std::filesystem::temp_directory_path() / "pmc_tests" /
-                              ("CacheRender_shared_" + std::to_string(getpid()));
+    std::filesystem::path p =
+        std::filesystem::path(test::temp_root()) / ("CacheRender_shared_" + std::to_string(getpid()));
     std::filesystem::remove_all(p);
     std::filesystem::create_directories(p);
     return p.string();

@@ -2,8 +2,8 @@
 // calls, end to end through the real script and this build's pmc binary.
 //
 // The gate must pass on a healthy render (the brick teapot at default cache
-// settings: 47.0 dB PSNR and relMSE 0.0008 vs cacheless at 160x120, 8 spp,
-// when this was last measured) and must be able to fail: with an impossible
+// settings: about 47 dB PSNR and relMSE 0.0008 vs cacheless at 160x120,
+// 8 spp) and must be able to fail: with an impossible
 // threshold (--min-psnr 200), and with a realistic threshold (42 dB, relMSE
 // 0.0018) when the cache is deliberately broken by a far too coarse virtual
 // mip level (--mip-bias -10 stores one value per cache point for the whole
@@ -18,7 +18,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -22,7 +22,7 @@
 #include <string>
 
 #include "core/image_metrics.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -9,7 +9,7 @@
 #include <cstring>
 
 #include "core/image_io.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -10,7 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

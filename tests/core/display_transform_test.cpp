@@ -8,7 +8,7 @@
 
 #include "core/error.h"
 #include "core/image_io.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

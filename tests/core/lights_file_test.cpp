@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "core/image_io.h"
 #include "core/lights.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

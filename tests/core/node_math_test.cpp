@@ -34,7 +34,7 @@
 #include "core/device/pmc_noise.h"
 #include "core/device/pmc_patterns.h"
 #include "gpu/program.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace {
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

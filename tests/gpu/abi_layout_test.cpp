@@ -12,7 +12,7 @@
 #include "core/abi/pmc_layout.h"
 #include "core/abi/pmc_types.h"
 #include "gpu/program.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -36,7 +36,7 @@
 
 #include "core/device/pmc_cache.h"
 #include "gpu/program.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -12,7 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "gpu/render_session.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

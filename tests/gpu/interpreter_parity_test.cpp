@@ -37,7 +37,7 @@
 #include "core/device/pmc_interp.h"
 #include "core/texture.h"
 #include "gpu/program.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

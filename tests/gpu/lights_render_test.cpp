@@ -19,7 +19,7 @@
 
 #include "core/camera.h"
 #include "gpu/render_session.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

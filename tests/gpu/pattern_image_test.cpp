@@ -27,7 +27,7 @@
 #include <string>
 
 #include "gpu/render_session.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

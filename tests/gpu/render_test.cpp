@@ -13,7 +13,7 @@
 #include <sstream>
 
 #include "gpu/render_session.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

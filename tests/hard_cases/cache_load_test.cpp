@@ -18,8 +18,8 @@
 // Image quality vs the cacheless render (PSNR, linear values clamped to
 // [0, 1], peak 1 — core/image_metrics.h) must stay >= 40 dB for both tables:
 // an average error below 1% of the display range, invisible, and far below
-// what we measure (~60-67 dB depending on the kernel version, recorded as
-// properties), while a wrong level, a wrong encoding or a value stored under
+// what a working cache reaches (the measured values are recorded as the
+// test's properties), while a wrong level, a wrong encoding or a value stored under
 // the wrong key (blocks of wrong colour) falls far below it. And with
 // --cache-eval center (pmc's default) a miss is evaluated at the texel centre
 // and quantised like a stored value, so a hit and a miss give the same value:

@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "tests/fuzz/harness.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -33,84 +33,20 @@
 #include "materials/node_graph.h"
 #include "materials/node_table.h"
 #include "materials/passes.h"
+#include "tests/support/graph_builder.h"
 
 namespace pmc {
 namespace {
 
 using VT = ValueType;
 
-Input value(VT t, float a, float b = 0, float c = 0, float d = 0) {
-  Input in;
-  in.type = t;
-  in.value = Value::number(t, a, b, c, d);
-  return in;
-}
-Input link(int node, VT t = VT::None) {
-  Input in;
-  in.linked = true;
-  in.node = node;
-  in.type = t;
-  return in;
-}
+using test::add;
+using test::add_surface;
+using test::link;
+using test::text;
+using test::value;
 
-// A node with every input of its definition (library defaults unless given),
-// as the MaterialX reader builds it.
-int add(Graph& g, const std::string& name, const std::string& category, VT type,
-        std::vector<std::pair<std::string, Input>> given = {}) {
-  const NodeDef* def = find_node_def(category);
-  EXPECT_NE(def, nullptr) << category;
-  Node n;
-  n.name = name;
-  n.category = category;
-  n.type = type;
-  n.origin = g.file + ": " + category + " '" + name + "'";
-  for (const InputDef& d : def->inputs) {
-    Input in;
-    bool found = false;
-    for (auto& [k, v] : given)
-      if (k == d.name) in = v, found = true;
-    VT declared = resolve_input_type(d, type);
-    if (!found) {
-      in.value = d.value;
-      in.type = declared == VT::None ? VT::Float : declared;
-      in.value.type = in.type;
-      if (d.type == "T")
-        for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
-    } else if (in.type == VT::None) {
-      in.type = declared;
-    }
-    in.name = d.name;
-    n.inputs.push_back(in);
-  }
-  return g.add(n);
-}
-
-int add_surface(Graph& g, std::vector<std::pair<std::string, Input>> given = {}) {
-  Node s;
-  s.name = "surface";
-  s.category = "standard_surface";
-  s.type = VT::Surface;
-  s.origin = g.file + ": standard_surface 'surface'";
-  for (const SurfaceParam& p : surface_params("standard_surface")) {
-    Input in = value(p.type, p.def[0], p.def[1], p.def[2]);
-    for (auto& [k, v] : given)
-      if (k == p.input) {
-        in = v;
-        if (in.type == VT::None) in.type = p.type;
-      }
-    in.name = p.input;
-    s.inputs.push_back(in);
-  }
-  g.surface = g.add(s);
-  return g.surface;
-}
-
-Graph new_graph(const std::string& material) {
-  Graph g;
-  g.material = material;
-  g.file = "cache_plan_test.mtlx";
-  return g;
-}
+Graph new_graph(const std::string& material) { return test::new_graph(material, "cache_plan_test.mtlx"); }
 
 // texcoord -> multiply(scale) -> noise2d (color3) -> mix with a constant colour.
 // Returns the mix (4 nodes, all uv-only).

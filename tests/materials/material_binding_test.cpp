@@ -16,7 +16,7 @@
 #include "materials/cpu_interpreter.h"
 #include "materials/material_set.h"
 #include "materials/mtlx_reader.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

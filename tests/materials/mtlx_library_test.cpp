@@ -26,7 +26,7 @@
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
 #include "materials/node_table.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

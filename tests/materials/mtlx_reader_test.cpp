@@ -31,7 +31,7 @@
 #include "materials/compiler.h"
 #include "materials/cpu_interpreter.h"
 #include "materials/material_set.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

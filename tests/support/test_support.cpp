@@ -1,5 +1,5 @@
 // test_support.cpp — see test_support.h.
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -16,16 +16,35 @@ namespace pmc::test {
 
 std::string source_path(const std::string& rel) { return std::string(PMC_SOURCE_DIR) + "/" + rel; }
 
-std::string shared_scene(const std::string& rel) {
-  return std::string(PMC_SOURCE_DIR) + "/../shared/scenes/" + rel;
+std::string scenes_dir() {
+  const char* env = std::getenv("PMC_SCENES");
+  if (env && *env) return env;
+  return (std::filesystem::path(PMC_SOURCE_DIR).parent_path() / "shared" / "scenes").string();
 }
+
+std::string shared_scene(const std::string& rel) {
+  const std::string dir = scenes_dir(), path = dir + "/" + rel;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    ADD_FAILURE()
+        << "the third-party test scenes are not at '" << dir
+        << "': they are not part of the repository (Crytek Sponza, the MaterialX examples, "
+           "Embree's Cornell box, assimp's spider; sources and licences in their README.md). "
+           "Put them in ../shared/scenes next to the repository, or set PMC_SCENES to their folder.";
+  else if (!std::filesystem::exists(path, ec))
+    ADD_FAILURE() << "'" << rel << "' is missing from the test scenes at '" << dir
+                  << "' (PMC_SCENES): an incomplete copy? See their README.md.";
+  return path;
+}
+
+std::string temp_root() { return std::string(PMC_BINARY_DIR) + "/test_tmp"; }
 
 std::string temp_dir() {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
   std::string name = info ? std::string(info->test_suite_name()) + "_" + info->name() : "anon";
   for (char& c : name)
     if (c == '/') c = '_';
-  std::filesystem::path dir = std::filesystem::temp_directory_path() / "pmc_tests" / name;
+  std::filesystem::path dir = std::filesystem::path(temp_root()) / name;
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir.string();

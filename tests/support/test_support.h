@@ -1,0 +1,40 @@
+// test_support.h — shared helpers for the test suite: paths, temp dirs,
+// writing files, running the pmc binary, one shared OpenCL context.
+//
+// Third-party scenes: tests that need them (Sponza, the MaterialX examples,
+// the Cornell box, ...) find them through shared_scene(), in one place: the
+// folder named by the PMC_SCENES environment variable, else ../shared/scenes
+// next to the repository. They are not part of the repository; when the
+// folder is missing, shared_scene() fails the test with a message that says
+// how to provide it.
+#pragma once
+
+#include <string>
+
+#include "core/image_io.h"
+#include "gpu/cl_context.h"
+
+namespace pmc::test {
+
+// The third-party scenes' folder: $PMC_SCENES, else ../shared/scenes next to the repository.
+std::string scenes_dir();
+// scenes_dir()/<rel>; fails the current test (saying how to get the scenes)
+// when the scenes' folder or `rel` in it does not exist.
+std::string shared_scene(const std::string& rel);
+std::string source_path(const std::string& rel);
+// The build's folder for test files (build/test_tmp): per checkout, so the
+// test runs of several checkouts on one machine never share a folder.
+std::string temp_root();
+// A fresh empty directory under temp_root(), named after the test.
+std::string temp_dir();
+void write_file(const std::string& path, const std::string& text);
+bool file_exists(const std::string& path);
+// Runs build/pmc with `args`; returns the exit code, output in `output`.
+int run_pmc(const std::string& args, std::string* output = nullptr);
+// One OpenCL context (PoCL on CI) reused by all tests.
+const ClContext& cl();
+// Mean of all channels, and counts of non-finite values.
+double image_mean(const Image& img);
+size_t non_finite(const Image& img);
+
+}  // namespace pmc::test
