@@ -1,14 +1,20 @@
-// commands.h — the pmc subcommands; each returns the process exit code.
+// commands.h — the pmc subcommands.
+//
+// Each add_*_command() declares its subcommand's options on `pmc` (CLI11)
+// and returns what runs it once the command line is parsed; that returns the
+// process exit code. main.cpp turns errors into exit codes.
 #pragma once
 
-#include <string>
-#include <vector>
+#include <CLI/CLI.hpp>
+#include <functional>
 
 namespace pmc {
 
-int run_render(const std::vector<std::string>& args);
-int run_info(const std::vector<std::string>& args);
-int run_compare(const std::vector<std::string>& args);
-int run_sweep(const std::vector<std::string>& args);
+using CommandRun = std::function<int()>;
+
+CommandRun add_render_command(CLI::App& pmc);
+CommandRun add_compare_command(CLI::App& pmc);
+CommandRun add_sweep_command(CLI::App& pmc);
+CommandRun add_info_command(CLI::App& pmc);
 
 }  // namespace pmc

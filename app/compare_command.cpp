@@ -14,24 +14,24 @@
 // or a write fails after that, the files written (OutputGuard) and the
 // folders created (OutDir) are removed again. `compare` always renders cache
 // off and on, so its --help does not list --cache and the option is refused.
-#include <unistd.h>
-
-#include <cctype>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <map>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "app/cli.h"
 #include "app/commands.h"
 #include "app/output_guard.h"
 #include "app/progress.h"
 #include "app/render_options.h"
+#include "app/stats_json.h"
+#include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/heatmap.h"
+#include "core/image_buf.h"
 #include "core/image_metrics.h"
+#include "core/tone_map.h"
 #include "gpu/render_session.h"
 
 namespace pmc {
@@ -50,9 +50,7 @@ Image read_reference(const std::string& path, int width, int height) {
   if (std::filesystem::is_directory(path, ec)) fail("--reference: '", path, "' is a directory, not an image");
   // The errors are measured on linear radiance: an 8-bit PNG (tone-mapped,
   // sRGB) would compare display values with radiance and look hugely wrong.
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (char& c : ext) c = char(std::tolower((unsigned char)c));
-  if (ext != ".exr")
+  if (!has_extension(path, ".exr"))
     fail("--reference: '", path,
          "' is not an EXR: compare measures linear radiance, so give it the .exr "
          "of a render (a PNG holds tone-mapped display values)");
@@ -68,56 +66,70 @@ Image read_reference(const std::string& path, int width, int height) {
   if (img.width != width || img.height != height)
     fail("--reference: '", path, "' is ", img.width, "x", img.height, " but the renders are ", width, "x",
          height, " (--width/--height)");
-  if (img.channels > 3) {
-    std::vector<float> rgb(size_t(width) * size_t(height) * 3);
-    for (size_t i = 0; i < size_t(width) * size_t(height); ++i)
-      for (int c = 0; c < 3; ++c) rgb[i * 3 + c] = img.pixels[i * size_t(img.channels) + c];
-    img.pixels = std::move(rgb);
-    img.channels = 3;
-  }
-  return img;
+  return img.channels > 3 ? first_channels(img, 3) : img;
 }
 
-}  // namespace
+// report.md: the four images side by side and the numbers of metrics.json.
+std::string report_markdown(const nlohmann::json& m, const std::string& obj, const std::string& device) {
+  std::ostringstream r;
+  r << "# pmc compare: " << obj << "\n\n"
+    << m["width"].get<int>() << "x" << m["height"].get<int>() << ", " << m["spp"].get<int>() << " spp, seed "
+    << m["seed"].get<uint32_t>() << ", device " << device << "\n\n"
+    << "| cache off | cache on | difference x" << m["diff_scale"].get<float>()
+    << " | cache hits per sample (0-20) |\n"
+    << "|---|---|---|---|\n"
+    << "| ![](cache_off.png) | ![](cache_on.png) | ![](difference.png) | ![](hitmap.png) |\n\n"
+    << "| metric | value |\n|---|---|\n"
+    << "| time without cache (s) | " << m["time_off_seconds"].get<double>() << " |\n"
+    << "| time with cache (s) | " << m["time_on_seconds"].get<double>() << " |\n"
+    << "| speed ratio (off / on) | " << m["speed_ratio"].get<double>() << " |\n"
+    << "| PSNR cached vs cacheless (dB) | " << m["psnr"].get<double>() << " |\n"
+    << "| RMSE | " << m["rmse"].get<double>() << " |\n"
+    << "| relMSE | " << m["relmse"].get<double>() << " |\n"
+    << "| max abs error | " << m["max_abs_error"].get<double>() << " |\n"
+    << "| cache hit rate | " << m["hit_rate"].get<double>() << " |\n"
+    << "| cache memory (MiB) | " << m["cache_memory_bytes"].get<double>() / double(1 << 20) << " |\n";
+  if (m.contains("reference")) {
+    const nlohmann::json &on_ref = m["cached_vs_reference"], &off_ref = m["cacheless_vs_reference"];
+    r << "| relMSE cached vs reference | " << on_ref["relmse"].get<double>() << " |\n"
+      << "| relMSE cacheless vs reference | " << off_ref["relmse"].get<double>() << " |\n"
+      << "| PSNR cached vs reference (dB) | " << on_ref["psnr"].get<double>() << " |\n"
+      << "| PSNR cacheless vs reference (dB) | " << off_ref["psnr"].get<double>() << " |\n\n"
+      << "Reference: ";
+    const nlohmann::json& ref = m["reference"];
+    if (!ref.contains("spp"))
+      r << ref["file"].get<std::string>() << "\n";
+    else
+      r << "reference.exr, cacheless, " << ref["spp"].get<int>() << " spp, seed "
+        << ref["seed"].get<uint32_t>() << "\n";
+  }
+  return r.str();
+}
 
-int run_compare(const std::vector<std::string>& args) {
-  ArgParser p(
-      "pmc compare SCENE.obj --out-dir DIR [render options] [--reference REF.exr | --reference-spp N]",
-      "Renders SCENE cacheless and cached with the same seed and samples and writes both images,\n"
-      "their difference (x --diff-scale), the cache hit map, metrics.json and report.md to DIR.\n"
-      "It always renders both, so --cache is not an option here; the other cache options set up\n"
-      "the cached render.");
-  p.option("--out-dir", "DIR",
-           "where the images, metrics.json and report.md go (created when the inputs are valid)");
-  p.option(
-      "--reference", "REF.exr",
-      "also measure both renders against this image (--width x --height, RGB; checked before rendering)");
-  p.option("--reference-spp", "N", "render a cacheless reference with N samples (another seed)");
-  p.option("--diff-scale", "S", "scale of the difference image (positive)", "5");
-  p.flag("--quiet", "no progress bars and no cache-size lines (the summary and warnings still print)");
-  declare_render_options(p);
-  declare_display_options(p);
-  p.hide("--cache");  // refused below: compare always renders both
-  if (!p.parse(args)) return 0;
-  if (p.positional().size() != 1) fail("compare: expected exactly one SCENE.obj (see --help)");
-  if (!p.has("--out-dir")) fail("compare: missing --out-dir DIR");
-  if (p.has("--reference") && p.has("--reference-spp"))
+struct CompareArgs {
+  RenderConfig config;
+  ToneMap tone_map;  // --exposure, --view: the two renders' PNGs
+  std::string dir, reference, cache;
+  int reference_spp = 0;
+  float diff_scale = 5.0f;
+  bool quiet = false;
+};
+
+int run_compare(CompareArgs& a) {
+  if (!a.reference.empty() && a.reference_spp > 0)
     fail("compare: give --reference or --reference-spp, not both");
-  if (p.has("--cache"))
+  if (!a.cache.empty())
     fail("compare: --cache is not an option of compare (it always renders cache off and on)");
-  const std::string obj = p.positional()[0], dir = p.get("--out-dir");
+  const std::string &obj = a.config.scene, &dir = a.dir;
   OutDir out_dir(dir);  // checked now, created once the renders are prepared
-  const float diff_scale = p.get_float("--diff-scale", 5.0f);
-  if (!(diff_scale > 0.0f)) fail("--diff-scale: must be positive, got ", p.get("--diff-scale"));
-  const int reference_spp = p.get_int("--reference-spp", 0);
-  if (p.has("--reference-spp") && reference_spp <= 0)
-    fail("--reference-spp: must be at least 1, got ", reference_spp);
-  const bool quiet = p.has("--quiet");
-  const DisplaySettings display = display_settings_from(p);
-  RenderConfig config = render_config_from(p, obj);
+  const float diff_scale = a.diff_scale;
+  const int reference_spp = a.reference_spp;
+  const bool quiet = a.quiet;
+  RenderConfig config = a.config;
+  config.validate();
   Image reference;
-  const bool have_reference = p.has("--reference") || p.has("--reference-spp");
-  if (p.has("--reference")) reference = read_reference(p.get("--reference"), config.width, config.height);
+  const bool have_reference = !a.reference.empty() || reference_spp > 0;
+  if (!a.reference.empty()) reference = read_reference(a.reference, config.width, config.height);
   std::unique_ptr<ClContext> cl = open_device(config);
 
   auto render = [&](RenderSession& session, const RenderSettings& s, const char* label) {
@@ -138,7 +150,7 @@ int run_compare(const std::vector<std::string>& args) {
   out_dir.create();
   RenderOutput off = render(off_session, off_session.settings(), "cache off");
   RenderOutput on = render(on_session, on_session.settings(), "cache on ");
-  if (p.has("--reference-spp")) {
+  if (reference_spp > 0) {
     RenderSettings rs = off_session.settings();
     rs.spp = reference_spp;
     rs.seed = rs.seed + 0x9e3779b9u;  // independent noise
@@ -152,13 +164,13 @@ int run_compare(const std::vector<std::string>& args) {
     return full;
   };
   write_exr(path("cache_off.exr"), off.image);
-  write_png_tonemapped(path("cache_off.png"), off.image, display);
+  write_png_display(path("cache_off.png"), tone_map_image(off.image, a.tone_map));
   write_exr(path("cache_on.exr"), on.image);
-  write_png_tonemapped(path("cache_on.png"), on.image, display);
+  write_png_display(path("cache_on.png"), tone_map_image(on.image, a.tone_map));
   write_png_display(path("difference.png"), difference_image(on.image, off.image, diff_scale));
   write_png_display(path("hitmap.png"), heatmap_with_colorbar(on.hitmap));
   write_exr(path("hitmap.exr"), on.hitmap);
-  if (p.has("--reference-spp")) write_exr(path("reference.exr"), reference);
+  if (reference_spp > 0) write_exr(path("reference.exr"), reference);
 
   const RenderSettings& on_settings = on_session.settings();
   const ImageError e = compare_images(on.image, off.image);
@@ -180,27 +192,12 @@ int run_compare(const std::vector<std::string>& args) {
   m["max_abs_error"] = e.max_abs;
   m["hit_rate"] = hit_rate(cs);
   m["cache_memory_bytes"] = cs.memory_bytes;
-  m["cache"] = {{"enabled", on_settings.cache.on},
-                {"lookups", cs.lookups},
-                {"hits", cs.hits},
-                {"misses", cs.misses},
-                {"inserts", cs.inserts},
-                {"already_present", cs.already_present},
-                {"dropped_full", cs.dropped_full},
-                {"not_encodable", cs.not_encodable},
-                {"memory_bytes", cs.memory_bytes},
-                {"size_reason", with_flags(on_settings.cache.reason)},
-                {"occupancy", cs.occupancy()},
-                {"cells", cs.cells},
-                {"entries", cs.ways},
-                {"mip_bias", on_settings.cache.mip_bias},
-                {"eval", on_settings.cache.center ? "center" : "hit"},
-                {"filter", on_settings.cache.bilinear ? "bilinear" : "nearest"}};
+  m["cache"] = cache_json(on_settings.cache, cs);
   m["diff_scale"] = diff_scale;
   m["nan_pixels"] = {{"off", off.stats.nan_pixels}, {"on", on.stats.nan_pixels}};
   if (have_reference) {
-    if (p.has("--reference"))
-      m["reference"] = {{"file", p.get("--reference")}};
+    if (!a.reference.empty())
+      m["reference"] = {{"file", a.reference}};
     else
       m["reference"] = {{"file", "reference.exr"},
                         {"spp", reference_spp},
@@ -208,41 +205,8 @@ int run_compare(const std::vector<std::string>& args) {
     m["cached_vs_reference"] = error_json(compare_images(on.image, reference));
     m["cacheless_vs_reference"] = error_json(compare_images(off.image, reference));
   }
-  {
-    std::ofstream out(path("metrics.json"));
-    out << m.dump(2) << "\n";
-    if (!out) fail(dir, "/metrics.json: writing failed");
-  }
-  {
-    std::ofstream r(path("report.md"));
-    r << "# pmc compare: " << obj << "\n\n"
-      << on_settings.width << "x" << on_settings.height << ", " << on_settings.spp << " spp, seed "
-      << on_settings.seed << ", device " << on.stats.device << "\n\n"
-      << "| cache off | cache on | difference x" << diff_scale << " | cache hits per sample (0-20) |\n"
-      << "|---|---|---|---|\n"
-      << "| ![](cache_off.png) | ![](cache_on.png) | ![](difference.png) | ![](hitmap.png) |\n\n"
-      << "| metric | value |\n|---|---|\n"
-      << "| time without cache (s) | " << t_off << " |\n| time with cache (s) | " << t_on << " |\n"
-      << "| speed ratio (off / on) | " << m["speed_ratio"].get<double>() << " |\n"
-      << "| PSNR cached vs cacheless (dB) | " << e.psnr << " |\n| RMSE | " << e.rmse << " |\n"
-      << "| relMSE | " << e.relmse << " |\n| max abs error | " << e.max_abs << " |\n"
-      << "| cache hit rate | " << m["hit_rate"].get<double>() << " |\n"
-      << "| cache memory (MiB) | " << double(cs.memory_bytes) / double(1 << 20) << " |\n";
-    if (have_reference) {
-      const nlohmann::json &on_ref = m["cached_vs_reference"], &off_ref = m["cacheless_vs_reference"];
-      r << "| relMSE cached vs reference | " << on_ref["relmse"].get<double>() << " |\n"
-        << "| relMSE cacheless vs reference | " << off_ref["relmse"].get<double>() << " |\n"
-        << "| PSNR cached vs reference (dB) | " << on_ref["psnr"].get<double>() << " |\n"
-        << "| PSNR cacheless vs reference (dB) | " << off_ref["psnr"].get<double>() << " |\n\n"
-        << "Reference: ";
-      if (p.has("--reference"))
-        r << p.get("--reference") << "\n";
-      else
-        r << "reference.exr, cacheless, " << reference_spp << " spp, seed "
-          << m["reference"]["seed"].get<uint32_t>() << "\n";
-    }
-    if (!r) fail(dir, "/report.md: writing failed");
-  }
+  write_text_file(path("metrics.json"), m.dump(2) + "\n");
+  write_text_file(path("report.md"), report_markdown(m, obj, on.stats.device));
   guard.commit();
   out_dir.commit();
   std::fprintf(
@@ -251,6 +215,44 @@ int run_compare(const std::vector<std::string>& args) {
       t_off, t_on, t_on > 0 ? t_off / t_on : 0.0, e.psnr, 100.0 * m["hit_rate"].get<double>(),
       double(cs.memory_bytes) / double(1 << 20), dir.c_str());
   return 0;
+}
+
+}  // namespace
+
+CommandRun add_compare_command(CLI::App& pmc) {
+  auto a = std::make_shared<CompareArgs>();
+  CLI::App* app =
+      pmc.add_subcommand("compare", "render cache off and on; images, difference, hit map, metrics");
+  cli::formatter(pmc).usage(
+      app, "pmc compare SCENE.obj --out-dir DIR [render options] [--reference REF.exr | --reference-spp N]",
+      "Renders SCENE cacheless and cached with the same seed and samples and writes both images,\n"
+      "their difference (x --diff-scale), the cache hit map, metrics.json and report.md to DIR.\n"
+      "It always renders both, so --cache is not an option here; the other cache options set up\n"
+      "the cached render.");
+  app->option_defaults()->group("options");
+  app->set_help_flag("-h,--help", "print this help and exit");
+  app->add_option("SCENE.obj", a->config.scene, "the OBJ scene")->required();
+  app->add_option("--out-dir", a->dir,
+                  "where the images, metrics.json and report.md go (created when the inputs are valid)")
+      ->type_name("DIR")
+      ->required();
+  app->add_option("--reference", a->reference,
+                  "also measure both renders against this image (--width x --height, RGB; checked before "
+                  "rendering)")
+      ->type_name("REF.exr");
+  app->add_option("--reference-spp", a->reference_spp,
+                  "render a cacheless reference with N samples (another seed)")
+      ->type_name("N")
+      ->check(cli::at_least(1));
+  app->add_option("--diff-scale", a->diff_scale, "scale of the difference image (positive)")
+      ->type_name("S")
+      ->check(cli::positive())
+      ->capture_default_str();
+  add_quiet_flag(*app, a->quiet, "the summary and warnings still print");
+  declare_render_options(*app, a->config, CacheFlags::AllButCache);
+  declare_display_options(*app, a->tone_map);
+  app->add_option("--cache", a->cache, "refused: compare always renders both")->group("");
+  return [a] { return run_compare(*a); };
 }
 
 }  // namespace pmc

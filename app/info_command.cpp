@@ -1,7 +1,8 @@
-// info_command.cpp — `pmc info`: OpenCL devices, scene summaries.
+// info_command.cpp — `pmc info`: OpenCL devices, scene summaries, compiled materials.
 #include <cstdio>
+#include <memory>
 
-#include "app/cli_args.h"
+#include "app/cli.h"
 #include "app/commands.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
@@ -31,29 +32,20 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
     std::printf("    - %s: %s\n", node_label(*g, n).c_str(), why.c_str());
 }
 
-}  // namespace
+struct InfoArgs {
+  bool devices = false, dump_bytecode = false, dump_cache_plan = false;
+  std::string scene, material;
+  std::string mtlx_library;
+  std::vector<std::string> mtlx, mtlx_search_paths;
+  int cache_min_nodes = kDefaultCacheMinNodes;
+};
 
-int run_info(const std::vector<std::string>& args) {
-  ArgParser p("pmc info [--devices] [--scene SCENE.obj [--mtlx F ...] [--dump-bytecode] [--dump-cache-plan]]",
-              "Prints what pmc sees: OpenCL devices, scene contents.");
-  p.flag("--devices", "list OpenCL platforms and devices");
-  p.option("--scene", "SCENE.obj", "summarise a scene: triangles, materials, textures, bounds");
-  p.option("--mtlx", "FILE.mtlx", "MaterialX document to bind (repeatable)", "", true);
-  p.option("--material", "NAME", "use this MaterialX material for every triangle");
-  p.option("--mtlx-library", "DIR", "MaterialX data libraries (see pmc render --help)");
-  p.option("--mtlx-search-path", "DIR", "where MaterialX filenames are looked up (repeatable)", "", true);
-  p.flag("--dump-bytecode", "per material: node counts per pass, bytecode, peak stack, dependencies");
-  p.flag("--dump-cache-plan",
-         "per material: cache points, the sub-graph each saves, why other nodes are not cached");
-  p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point",
-           std::to_string(kDefaultCacheMinNodes));
-  if (!p.parse(args)) return 0;
-  if (!p.positional().empty()) fail("info: unexpected argument '", p.positional()[0], "'");
-  if (!p.has("--devices") && !p.has("--scene")) {
-    p.print_help();
+int run_info(const InfoArgs& a, const CLI::App& app) {
+  if (!a.devices && a.scene.empty()) {
+    std::printf("%s", app.help().c_str());
     return 2;
   }
-  if (p.has("--devices")) {
+  if (a.devices) {
     std::vector<ClDeviceInfo> devices = list_cl_devices();
     ClContext chosen;
     for (const ClDeviceInfo& d : devices)
@@ -63,19 +55,18 @@ int run_info(const std::vector<std::string>& args) {
                   d.is_gpu ? " | GPU" : " | CPU");
     std::printf("(* = default device; pick another with --device NAME)\n");
   }
-  if (p.has("--dump-bytecode") || p.has("--dump-cache-plan")) {
-    if (!p.has("--scene")) fail("--dump-bytecode/--dump-cache-plan need --scene SCENE.obj");
+  if (a.dump_bytecode || a.dump_cache_plan) {
+    if (a.scene.empty()) fail("--dump-bytecode/--dump-cache-plan need --scene SCENE.obj");
     ObjLoadOptions load;
     load.load_textures = false;
-    Scene scene = load_obj(p.get("--scene"), load);
+    Scene scene = load_obj(a.scene, load);
     MaterialOptions mo;
-    mo.mtlx_files = p.all("--mtlx");
-    mo.mtlx.library_dir = p.get("--mtlx-library");
-    mo.mtlx.search_paths = p.all("--mtlx-search-path");
-    mo.override_material = p.get("--material");
+    mo.mtlx_files = a.mtlx;
+    mo.mtlx.library_dir = a.mtlx_library;
+    mo.mtlx.search_paths = a.mtlx_search_paths;
+    mo.override_material = a.material;
     mo.compile.cache = true;
-    mo.compile.cache_min_nodes = p.get_int("--cache-min-nodes", kDefaultCacheMinNodes);
-    if (mo.compile.cache_min_nodes < 1) fail("--cache-min-nodes: must be at least 1");
+    mo.compile.cache_min_nodes = a.cache_min_nodes;
     MaterialSet set = build_material_set(scene, mo);
     std::printf("bytecode: %zu words for %zu materials\n", set.program.code.size(),
                 set.program.materials.size());
@@ -88,13 +79,13 @@ int run_info(const std::vector<std::string>& args) {
       for (const auto& [input, bits] : m.param_dependencies)
         if (bits) std::printf(" %s=%s", input.c_str(), dependency_names(bits).c_str());
       std::printf("\n");
-      if (p.has("--dump-cache-plan")) print_cache_plan(set, m);
-      if (p.has("--dump-bytecode")) std::printf("%s", disassemble(set.program, m).c_str());
+      if (a.dump_cache_plan) print_cache_plan(set, m);
+      if (a.dump_bytecode) std::printf("%s", disassemble(set.program, m).c_str());
     }
     return 0;
   }
-  if (p.has("--scene")) {
-    Scene scene = load_obj(p.get("--scene"));
+  if (!a.scene.empty()) {
+    Scene scene = load_obj(a.scene);
     std::printf("scene %s\n  triangles %zu, positions %zu, normals %zu, uvs %zu\n", scene.obj_path.c_str(),
                 scene.triangles.size(), scene.positions.size() / 3, scene.normals.size() / 3,
                 scene.uvs.size() / 2);
@@ -106,6 +97,46 @@ int run_info(const std::vector<std::string>& args) {
                   m.kd[2], m.ks[0], m.ke[0], m.map_kd.empty() ? "" : "  map_Kd ", m.map_kd.c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+CommandRun add_info_command(CLI::App& pmc) {
+  auto a = std::make_shared<InfoArgs>();
+  CLI::App* app = pmc.add_subcommand("info", "list OpenCL devices (--devices), summarise a scene (--scene)");
+  cli::formatter(pmc).usage(
+      app, "pmc info [--devices] [--scene SCENE.obj [--mtlx F ...] [--dump-bytecode] [--dump-cache-plan]]",
+      "Prints what pmc sees: OpenCL devices, scene contents, compiled materials.");
+  app->option_defaults()->group("options");
+  app->set_help_flag("-h,--help", "print this help and exit");
+  app->add_flag("--devices", a->devices, "list OpenCL platforms and devices");
+  app->add_option("--scene", a->scene, "summarise a scene: triangles, materials, textures, bounds")
+      ->type_name("SCENE.obj");
+  app->add_option("--mtlx", a->mtlx, "MaterialX document to bind (repeatable)")
+      ->type_name("FILE.mtlx")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app->add_option("--material", a->material, "use this MaterialX material for every triangle")
+      ->type_name("NAME");
+  app->add_option("--mtlx-library", a->mtlx_library, "MaterialX data libraries (see pmc render --help)")
+      ->type_name("DIR");
+  app->add_option("--mtlx-search-path", a->mtlx_search_paths,
+                  "where MaterialX filenames are looked up (repeatable)")
+      ->type_name("DIR")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app->add_flag("--dump-bytecode", a->dump_bytecode,
+                "per material: node counts per pass, bytecode, peak stack, dependencies");
+  app->add_flag("--dump-cache-plan", a->dump_cache_plan,
+                "per material: cache points, the sub-graph each saves, why other nodes are not cached");
+  app->add_option("--cache-min-nodes", a->cache_min_nodes,
+                  "smallest sub-graph (in nodes) worth a cache point")
+      ->type_name("N")
+      ->check(cli::at_least(1))
+      ->capture_default_str();
+  return [a, app] { return run_info(*a, *app); };
 }
 
 }  // namespace pmc

@@ -17,6 +17,13 @@
 
 namespace pmc {
 
+// Whether `path` ends in `extension` (".exr"), in any case.
+inline bool has_extension(const std::string& path, const std::string& extension) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == extension;
+}
+
 // Fails (pmc::Error naming `option`) unless `path` can be created: its folder
 // exists and is writable, the path is not a folder, and when
 // `extension` is given (".exr"), the path ends with it (any case).
@@ -25,12 +32,8 @@ inline void check_output_path(const std::string& option, const std::string& path
   if (path.empty()) fail(option, ": empty path");
   namespace fs = std::filesystem;
   const fs::path p(path);
-  if (!extension.empty()) {
-    std::string ext = p.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    if (ext != extension) fail(option, ": '", path, "' must end in ", extension);
-  }
+  if (!extension.empty() && !has_extension(path, extension))
+    fail(option, ": '", path, "' must end in ", extension);
   std::error_code ec;
   if (fs::is_directory(p, ec)) fail(option, ": '", path, "' is a folder");
   const fs::path dir = p.has_parent_path() ? p.parent_path() : fs::path(".");

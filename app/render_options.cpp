@@ -1,167 +1,219 @@
-// render_options.cpp — the shared render options and their RenderConfig fields.
+// render_options.cpp — the shared render options and the RenderConfig fields they set.
 #include "app/render_options.h"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
-#include "core/error.h"
+#include "app/cli.h"
+#include "core/embree_tracer.h"
+#include "gpu/host_link.h"
 
 namespace pmc {
-
-void declare_render_options(ArgParser& p) {
-  p.option("--mtlx", "FILE.mtlx", "MaterialX document; usemtl NAME binds to its material NAME (repeatable)",
-           "", true);
-  p.option("--material", "NAME", "render every triangle with this MaterialX material");
-  p.option("--mtlx-library", "DIR",
-           "MaterialX data libraries (.../MaterialX/libraries) for nodes pmc expands from their nodegraphs",
-           "$PMC_MTLX_LIBRARY, else the one found at build time");
-  p.option("--mtlx-search-path", "DIR",
-           "folder where MaterialX filenames are looked up after fileprefix, the document's folder and "
-           "$MATERIALX_SEARCH_PATH (repeatable)",
-           "", true);
-  p.option("--cache", "on|off", "progressive material cache", "on");
-  p.option("--cache-cells", "N", "cache cells (with --cache-entries)", "sized from the scene");
-  p.option("--cache-entries", "N", "entries per cache cell", "8");
-  p.option("--mip-bias", "B", "added to the cache's virtual mip level (higher: finer, more accurate)", "0");
-  p.option("--cache-eval", "hit|center",
-           "values stored for a texel: at the inserting hit, or at the texel centre", "center");
-  p.option("--cache-filter", "nearest|bilinear",
-           "texel a lookup reads: the one under the hit, or a neighbour picked at random with its "
-           "bilinear weight (center mode only)",
-           "bilinear with center, nearest with hit");
-  p.option("--cache-min-nodes", "N", "smallest sub-graph worth a cache point",
-           std::to_string(kDefaultCacheMinNodes));
-  p.option("--width", "W", "image width in pixels", "640");
-  p.option("--height", "H", "image height in pixels", "360");
-  p.option("--spp", "N", "samples per pixel", "16");
-  p.option("--max-depth", "D", "maximum number of surface hits per path", "8");
-  p.option("--seed", "S",
-           "random seed; equal seeds give identical images (with the cache: in --cache-eval center, not hit)",
-           "0");
-  p.option("--threads", "T", "host and PoCL worker threads", "all cores");
-  p.option("--device", "NAME", "OpenCL device or platform name substring (see 'pmc info --devices')",
-           "first GPU, else CPU");
-  p.option("--camera-from", "x,y,z", "camera position", "SCENE.camera, else framing the scene");
-  p.option("--camera-at", "x,y,z", "point the camera looks at");
-  p.option("--camera-up", "x,y,z", "camera up vector", "0,1,0");
-  p.option("--fov", "DEG", "vertical field of view in degrees", "45");
-  p.option("--env", "R,G,B",
-           "constant environment radiance (W/m^2/sr), sampled as a light; replaces the lights file's "
-           "environment",
-           "0,0,0");
-  p.option("--env-map", "FILE",
-           "environment map, lat-long EXR or Radiance HDR (+Y up, image centre seen looking along -Z, +X at "
-           "u = 0.75), importance-sampled; replaces the lights file's environment");
-  p.option("--env-scale", "S", "multiplies the environment (--env, --env-map or the lights file's)", "1");
-  p.option("--env-rotate", "DEG", "turns the environment about +Y, counter-clockwise seen from above", "0");
-  p.option("--lights", "FILE.json|none",
-           "lights file: point, spot, directional and quad lights and the environment (README, Lights); "
-           "'none' ignores SCENE.lights.json",
-           "SCENE.lights.json beside the OBJ, if there is one");
-  p.option("--trace-mode", "MODE", "Embree query style: single, stream or packet16", "single");
-  p.option("--chunk-rays", "N", "rays per streamed chunk with --transfer copy (0: whole queue)", "65536");
-  p.option("--transfer", "auto|zero-copy|copy",
-           "how hits reach the device: mapped host-visible buffers (no copies; CPU devices) or explicit "
-           "copies streamed in chunks (discrete GPUs)",
-           "auto: zero-copy on CPU devices, copy otherwise");
-  p.option("--shade-lanes", "N",
-           "hits of one material shaded together by one work-item (a power of two up to 64): the "
-           "material interpreter decodes each instruction once per batch",
-           "16 on CPU devices, 1 on GPUs");
-}
-
 namespace {
 
-std::optional<Vec3> vec3_of(const ArgParser& p, const std::string& name) {
-  float v[3];
-  if (!p.get_vec3(name, v)) return std::nullopt;
-  return Vec3{v[0], v[1], v[2]};
+// An option bound to `field` of the config, known to ConfigError messages as `setting`.
+template <typename T>
+CLI::Option* field(CLI::App& app, const std::string& flag, const char* setting, T& value,
+                   const std::string& value_name, const std::string& help) {
+  cli::name_setting(setting, flag);
+  CLI::Option* o = app.add_option(flag, value, help)->type_name(value_name);
+  if constexpr (std::is_integral_v<T>) o->check(cli::integer<T>());
+  if constexpr (std::is_floating_point_v<T>) o->check(cli::number());
+  return o;
+}
+
+// An option whose value goes through `set` (optional fields, words).
+template <typename T>
+CLI::Option* setter(CLI::App& app, const std::string& flag, const char* setting,
+                    std::function<void(const T&)> set, const std::string& value_name,
+                    const std::string& help) {
+  cli::name_setting(setting, flag);
+  CLI::Option* o = app.add_option_function<T>(flag, std::move(set), help)->type_name(value_name);
+  if constexpr (std::is_integral_v<T>) o->check(cli::integer<T>());
+  if constexpr (std::is_floating_point_v<T>) o->check(cli::number());
+  return o;
+}
+
+CLI::Option* vec3(CLI::App& app, const std::string& flag, const char* setting, std::function<void(Vec3)> set,
+                  const std::string& value_name, const std::string& help) {
+  cli::name_setting(setting, flag);
+  return cli::add_vec3(app, flag, std::move(set), help)->type_name(value_name);
 }
 
 }  // namespace
 
-RenderConfig render_config_from(const ArgParser& p, const std::string& obj) {
-  RenderConfig c;
-  c.scene = obj;
-  c.mtlx = p.all("--mtlx");
-  c.material = p.get("--material");
-  c.mtlx_library = p.get("--mtlx-library");
-  c.mtlx_search_paths = p.all("--mtlx-search-path");
-  c.width = p.get_int("--width", c.width);
-  c.height = p.get_int("--height", c.height);
-  c.spp = p.get_int("--spp", c.spp);
-  c.max_depth = p.get_int("--max-depth", c.max_depth);
-  c.seed = p.get_int64("--seed", c.seed);
-  if (auto env = vec3_of(p, "--env")) c.env = *env;
-  c.lights = p.get("--lights");
-  c.env_map = p.get("--env-map");
-  if (p.has("--env-scale")) c.env_scale = p.get_float("--env-scale", 1.0f);
-  if (p.has("--env-rotate")) c.env_rotate = p.get_float("--env-rotate", 0.0f);
-  c.camera_from = vec3_of(p, "--camera-from");
-  c.camera_at = vec3_of(p, "--camera-at");
-  c.camera_up = vec3_of(p, "--camera-up");
-  if (p.has("--fov")) c.fov = p.get_float("--fov", 45.0f);
-  const std::string cache = p.get("--cache", "on");
-  if (cache != "on" && cache != "off") fail("--cache: expected on or off, got '", cache, "'");
-  c.cache = cache == "on";
-  if (p.has("--cache-cells")) c.cache_cells = p.get_int64("--cache-cells", 0);
-  c.cache_entries = p.get_int64("--cache-entries", c.cache_entries);
-  c.mip_bias = p.get_float("--mip-bias", c.mip_bias);
-  const std::string eval = p.get("--cache-eval", "center");
-  if (eval != "hit" && eval != "center") fail("--cache-eval: expected hit or center, got '", eval, "'");
-  c.cache_eval = eval == "center" ? CacheEval::Center : CacheEval::Hit;
-  if (p.has("--cache-filter")) {
-    const std::string filter = p.get("--cache-filter");
-    if (filter != "nearest" && filter != "bilinear")
-      fail("--cache-filter: expected nearest or bilinear, got '", filter, "'");
-    c.cache_filter = filter == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
+void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_flags) {
+  cli::name_setting("scene", "SCENE.obj");
+  app.option_defaults()->group("scene");
+  field(app, "--mtlx", "mtlx", c.mtlx, "FILE.mtlx",
+        "MaterialX document; usemtl NAME binds to its material NAME (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  field(app, "--material", "material", c.material, "NAME",
+        "render every triangle with this MaterialX material");
+  field(app, "--mtlx-library", "mtlx_library", c.mtlx_library, "DIR",
+        "MaterialX data libraries (.../MaterialX/libraries) for nodes pmc expands from their nodegraphs")
+      ->default_str("$PMC_MTLX_LIBRARY, else the one found at build time");
+  field(app, "--mtlx-search-path", "mtlx_search_paths", c.mtlx_search_paths, "DIR",
+        "folder where MaterialX filenames are looked up after fileprefix, the document's folder and "
+        "$MATERIALX_SEARCH_PATH (repeatable)")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+
+  app.option_defaults()->group("image");
+  field(app, "--width", "width", c.width, "W", "image width in pixels")->capture_default_str();
+  field(app, "--height", "height", c.height, "H", "image height in pixels")->capture_default_str();
+  field(app, "--spp", "spp", c.spp, "N", "samples per pixel")->capture_default_str();
+  field(app, "--max-depth", "max_depth", c.max_depth, "D", "maximum number of surface hits per path, 1..1024")
+      ->capture_default_str();
+  field(app, "--seed", "seed", c.seed, "S",
+        "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "
+        "center, not hit)")
+      ->capture_default_str();
+
+  app.option_defaults()->group("camera");
+  vec3(
+      app, "--camera-from", "camera_from", [&c](Vec3 v) { c.camera_from = v; }, "x,y,z",
+      "camera position (scene units; with --camera-at)")
+      ->default_str("SCENE.camera beside the OBJ, else framing the scene");
+  vec3(
+      app, "--camera-at", "camera_at", [&c](Vec3 v) { c.camera_at = v; }, "x,y,z",
+      "point the camera looks at (with --camera-from)");
+  vec3(
+      app, "--camera-up", "camera_up", [&c](Vec3 v) { c.camera_up = v; }, "x,y,z", "camera up vector")
+      ->default_str("0,1,0");
+  setter<float>(
+      app, "--fov", "fov", [&c](const float& v) { c.fov = v; }, "DEG",
+      "vertical field of view in degrees, (0, 180); overrides SCENE.camera's")
+      ->default_str("45");
+
+  app.option_defaults()->group("lights");
+  field(app, "--lights", "lights", c.lights, "FILE.json|none",
+        "lights file: point, spot, directional and quad lights and the environment (README, Lights); "
+        "'none' ignores SCENE.lights.json")
+      ->default_str("SCENE.lights.json beside the OBJ, if there is one");
+  vec3(
+      app, "--env", "env", [&c](Vec3 v) { c.env = v; }, "R,G,B",
+      "constant environment radiance (W/m^2/sr), sampled as a light; replaces the lights file's environment")
+      ->default_str("0,0,0");
+  field(app, "--env-map", "env_map", c.env_map, "FILE",
+        "environment map, lat-long EXR or Radiance HDR (+Y up, image centre seen looking along -Z, +X at "
+        "u = 0.75), importance-sampled; replaces the lights file's environment");
+  setter<float>(
+      app, "--env-scale", "env_scale", [&c](const float& v) { c.env_scale = v; }, "S",
+      "multiplies the environment (--env, --env-map or the lights file's)")
+      ->default_str("1");
+  setter<float>(
+      app, "--env-rotate", "env_rotate", [&c](const float& v) { c.env_rotate = v; }, "DEG",
+      "turns the environment about +Y, counter-clockwise seen from above")
+      ->default_str("0");
+
+  app.option_defaults()->group("cache");
+  if (cache_flags == CacheFlags::All)
+    setter<std::string>(
+        app, "--cache", "cache", [&c](const std::string& v) { c.cache = v == "on"; }, "on|off",
+        "progressive material cache")
+        ->check(cli::one_of({"on", "off"}))
+        ->default_str("on");
+  if (cache_flags != CacheFlags::None) {
+    setter<int64_t>(
+        app, "--cache-cells", "cache_cells", [&c](const int64_t& v) { c.cache_cells = v; }, "N",
+        "cache cells (with --cache-entries; a cell of 8 entries is one 64-byte line)")
+        ->default_str("sized from the scene");
+    field(app, "--cache-entries", "cache_entries", c.cache_entries, "N", "entries per cache cell, 1..1024")
+        ->capture_default_str();
+    field(app, "--mip-bias", "mip_bias", c.mip_bias, "B",
+          "added to the cache's virtual mip level (higher: finer, more accurate), -32..32")
+        ->default_str("0");
+    setter<std::string>(
+        app, "--cache-eval", "cache_eval",
+        [&c](const std::string& v) { c.cache_eval = v == "hit" ? CacheEval::Hit : CacheEval::Center; },
+        "hit|center", "values stored for a texel: at the inserting hit, or at the texel centre")
+        ->check(cli::one_of({"hit", "center"}))
+        ->default_str("center");
+    setter<std::string>(
+        app, "--cache-filter", "cache_filter",
+        [&c](const std::string& v) {
+          c.cache_filter = v == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
+        },
+        "nearest|bilinear",
+        "texel a lookup reads: the one under the hit, or a neighbour picked at random with its bilinear "
+        "weight (center mode only)")
+        ->check(cli::one_of({"nearest", "bilinear"}))
+        ->default_str("bilinear with center, nearest with hit");
+    field(app, "--cache-min-nodes", "cache_min_nodes", c.cache_min_nodes, "N",
+          "smallest sub-graph (in nodes) worth a cache point")
+        ->capture_default_str();
   }
-  c.cache_min_nodes = p.get_int("--cache-min-nodes", c.cache_min_nodes);
-  c.device = p.get("--device");
-  if (p.has("--threads")) c.threads = p.get_int("--threads", 0);
-  c.trace_mode = parse_trace_mode(p.get("--trace-mode", "single"));
-  c.chunk_rays = p.get_int64("--chunk-rays", c.chunk_rays);
-  c.transfer = parse_transfer_mode(p.get("--transfer", "auto"));
-  c.shade_lanes = p.get_int("--shade-lanes", c.shade_lanes);
-  c.validate();
-  return c;
+
+  app.option_defaults()->group("machine");
+  setter<int>(
+      app, "--threads", "threads", [&c](const int& v) { c.threads = v; }, "T", "host and PoCL worker threads")
+      ->default_str("all cores");
+  field(app, "--device", "device", c.device, "NAME",
+        "OpenCL device or platform name substring (see 'pmc info --devices')")
+      ->default_str("first GPU, else CPU");
+  setter<std::string>(
+      app, "--trace-mode", "trace_mode", [&c](const std::string& v) { c.trace_mode = parse_trace_mode(v); },
+      "MODE", "Embree query style: single, stream or packet16")
+      ->check(cli::one_of({"single", "stream", "packet16"}))
+      ->default_str("single");
+  field(app, "--chunk-rays", "chunk_rays", c.chunk_rays, "N",
+        "rays per streamed chunk with --transfer copy (0: the whole queue)")
+      ->capture_default_str();
+  setter<std::string>(
+      app, "--transfer", "transfer", [&c](const std::string& v) { c.transfer = parse_transfer_mode(v); },
+      "auto|zero-copy|copy",
+      "how hits reach the device: mapped host-visible buffers (no copies; CPU devices) or explicit copies "
+      "streamed in chunks (discrete GPUs)")
+      ->check(cli::one_of({"auto", "zero-copy", "copy"}))
+      ->default_str("auto: zero-copy on CPU devices, copy otherwise");
+  field(app, "--shade-lanes", "shade_lanes", c.shade_lanes, "N",
+        "hits of one material shaded together by one work-item (a power of two up to 64): the material "
+        "interpreter decodes each instruction once per batch")
+      ->default_str("16 on CPU devices, 1 on GPUs");
+  app.option_defaults()->group("options");
 }
 
-void declare_display_options(ArgParser& p) {
-  p.option("--exposure", "EV", "PNG exposure in stops: linear values x 2^EV before the view transform", "0");
-  p.option("--view", "filmic|standard",
-           "PNG view transform, then sRGB: filmic (ACES fit, highlights roll off) or standard (clip at 1); "
-           "the EXR stays linear",
-           "filmic");
+void declare_display_options(CLI::App& app, ToneMap& tm) {
+  app.option_defaults()->group("display");
+  app.add_option("--exposure", tm.exposure_ev,
+                 "PNG exposure in stops: linear values x 2^EV before the view transform")
+      ->type_name("EV")
+      ->check(cli::number())
+      ->check(CLI::Validator(
+          [](std::string& s) -> std::string {
+            return std::fabs(std::strtod(s.c_str(), nullptr)) <= 64.0
+                       ? ""
+                       : "must be within -64..64 stops, got " + s;
+          },
+          ""))
+      ->default_str("0");
+  app.add_option_function<std::string>(
+         "--view", [&tm](const std::string& v) { tm.view = parse_view_transform(v, "--view"); },
+         "PNG view transform, then sRGB: filmic (ACES fit, highlights roll off) or standard (clip at 1); "
+         "the EXR stays linear")
+      ->type_name("filmic|standard")
+      ->check(cli::one_of({"filmic", "standard"}))
+      ->default_str("filmic");
+  app.option_defaults()->group("options");
 }
 
-DisplaySettings display_settings_from(const ArgParser& p) {
-  DisplaySettings d;
-  d.exposure_ev = p.get_float("--exposure", 0.0f);
-  if (!(std::fabs(d.exposure_ev) <= 64.0f))
-    fail("--exposure: must be within -64..64 stops, got ", d.exposure_ev);
-  d.view = parse_view_transform(p.get("--view", "filmic"), "--view");
-  return d;
+CLI::Option* add_quiet_flag(CLI::App& app, bool& quiet, const std::string& what_still_prints) {
+  return app.add_flag("--quiet", quiet, "no progress bar and no cache-size line (" + what_still_prints + ")");
 }
-
-std::string flag_name(const std::string& setting) {
-  if (setting == "scene") return "SCENE.obj";
-  std::string flag = "--" + setting;
-  std::replace(flag.begin(), flag.end(), '_', '-');
-  return flag;
-}
-
-std::string with_flags(const std::string& marked) { return phrase_settings(marked, flag_name); }
 
 void print_cache_choice(const RenderSettings& s) {
   const CacheSettings& c = s.cache;
   if (!c.on && !c.reason.empty())
-    std::fprintf(stderr, "pmc: cache: %s\n", with_flags(c.reason).c_str());
+    std::fprintf(stderr, "pmc: cache: %s\n", cli::with_flags(c.reason).c_str());
   else if (c.on)
     std::fprintf(stderr, "pmc: cache: %llu cells x %u entries = %.1f MiB (%s)\n", (unsigned long long)c.cells,
-                 c.ways, double(c.cells) * c.ways * 8.0 / double(1 << 20), with_flags(c.reason).c_str());
+                 c.ways, double(c.cells) * c.ways * 8.0 / double(1 << 20), cli::with_flags(c.reason).c_str());
 }
 
 }  // namespace pmc

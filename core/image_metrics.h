@@ -17,9 +17,7 @@ struct ImageError {
 
 // Throws pmc::Error if the sizes differ.
 ImageError compare_images(const Image& test, const Image& reference);
-// |a - b| * scale of the tone-mapped display values (the paper's Fig. 1c).
+// |a - b| * scale of the tone-mapped display values, at most 1 (the paper's Fig. 1c).
 Image difference_image(const Image& a, const Image& b, float scale);
-// The display (tone-mapped, sRGB-encoded) values the PNGs show.
-Image tonemap_display(const Image& linear);
 
 }  // namespace pmc

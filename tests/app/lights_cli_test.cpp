@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "core/image_io.h"
+#include "core/tone_map.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -96,11 +97,11 @@ TEST(LightsCli, PngIsTheExrThroughExposureAndView) {
       << log;
   Image exr = read_image(dir + "/img.exr"), png = read_image(dir + "/img.png");
   ASSERT_EQ(exr.pixels.size(), png.pixels.size());
-  DisplaySettings d;
+  ToneMap d;
   d.exposure_ev = 1.5f;
   d.view = ViewTransform::Standard;
   for (size_t i = 0; i < exr.pixels.size(); ++i)
-    EXPECT_NEAR(png.pixels[i] * 255.0f, std::round(255.0f * display_encode(exr.pixels[i], d)), 1e-3f) << i;
+    EXPECT_NEAR(png.pixels[i] * 255.0f, std::round(255.0f * tone_map(exr.pixels[i], d)), 1e-3f) << i;
 }
 
 struct BadCase {

@@ -20,7 +20,7 @@
 #include <iterator>
 
 #include "core/error.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

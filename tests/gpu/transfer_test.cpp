@@ -11,7 +11,7 @@
 
 #include "core/error.h"
 #include "gpu/render_session.h"
-#include "tests/test_support.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {

@@ -1,0 +1,59 @@
+// stats_json.cpp — the JSON objects of stats_json.h.
+#include "app/stats_json.h"
+
+#include "app/cli.h"
+#include "gpu/render_session.h"
+
+namespace pmc {
+
+nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
+  nlohmann::json c;
+  c["enabled"] = s.on;
+  c["eval"] = s.center ? "center" : "hit";
+  c["filter"] = s.bilinear ? "bilinear" : "nearest";
+  c["mip_bias"] = s.mip_bias;
+  c["cells"] = st.cells;
+  c["entries"] = st.ways;
+  c["memory_bytes"] = st.memory_bytes;
+  c["size_reason"] = s.on || !s.reason.empty() ? cli::with_flags(s.reason) : std::string("--cache off");
+  c["lookups"] = st.lookups;
+  c["hits"] = st.hits;
+  c["misses"] = st.misses;
+  c["hit_rate"] = hit_rate(st);
+  c["inserts"] = st.inserts;
+  c["already_present"] = st.already_present;
+  c["dropped_full"] = st.dropped_full;
+  c["not_encodable"] = st.not_encodable;
+  c["occupancy"] = st.occupancy();
+  return c;
+}
+
+nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {
+  nlohmann::json j;
+  j["scene"] = scene;
+  j["render_seconds"] = st.render_seconds;
+  j["kernel_build_seconds"] = st.kernel_build_seconds;
+  j["kernel_warmup_seconds"] = st.kernel_warmup_seconds;
+  j["width"] = s.width;
+  j["height"] = s.height;
+  j["spp"] = s.spp;
+  j["max_depth"] = s.max_depth;
+  j["seed"] = s.seed;
+  j["paths"] = st.paths;
+  j["rays"] = st.rays;
+  j["shadow_rays"] = st.shadow_rays;
+  j["rays_per_second"] = st.render_seconds > 0 ? double(st.rays) / st.render_seconds : 0.0;
+  j["nan_pixels"] = st.nan_pixels;
+  j["bad_samples"] = st.bad_samples;
+  j["stage_seconds"] = {{"camera", st.stages.camera}, {"trace", st.stages.trace},
+                        {"sort", st.stages.sort},     {"shade", st.stages.shade},
+                        {"shadow", st.stages.shadow}, {"resolve", st.stages.resolve},
+                        {"film", st.stages.film},     {"transfer", st.stages.transfer}};
+  j["transfer_mode"] = st.transfer;
+  j["shade_lanes"] = st.shade_lanes;
+  j["device"] = st.device;
+  j["cache"] = cache_json(s.cache, st.cache);
+  return j;
+}
+
+}  // namespace pmc

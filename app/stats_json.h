@@ -1,0 +1,21 @@
+// stats_json.h — render settings and statistics as JSON, one way everywhere.
+//
+// `pmc render --stats` and `pmc compare`'s metrics.json describe the cache
+// with the same object (cache_json), so a key means the same in both.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include "gpu/wavefront_renderer.h"
+
+namespace pmc {
+
+// The cache's settings and counters: enabled, eval, filter, mip_bias, cells,
+// entries, memory_bytes, size_reason (in flag names), lookups, hits, misses,
+// hit_rate, inserts, already_present, dropped_full, not_encodable, occupancy.
+nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats);
+// A render's settings and statistics (`pmc render --stats`).
+nlohmann::json render_json(const RenderSettings& settings, const RenderStats& stats,
+                           const std::string& scene);
+
+}  // namespace pmc
