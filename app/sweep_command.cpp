@@ -13,7 +13,8 @@
 // sweep varies are lists here, and each row's cache settings are set on the
 // cached session's settings. --cache-filter sets the filter of every
 // center-mode row; --cache-min-nodes shapes the one cached program all
-// cached rows share.
+// cached rows share. With --plots png the figures of sweep.csv are drawn into
+// the out-dir as well (app/sweep_plots.h).
 #include <algorithm>
 #include <cstdio>
 #include <memory>
@@ -25,6 +26,7 @@
 #include "app/progress.h"
 #include "app/render_options.h"
 #include "app/sweep_grid.h"
+#include "app/sweep_plots.h"
 #include "app/sweep_table.h"
 #include "core/atomic_write.h"
 #include "core/cache_sizing.h"
@@ -38,7 +40,7 @@ namespace {
 struct SweepArgs {
   RenderConfig config;  // the render options; its cache fields other than min nodes are unused
   SweepLists lists;
-  std::string dir, cache;
+  std::string dir, cache, plots = "png";
   int reference_spp = 0, repeat = 1;
   bool quiet = false;
 };
@@ -67,6 +69,7 @@ int run_sweep(SweepArgs& a) {
     fail("--cache off: sweep compares cache settings; the cacheless rows are always rendered");
   // The lists, checked before anything is loaded or rendered.
   SweepGrid grid = parse_sweep_grid(a.lists);
+  if (a.plots == "png") check_sweep_plotter();
   const std::string &obj = a.config.scene, &dir = a.dir;
   OutDir out_dir(dir);  // checked now, created once the renders are prepared
   RenderConfig config = a.config;
@@ -190,6 +193,10 @@ int run_sweep(SweepArgs& a) {
   guard.commit();
   out_dir.commit();
   std::fprintf(stderr, "pmc sweep: wrote %s\n", csv_path.c_str());
+  if (a.plots == "png") {
+    if (write_sweep_plots(csv_path, dir, a.quiet))
+      std::fprintf(stderr, "pmc sweep: plots in %s\n", dir.c_str());
+  }
   return 0;
 }
 
@@ -208,14 +215,22 @@ CommandRun add_sweep_command(CLI::App& pmc) {
       "cache_eval columns are the settings it was rendered with. The convergence_on rows of\n"
       "--convergence-spp use the grid's first combination (the first value of each list).\n"
       "The render options apply to every row; the cache options that the sweep varies take\n"
-      "lists here (their pmc render names are aliases). scripts/plot_sweep.py turns sweep.csv\n"
-      "into plots.");
+      "lists here (their pmc render names are aliases). With --plots png (the default) the\n"
+      "figures go into DIR too: scripts/plot_sweep.py draws them with matplotlib.");
   app->option_defaults()->group("options");
   app->set_help_flag("-h,--help", "print this help and exit");
   app->add_option("SCENE.obj", a->config.scene, "the OBJ scene")->required();
-  app->add_option("--out-dir", a->dir, "where sweep.csv goes (created when the inputs are valid)")
+  app->add_option("--out-dir", a->dir, "where sweep.csv and the plots go (created when the inputs are valid)")
       ->type_name("DIR")
       ->required();
+  app->add_option("--plots", a->plots,
+                  "png: matplotlib PNGs of sweep.csv in DIR, drawn by the source tree's "
+                  "scripts/plot_sweep.py with its Python (scripts/python; PMC_PYTHON overrides): "
+                  "cache_size_time.png (2+ cache sizes), mip_bias_error.png (2+ biases or modes), "
+                  "convergence.png (--convergence-spp); none: only sweep.csv")
+      ->type_name("png|none")
+      ->check(cli::one_of({"png", "none"}))
+      ->capture_default_str();
   add_list_option(*app, "--cells,--cache-cells", a->lists.cells, "cache cell counts, e.g. 4096,65536,1048576")
       ->default_str(
           "the scene's automatic size: per --entries value, the cells that keep its total entries, as pmc "

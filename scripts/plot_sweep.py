@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """scripts/plot_sweep.py — turn `pmc sweep`'s sweep.csv into PNG plots.
 
-    scripts/plot_sweep.py SWEEP.csv [MORE.csv ...] OUTDIR
+    scripts/plot_sweep.py [--allow-empty] SWEEP.csv [MORE.csv ...] OUTDIR
 
 With several CSVs (the same sweep run several times, e.g. interleaved with
 other work on a busy machine), rows with the same kind, cells, entries, mip
@@ -21,7 +21,8 @@ rows of the kind it needs):
                         against seconds for cache off and on (log-log), each
                         point labelled with its samples per pixel.
 
-It also prints, per plot, the numbers it drew and, for the convergence
+It exits 1 when there is nothing to plot, unless --allow-empty (what `pmc
+sweep --plots png` passes: it warns instead). It also prints, per plot, the numbers it drew and, for the convergence
 curves, the time each curve needs to reach the other's errors (log-log
 interpolation), i.e. the speed-up at equal error.
 
@@ -34,7 +35,7 @@ import math
 import os
 import sys
 
-USAGE = "usage: scripts/plot_sweep.py SWEEP.csv [MORE.csv ...] OUTDIR"
+USAGE = "usage: scripts/plot_sweep.py [--allow-empty] SWEEP.csv [MORE.csv ...] OUTDIR"
 KEY = ("kind", "cells", "entries", "mip_bias", "cache_eval", "spp")
 NUMBERS = ("time_seconds", "hit_rate", "memory_bytes", "psnr_vs_cacheless", "relmse_vs_cacheless",
            "relmse_vs_reference")
@@ -317,6 +318,11 @@ def main(argv):
     if len(argv) < 3:
         print(USAGE, file=sys.stderr)
         return 2
+    allow_empty = "--allow-empty" in argv  # pmc sweep: a sweep with nothing to plot is not an error
+    argv = [a for a in argv if a != "--allow-empty"]
+    if len(argv) < 3:
+        print(USAGE, file=sys.stderr)
+        return 2
     srcs, out = argv[1:-1], argv[-1]
     for src in srcs:
         if not os.path.isfile(src):
@@ -339,7 +345,7 @@ def main(argv):
         print(f"plot_sweep: wrote {p}")
     if not written:
         print("plot_sweep: nothing to plot", file=sys.stderr)
-        return 1
+        return 0 if allow_empty else 1
     return 0
 
 

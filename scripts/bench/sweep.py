@@ -163,7 +163,8 @@ def main(argv=None):
 
     def sweep_cmd(out_dir, extra):
         return [PMC or "build/pmc", "sweep", *SCENE, "--out-dir", out_dir, "--width", str(a.width),
-                "--height", str(a.height), "--spp", str(a.spp), "--repeat", str(a.repeat), "--quiet", *extra]
+                "--height", str(a.height), "--spp", str(a.spp), "--repeat", str(a.repeat), "--quiet",
+                "--plots", "none", *extra]  # plotted below, into --plots
 
     def plot_cmd(csv):
         return ["scripts/plot_sweep.py", csv, PLOTS]

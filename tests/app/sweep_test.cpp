@@ -7,8 +7,9 @@
 // memory = cells x entries x 8 bytes, hit rates in [0, 1] and zero for the
 // cacheless rows, errors finite; a coarser mip level gives more hits than a
 // finer one (fewer, larger texels); center-mode rows are deterministic, so a
-// second sweep with the same seed gives the same errors. The plot script
-// turns the CSV into its three PNGs. The cache options of `pmc render` are
+// second sweep with the same seed gives the same errors. The sweep draws
+// its three plots into its out-dir (--plots png; none with --plots none), and
+// a missing plotter fails before anything is rendered. The cache options of `pmc render` are
 // aliases of the lists (--mip-bias LIST = --mip-biases LIST, ...) and give
 // the same CSV; the convergence_on rows use the grid's first combination and
 // their columns say so; --cache-filter and --cache-min-nodes reach every
@@ -24,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "core/image_io.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -116,23 +118,28 @@ TEST(Sweep, WritesOneRowPerSettingAndThePlotsFollow) {
   for (const char* mode : {"hit", "center", "center-nearest"})
     EXPECT_GT(hit_of("4096", "-2", mode), hit_of("4096", "1", mode)) << mode;
 
+  // The sweep drew its plots into its out-dir (--plots png, the default):
+  // PNG images of the size plot_sweep.py draws (110 dpi figures).
+  for (const char* f : {"cache_size_time.png", "mip_bias_error.png", "convergence.png"}) {
+    ASSERT_TRUE(test::file_exists(dir + "/" + f)) << f << "\n" << log;
+    const Image png = read_image(dir + "/" + f);
+    EXPECT_GT(png.width, 400) << f;
+    EXPECT_GT(png.height, 300) << f;
+    EXPECT_GT(test::image_mean(png), 0.5) << f << ": a plot on a white page";
+    EXPECT_LT(test::image_mean(png), 1.0) << f << ": something is drawn";
+  }
+
   // Center-mode images do not depend on insertion order: the same sweep again
-  // gives the same errors for those rows.
+  // gives the same errors for those rows. With --plots none: only sweep.csv.
   const std::string dir2 = dir + "/again";
-  ASSERT_EQ(test::run_pmc(args + dir2, &log), 0) << log;
+  ASSERT_EQ(test::run_pmc(args + dir2 + " --plots none", &log), 0) << log;
+  for (const char* f : {"cache_size_time.png", "mip_bias_error.png", "convergence.png"})
+    EXPECT_FALSE(test::file_exists(dir2 + "/" + f)) << f;
   std::vector<CsvRow> again = read_csv(dir2 + "/sweep.csv");
   ASSERT_EQ(again.size(), rows.size());
   for (size_t i = 0; i < rows.size(); ++i)
     if (rows[i].at("kind") == "setting" && rows[i].at("cache_eval") != "hit")
       EXPECT_EQ(rows[i].at("relmse_vs_cacheless"), again[i].at("relmse_vs_cacheless")) << i;
-
-  // The plots.
-  const std::string plots = dir + "/plots";
-  const std::string cmd =
-      test::source_path("scripts/plot_sweep.py") + " " + dir + "/sweep.csv " + plots + " 2>&1";
-  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
-  for (const char* f : {"cache_size_time.png", "mip_bias_error.png", "convergence.png"})
-    EXPECT_TRUE(test::file_exists(plots + "/" + f)) << f;
 }
 
 // A small, fast sweep: 32x24, reference at 2 samples.
@@ -268,6 +275,7 @@ TEST(Sweep, ConflictingOrMalformedCacheOptionsAreRefused) {
       {"--cache-evals center,center-nearest --cache-filter nearest", {"--cache-evals", "center-nearest"}},
       {"--cache-filter blurry", {"--cache-filter"}},
       {"--reference-spp 0", {"--reference-spp"}},
+      {"--plots svg", {"--plots", "png or none"}},
   };
   for (const auto& c : cases) {
     std::string log;
@@ -303,6 +311,35 @@ TEST(Sweep, BadListsAreRefused) {
       << log;
   EXPECT_NE(log.find("--repeat"), std::string::npos) << log;
   EXPECT_FALSE(test::file_exists(dir + "/sweep.csv")) << "no partial output";
+}
+
+// Plots need the Python that draws them: missing, the sweep fails before it
+// renders anything (exit 2, naming --plots, no out-dir), unless --plots none.
+TEST(Sweep, MissingPlotterFailsBeforeRendering) {
+  const std::string tmp = test::temp_dir(), dir = tmp + "/new/out";
+  ASSERT_EQ(setenv("PMC_PYTHON", (tmp + "/no-such-python").c_str(), 1), 0);
+  std::string log;
+  const int rc = test::run_pmc("sweep " + small_teapot() + " --out-dir " + dir, &log);
+  const int rc_none = test::run_pmc("sweep " + small_teapot() + " --plots none --out-dir " + tmp + "/none");
+  unsetenv("PMC_PYTHON");
+  EXPECT_EQ(rc, 2) << log;
+  EXPECT_NE(log.find("--plots"), std::string::npos) << log;
+  EXPECT_NE(log.find("no-such-python"), std::string::npos) << log;
+  EXPECT_FALSE(test::file_exists(tmp + "/new")) << "out-dir created: it failed after loading the scene";
+  EXPECT_EQ(rc_none, 0);
+  EXPECT_TRUE(test::file_exists(tmp + "/none/sweep.csv"));
+}
+
+// One cache size, one mip bias and mode, no convergence rows: nothing to
+// plot, which is a warning, not a failure (sweep.csv is the result).
+TEST(Sweep, NothingToPlotIsAWarning) {
+  const std::string dir = test::temp_dir() + "/out";
+  std::string log;
+  ASSERT_EQ(test::run_pmc("sweep " + small_teapot() + " --out-dir " + dir, &log), 0) << log;
+  EXPECT_TRUE(test::file_exists(dir + "/sweep.csv"));
+  EXPECT_NE(log.find("nothing to plot"), std::string::npos) << log;
+  for (const char* f : {"cache_size_time.png", "mip_bias_error.png", "convergence.png"})
+    EXPECT_FALSE(test::file_exists(dir + "/" + f)) << f;
 }
 
 }  // namespace
