@@ -31,6 +31,16 @@ void RenderConfig::validate() const {
     fail_config(setting("width"), "/", setting("height"), ": image too large (", width, "x", height,
                 " pixels; at most 2^28)");
   if (spp <= 0) fail_config(setting("spp"), ": samples per pixel must be at least 1, got ", spp);
+  if (samples && !((*samples)[0] >= 0 && (*samples)[0] < (*samples)[1] && (*samples)[1] <= spp))
+    fail_config(setting("samples"), ": the range A:B must satisfy 0 <= A < B <= ", setting("spp"), " (", spp,
+                "), got ", (*samples)[0], ":", (*samples)[1]);
+  if (crop) {
+    const auto& w = *crop;
+    if (!(w[0] >= 0 && w[1] >= 0 && w[0] < w[2] && w[1] < w[3] && w[2] <= width && w[3] <= height))
+      fail_config(setting("crop"), ": the window x0,y0,x1,y1 must satisfy 0 <= x0 < x1 <= ", setting("width"),
+                  " (", width, ") and 0 <= y0 < y1 <= ", setting("height"), " (", height, "), got ", w[0],
+                  ",", w[1], ",", w[2], ",", w[3]);
+  }
   if (max_depth <= 0 || max_depth > 1024)
     fail_config(setting("max_depth"), ": must be in 1..1024, got ", max_depth);
   if (seed < 0 || seed > 0xffffffffLL) fail_config(setting("seed"), ": must be in 0..4294967295, got ", seed);
@@ -82,6 +92,12 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.width = c.width;
   s.height = c.height;
   s.spp = c.spp;
+  if (c.samples) {
+    s.sample_begin = (*c.samples)[0];
+    s.sample_end = (*c.samples)[1];
+  }
+  if (c.crop)
+    for (int i = 0; i < 4; ++i) s.crop[i] = (*c.crop)[size_t(i)];
   s.max_depth = c.max_depth;
   s.seed = uint32_t(c.seed);
   for (int i = 0; i < 3; ++i) s.env[i] = c.env[size_t(i)];

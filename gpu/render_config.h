@@ -48,8 +48,13 @@ struct RenderConfig {
   // The image.
   int width = 640, height = 360;  // pixels
   int spp = 16;                   // samples per pixel
-  int max_depth = 8;              // surface hits per path, 1..1024
-  int64_t seed = 0;               // 0..2^32-1; equal seeds give identical images (cache: center mode)
+  // Part of the frame (a farm chunk; `pmc merge` adds parts up): the sample
+  // indices [first, second) of the frame's spp, and the window x0, y0, x1, y1
+  // (pixels [x0, x1) x [y0, y1)). Unset: all samples, the whole frame.
+  std::optional<std::array<int, 2>> samples;
+  std::optional<std::array<int, 4>> crop;
+  int max_depth = 8;  // surface hits per path, 1..1024
+  int64_t seed = 0;   // 0..2^32-1; equal seeds give identical images (cache: center mode)
   Vec3 env = {0.0f, 0.0f,
               0.0f};  // constant environment radiance; when not black it replaces the lights file's
 

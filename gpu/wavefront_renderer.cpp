@@ -202,29 +202,23 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   return frame;
 }
 
-// The film's sums -> the image (mean of the finite samples) and the hit map.
-void resolve_film(const std::vector<PmcFilmPixel>& film, int spp, RenderOutput& out) {
+// The window's film -> its exact sums, the image (mean of the good samples) and the hit map.
+void resolve_film(const std::vector<PmcFilmPixel>& film, int width, int height, uint32_t samples,
+                  RenderOutput& out) {
   RenderStats& st = out.stats;
-  const size_t pixels = film.size();
-  out.image.channels = 3;
-  out.image.pixels.resize(pixels * 3);
-  out.hitmap.width = out.image.width;
-  out.hitmap.height = out.image.height;
-  out.hitmap.channels = 1;
-  out.hitmap.pixels.resize(pixels);
-  for (size_t i = 0; i < pixels; ++i) {
+  FilmSums& f = out.film;
+  f = FilmSums::zero(width, height);
+  for (size_t i = 0; i < film.size(); ++i) {
     const PmcFilmPixel& p = film[i];
+    std::copy(p.sum, p.sum + FilmSums::kWords, &f.sum[i * FilmSums::kWords]);
+    f.samples[i] = samples;
+    f.bad[i] = p.bad_samples;
+    f.hits[i] = p.cache_hits;
     st.bad_samples += p.bad_samples;
-    const uint32_t good = uint32_t(spp) - std::min<uint32_t>(p.bad_samples, uint32_t(spp));
-    bool finite = true;
-    for (int c = 0; c < 3; ++c) {
-      float v = good > 0 ? p.rgb[c] / float(good) : 0.0f;
-      finite = finite && std::isfinite(v);
-      out.image.pixels[3 * i + c] = v;
-    }
-    st.nan_pixels += finite ? 0 : 1;
-    out.hitmap.pixels[i] = float(p.cache_hits) / float(spp);
   }
+  out.image = film_mean(f);
+  out.hitmap = film_hitmap(f);
+  for (float v : out.image.pixels) st.nan_pixels += std::isfinite(v) ? 0 : 1;  // sums are finite: stays 0
 }
 
 void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheSettings& cs, CacheStats& c) {
@@ -267,7 +261,15 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   RenderStats& st = out.stats;
   st.device = m.cl.description();
   st.kernel_build_seconds = m.kernels.build_seconds();
-  const size_t pixels = size_t(s.width) * size_t(s.height);
+  const int first_sample = s.sample_begin, end_sample = s.sample_end > 0 ? s.sample_end : s.spp;
+  if (first_sample < 0 || first_sample >= end_sample || end_sample > s.spp)
+    fail("render settings: the sample range must lie within 0..spp and hold at least one sample");
+  const bool cropped = s.crop[2] > 0;
+  const int x0 = cropped ? s.crop[0] : 0, y0 = cropped ? s.crop[1] : 0;
+  const int x1 = cropped ? s.crop[2] : s.width, y1 = cropped ? s.crop[3] : s.height;
+  if (x0 < 0 || y0 < 0 || x0 >= x1 || y0 >= y1 || x1 > s.width || y1 > s.height)
+    fail("render settings: the crop window must lie within the image and hold at least one pixel");
+  const size_t pixels = size_t(x1 - x0) * size_t(y1 - y0);  // of the window
   const size_t wave_paths = std::min(pixels, std::max<size_t>(1, s.max_wave_paths));
   const size_t cache_words = cs.on ? size_t(cs.cells) * cs.ways : 0;
 
@@ -287,6 +289,9 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   if (!lights.environment.present) lights.environment = constant_environment(s.env);
   m.scene_buffers.upload_lights(m.cl, build_light_table(m.scene, m.scene_buffers.emission, lights));
   PmcFrame frame = make_frame(s, m.scene_buffers);
+  frame.crop_x0 = uint32_t(x0);
+  frame.crop_y0 = uint32_t(y0);
+  frame.crop_width = uint32_t(x1 - x0);
 
   if (!m.warmed_up) {  // compile time is warm-up, not rendering
     const auto t_warm = Clock::now();
@@ -299,21 +304,19 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   }
 
   WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
-  for (int sample = 0; sample < s.spp; ++sample) {
+  for (int sample = first_sample; sample < end_sample; ++sample) {
     for (size_t block = 0; block < pixels; block += wave_paths) {
       frame.sample = uint32_t(sample);
       frame.pixel_offset = uint32_t(block);
       frame.path_count = uint32_t(std::min(wave_paths, pixels - block));
       loop.run(frame);
     }
-    if (progress) progress(sample + 1, s.spp, st.rays);
+    if (progress) progress(sample + 1 - first_sample, end_sample - first_sample, st.rays);
   }
 
   std::vector<PmcFilmPixel> film(pixels);
   m.cl.read(wave.film, 0, pixels * sizeof(PmcFilmPixel), film.data());
-  out.image.width = s.width;
-  out.image.height = s.height;
-  resolve_film(film, s.spp, out);
+  resolve_film(film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
   if (cs.on) read_cache_stats(m.cl, wave, cs, st.cache);
   st.render_seconds =
       std::chrono::duration<double>(Clock::now() - t_start).count() - st.kernel_warmup_seconds;

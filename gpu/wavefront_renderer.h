@@ -19,6 +19,7 @@
 
 #include "core/camera.h"
 #include "core/embree_tracer.h"
+#include "core/film_sum.h"
 #include "core/image_io.h"
 #include "core/lights.h"
 #include "core/scene.h"
@@ -51,7 +52,15 @@ struct CacheStats {
 struct RenderSettings {
   int width = 640;
   int height = 360;
-  int spp = 16;
+  int spp = 16;  // the frame's samples per pixel
+  // The samples rendered: indices [sample_begin, sample_end) of the frame's
+  // spp (sample_end 0: spp). The RNG is keyed by the index, so a range draws
+  // the same samples in any process (`pmc render --samples`, farm chunks).
+  int sample_begin = 0, sample_end = 0;
+  // The window rendered, pixels [x0, x1) x [y0, y1) of the frame (--crop);
+  // x1 == 0: the whole frame. Pixels keep their frame coordinates (camera
+  // ray, RNG key), so a window equals the same pixels of the full render.
+  int crop[4] = {0, 0, 0, 0};
   int max_depth = 8;
   uint32_t seed = 0;
   float env[3] = {0.0f, 0.0f, 0.0f};  // constant environment radiance, unless lights.environment is set
@@ -93,12 +102,13 @@ struct RenderStats {
 };
 
 struct RenderOutput {
-  Image image;
-  Image hitmap;  // cache points found per sample, per pixel (1 channel)
+  Image image;    // the window's pixels (the whole frame without a crop)
+  Image hitmap;   // cache points found per sample, per pixel (1 channel)
+  FilmSums film;  // the exact sums `image` was resolved from (core/film_sum.h)
   RenderStats stats;
 };
 
-// Called after each finished pass: samples done so far, total, rays so far.
+// Called after each finished pass: samples done so far, total (of this render's range), rays so far.
 using ProgressFn = std::function<void(int samples_done, int samples_total, uint64_t rays)>;
 
 class WavefrontRenderer {

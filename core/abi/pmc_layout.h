@@ -51,7 +51,8 @@
   X(PmcTriangle, n)                \
   X(PmcTriangle, t)                \
   X(PmcTriangle, material)         \
-  X(PmcFilmPixel, rgb)             \
+  X(PmcFilmPixel, sum)             \
+  X(PmcFilmPixel, bad_samples)     \
   X(PmcFilmPixel, cache_hits)      \
   X(PmcTexture, offset)            \
   X(PmcTexture, width)             \
@@ -65,8 +66,11 @@
   X(PmcFrame, cam_eye)             \
   X(PmcFrame, cam_spread)          \
   X(PmcFrame, cam_forward)         \
+  X(PmcFrame, crop_x0)             \
   X(PmcFrame, cam_right)           \
+  X(PmcFrame, crop_y0)             \
   X(PmcFrame, cam_up)              \
+  X(PmcFrame, crop_width)          \
   X(PmcLight, type)                \
   X(PmcLight, flags)               \
   X(PmcLight, pmf)                 \

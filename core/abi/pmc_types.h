@@ -68,13 +68,15 @@ typedef struct PmcTriangle {
   pmc_i32 material;
 } PmcTriangle;
 
-/* Accumulated film pixel: rgb sum, the number of samples dropped as NaN/Inf,
- * and the cache points found by its samples (the hit map). */
+/* Accumulated film pixel: the exact sum of its samples' rgb (per channel a
+ * 128-bit fixed-point number in four 32-bit words, core/device/pmc_film.h),
+ * the number of samples dropped as NaN/Inf/huge, and the cache points found
+ * by its samples (the hit map). */
 typedef struct PmcFilmPixel {
-  float rgb[3];
+  pmc_u32 sum[12]; /* channel c: sum[4c .. 4c+3], least significant word first */
   pmc_u32 bad_samples;
   pmc_u32 cache_hits;
-  pmc_u32 pad[3];
+  pmc_u32 pad[2];
 } PmcFilmPixel;
 
 /* A texture in the shared texel pool: mip level l has size
@@ -157,11 +159,11 @@ typedef struct PmcFrame {
   float cam_eye[3];
   float cam_spread; /* spread angle of one pixel (radians) */
   float cam_forward[3];
-  float pad0;
+  pmc_u32 crop_x0;    /* the window rendered (--crop): path k of the render is */
   float cam_right[3]; /* scaled by tan(fov/2) * aspect */
-  float pad1;
-  float cam_up[3]; /* scaled by tan(fov/2) */
-  float pad2;
+  pmc_u32 crop_y0;    /* pixel (crop_x0 + k % crop_width, crop_y0 + k / crop_width) */
+  float cam_up[3];    /* scaled by tan(fov/2) */
+  pmc_u32 crop_width; /* of the full frame; the film holds the window only */
   PmcLightHeader lights;
   pmc_i32 width, height;
   pmc_u32 seed, sample;

@@ -17,6 +17,7 @@
  * through the device functions as one PmcSceneData.
  */
 #include "pmc_bsdf.h"
+#include "pmc_film.h"
 #include "pmc_geometry.h"
 #include "pmc_interp.h"
 #include "pmc_lights.h"
@@ -32,9 +33,10 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
                               __global PmcPathState* paths) {
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
-  uint pixel = frame->pixel_offset + i;
-  uint x = pixel % (uint)frame->width;
-  uint y = pixel / (uint)frame->width;
+  uint k = frame->pixel_offset + i; /* index into the window (--crop), row by row */
+  uint x = frame->crop_x0 + k % frame->crop_width;
+  uint y = frame->crop_y0 + k / frame->crop_width;
+  uint pixel = y * (uint)frame->width + x; /* in the full frame: the RNG key is the same in any window */
   uint key = pmc_path_key(frame->seed, pixel, frame->sample);
   float jx = pmc_rand(key, 0u, PMC_DIM_PIXEL_X);
   float jy = pmc_rand(key, 0u, PMC_DIM_PIXEL_Y);
@@ -550,13 +552,22 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
   __global const PmcPathState* p = &paths[i];
-  __global PmcFilmPixel* px = &film[p->pixel];
-  float r = p->radiance[0], g = p->radiance[1], bl = p->radiance[2];
+  /* the film holds the window only (--crop) */
+  uint x = p->pixel % (uint)frame->width - frame->crop_x0;
+  uint y = p->pixel / (uint)frame->width - frame->crop_y0;
+  __global PmcFilmPixel* px = &film[y * frame->crop_width + x];
   px->cache_hits += p->cache_hits;
-  if (isfinite(r) && isfinite(g) && isfinite(bl)) {
-    px->rgb[0] += r;
-    px->rgb[1] += g;
-    px->rgb[2] += bl;
+  /* exact fixed-point sums (pmc_film.h): the film does not depend on the
+   * order or the split of the samples */
+  pmc_u32 v[3][PMC_FIXED_WORDS];
+  if (pmc_fixed_of_float(p->radiance[0], v[0]) && pmc_fixed_of_float(p->radiance[1], v[1]) &&
+      pmc_fixed_of_float(p->radiance[2], v[2])) {
+    for (int c = 0; c < 3; ++c) {
+      pmc_u32 acc[PMC_FIXED_WORDS];
+      for (uint w = 0; w < PMC_FIXED_WORDS; ++w) acc[w] = px->sum[4 * c + w];
+      pmc_fixed_add(acc, v[c]);
+      for (uint w = 0; w < PMC_FIXED_WORDS; ++w) px->sum[4 * c + w] = acc[w];
+    }
   } else {
     px->bad_samples += 1u;
   }

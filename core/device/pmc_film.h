@@ -1,0 +1,69 @@
+/* pmc_film.h — exact film sums: each float sample added as a 128-bit fixed-point number.
+ *
+ * The film kernel adds every path sample's radiance to its pixel. A float sum
+ * depends on the order of the additions, so a frame rendered in parts (sample
+ * ranges on several machines, `pmc merge`) would differ in the last bits from
+ * the one-process render. Here a finite float v is converted exactly to the
+ * integer N = v * 2^64 (Q63.64, two's complement, four little-endian 32-bit
+ * words; bits below 2^-64 are truncated towards zero, i.e. only magnitudes
+ * below 2^-41 lose anything) and the film adds integers: exact, so
+ * associative, and the sum of any split of the samples is the same integer.
+ * A sample with |v| >= 2^62 in any channel is counted as a bad sample (like
+ * NaN/Inf), so no 128-bit sum can overflow for fewer than 2^64 samples.
+ * The host (core/film_sum.h) turns the integer sum into the pixel's mean.
+ * Written here rather than taken from a library: it must compile as OpenCL C
+ * and C++ alike and do exactly these integer operations on both.
+ */
+#ifndef PMC_FILM_H
+#define PMC_FILM_H
+
+#include "../abi/pmc_vec.h"
+
+#define PMC_FIXED_WORDS 4u
+
+/* The exact Q63.64 value of `v` into w[0..3]; 0 (w untouched) when v is not
+ * finite or |v| >= 2^62. */
+PMC_FN int pmc_fixed_of_float(float v, pmc_u32* w) {
+  const pmc_u32 bits = (pmc_u32)as_int(v);
+  const pmc_u32 e = (bits >> 23) & 0xffu;
+  if (e >= 189u) return 0; /* |v| >= 2^62, Inf or NaN */
+  pmc_u32 m = bits & 0x7fffffu;
+  int shift; /* v = m * 2^(e - 150), N = m * 2^(e - 86) */
+  if (e == 0u) {
+    shift = 1 - 86; /* subnormal */
+  } else {
+    m |= 0x800000u;
+    shift = (int)e - 86;
+  }
+  for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) w[k] = 0u;
+  if (shift < 0) {
+    w[0] = shift <= -24 ? 0u : m >> (pmc_u32)(-shift);
+  } else {
+    const pmc_u32 q = (pmc_u32)shift / 32u, r = (pmc_u32)shift % 32u;
+    const pmc_u64 t = (pmc_u64)m << r; /* at most 55 bits */
+    w[q] = (pmc_u32)t;
+    if (q + 1u < PMC_FIXED_WORDS) w[q + 1u] = (pmc_u32)(t >> 32);
+  }
+  if (bits >> 31) { /* negate: invert and add one */
+    pmc_u32 carry = 1u;
+    for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) {
+      const pmc_u64 s = (pmc_u64)(~w[k]) + carry;
+      w[k] = (pmc_u32)s;
+      carry = (pmc_u32)(s >> 32);
+    }
+  }
+  return 1;
+}
+
+/* acc += x, both four-word two's complement numbers (the carry out of the
+ * top word is dropped, as two's complement addition does). */
+PMC_FN void pmc_fixed_add(pmc_u32* acc, const pmc_u32* x) {
+  pmc_u64 carry = 0u;
+  for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) {
+    const pmc_u64 s = (pmc_u64)acc[k] + (pmc_u64)x[k] + carry;
+    acc[k] = (pmc_u32)s;
+    carry = s >> 32;
+  }
+}
+
+#endif /* PMC_FILM_H */

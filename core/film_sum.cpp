@@ -1,0 +1,87 @@
+// film_sum.cpp — exact film sums: adding, and the mean they resolve to.
+#include "core/film_sum.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/error.h"
+
+namespace pmc {
+namespace {
+
+// Words [w, w + 4) as a signed 128-bit integer.
+__int128 fixed_value(const uint32_t* w) {
+  unsigned __int128 u = 0;
+  for (int k = 3; k >= 0; --k) u = (u << 32) | w[k];
+  return __int128(u);
+}
+
+}  // namespace
+
+FilmSums FilmSums::zero(int w, int h) {
+  FilmSums f;
+  f.width = w;
+  f.height = h;
+  const size_t n = f.pixels();
+  f.sum.assign(n * kWords, 0u);
+  f.samples.assign(n, 0u);
+  f.bad.assign(n, 0u);
+  f.hits.assign(n, 0u);
+  return f;
+}
+
+void add_film(FilmSums& into, const FilmSums& part, int x0, int y0) {
+  PMC_CHECK(x0 >= 0 && y0 >= 0 && x0 + part.width <= into.width && y0 + part.height <= into.height,
+            "film part outside the frame");
+  for (int y = 0; y < part.height; ++y)
+    for (int x = 0; x < part.width; ++x) {
+      const size_t s = size_t(y) * size_t(part.width) + size_t(x);
+      const size_t d = size_t(y + y0) * size_t(into.width) + size_t(x + x0);
+      for (int c = 0; c < 3; ++c) {
+        uint32_t* acc = &into.sum[d * FilmSums::kWords + size_t(4 * c)];
+        const uint32_t* v = &part.sum[s * FilmSums::kWords + size_t(4 * c)];
+        uint64_t carry = 0;
+        for (int k = 0; k < 4; ++k) {
+          const uint64_t t = uint64_t(acc[k]) + uint64_t(v[k]) + carry;
+          acc[k] = uint32_t(t);
+          carry = t >> 32;
+        }
+      }
+      into.samples[d] += part.samples[s];
+      into.bad[d] += part.bad[s];
+      into.hits[d] += part.hits[s];
+    }
+}
+
+long double film_channel_sum(const FilmSums& film, size_t pixel, int channel) {
+  const __int128 n = fixed_value(&film.sum[pixel * FilmSums::kWords + size_t(4 * channel)]);
+  return std::ldexp((long double)n, -64);
+}
+
+Image film_mean(const FilmSums& film) {
+  Image out;
+  out.width = film.width;
+  out.height = film.height;
+  out.channels = 3;
+  out.pixels.resize(film.pixels() * 3);
+  for (size_t i = 0; i < film.pixels(); ++i) {
+    const uint32_t good = film.samples[i] - std::min(film.bad[i], film.samples[i]);
+    for (int c = 0; c < 3; ++c)
+      out.pixels[3 * i + size_t(c)] =
+          good > 0 ? float(film_channel_sum(film, i, c) / (long double)good) : 0.0f;
+  }
+  return out;
+}
+
+Image film_hitmap(const FilmSums& film) {
+  Image out;
+  out.width = film.width;
+  out.height = film.height;
+  out.channels = 1;
+  out.pixels.resize(film.pixels());
+  for (size_t i = 0; i < film.pixels(); ++i)
+    out.pixels[i] = film.samples[i] > 0 ? float(film.hits[i]) / float(film.samples[i]) : 0.0f;
+  return out;
+}
+
+}  // namespace pmc

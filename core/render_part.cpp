@@ -1,0 +1,250 @@
+// render_part.cpp — part EXRs through OpenImageIO, and the checks and sums of a merge.
+#include "core/render_part.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <sstream>
+
+#include "core/atomic_write.h"
+#include "core/error.h"
+
+namespace pmc {
+namespace {
+
+constexpr int kRgb = 3;
+// The film's channels after R, G, B: the twelve sum words, then these.
+const char* const kCountChannels[] = {"pmc.samples", "pmc.bad", "pmc.hits"};
+constexpr int kFilmChannels = FilmSums::kWords + 3;
+
+std::string sum_channel(int k) { return "pmc.sum" + std::to_string(k); }
+
+std::string u64s(uint64_t v) { return std::to_string(v); }
+
+uint64_t parse_u64(const std::string& path, const std::string& name, const std::string& text) {
+  try {
+    size_t used = 0;
+    const unsigned long long v = std::stoull(text, &used);
+    if (used == text.size()) return v;
+  } catch (const std::exception&) {
+  }
+  fail(path, ": attribute ", name, " is not an unsigned integer ('", text, "')");
+}
+
+std::string ranges_text(int a, int b) { return std::to_string(a) + ":" + std::to_string(b); }
+
+std::string window_text(const std::array<int, 4>& w) {
+  std::ostringstream os;
+  os << w[0] << "," << w[1] << "," << w[2] << "," << w[3];
+  return os.str();
+}
+
+bool overlap(int a0, int a1, int b0, int b1) { return a0 < b1 && b0 < a1; }
+
+}  // namespace
+
+void write_part_exr(const std::string& path, const Image& image, const PartInfo& info, const FilmSums* film) {
+  const int w = info.crop[2] - info.crop[0], h = info.crop[3] - info.crop[1];
+  PMC_CHECK(image.width == w && image.height == h && image.channels == kRgb, "part image size");
+  PMC_CHECK(!film || (film->width == w && film->height == h), "part film size");
+  const int nch = kRgb + (film ? kFilmChannels : 0);
+  OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
+  spec.x = info.crop[0];
+  spec.y = info.crop[1];
+  spec.full_x = 0;
+  spec.full_y = 0;
+  spec.full_width = info.frame_width;
+  spec.full_height = info.frame_height;
+  spec.channelnames = {"R", "G", "B"};
+  if (film) {
+    spec.channelformats.assign(size_t(kRgb), OIIO::TypeDesc::FLOAT);
+    for (int k = 0; k < FilmSums::kWords; ++k) spec.channelnames.push_back(sum_channel(k));
+    for (const char* c : kCountChannels) spec.channelnames.push_back(c);
+    spec.channelformats.resize(size_t(nch), OIIO::TypeDesc::UINT);
+  }
+  spec.attribute("compression", "zip");
+  spec.attribute("pmc:scene_hash", info.scene_hash);
+  spec.attribute("pmc:settings_hash", info.settings_hash);
+  spec.attribute("pmc:scene", info.scene);
+  spec.attribute("pmc:spp", info.spp);
+  spec.attribute("pmc:sample_begin", info.sample_begin);
+  spec.attribute("pmc:sample_end", info.sample_end);
+  spec.attribute("pmc:seed", u64s(info.seed));
+  spec.attribute("pmc:cache", info.cache ? 1 : 0);
+  spec.attribute("pmc:cache:lookups", u64s(info.cache_counters.lookups));
+  spec.attribute("pmc:cache:hits", u64s(info.cache_counters.hits));
+  spec.attribute("pmc:cache:misses", u64s(info.cache_counters.misses));
+  spec.attribute("pmc:cache:inserts", u64s(info.cache_counters.inserts));
+  spec.attribute("pmc:cache:dropped_full", u64s(info.cache_counters.dropped_full));
+  spec.attribute("pmc:render_seconds", float(info.render_seconds));
+  spec.attribute("pmc:partial", info.partial ? 1 : 0);
+
+  // Interleaved native data: every channel is 4 bytes (float or uint32).
+  std::vector<uint32_t> data(size_t(w) * size_t(h) * size_t(nch));
+  for (size_t i = 0; i < size_t(w) * size_t(h); ++i) {
+    uint32_t* px = &data[i * size_t(nch)];
+    std::memcpy(px, &image.pixels[i * kRgb], kRgb * sizeof(float));
+    if (!film) continue;
+    std::copy_n(&film->sum[i * FilmSums::kWords], FilmSums::kWords, px + kRgb);
+    px[kRgb + FilmSums::kWords] = film->samples[i];
+    px[kRgb + FilmSums::kWords + 1] = film->bad[i];
+    px[kRgb + FilmSums::kWords + 2] = film->hits[i];
+  }
+
+  write_atomically(path, [&](const std::string& tmp) {
+    auto out = OIIO::ImageOutput::create(path);
+    if (!out) fail(path, ": cannot write this image format (", OIIO::geterror(), ")");
+    if (!out->open(tmp, spec)) fail(path, ": cannot open for writing: ", out->geterror());
+    bool ok = out->write_image(film ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT, data.data());
+    ok = out->close() && ok;
+    if (!ok) fail(path, ": writing the image failed");
+  });
+}
+
+RenderPart read_part_exr(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) fail(path, ": cannot read image: ", OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  RenderPart part;
+  part.path = path;
+  PartInfo& info = part.info;
+  info.settings_hash = spec.get_string_attribute("pmc:settings_hash");
+  if (info.settings_hash.empty())
+    fail(path,
+         ": not a pmc render part (no pmc:settings_hash attribute; render parts with "
+         "'pmc render --samples A:B' and/or '--crop')");
+  info.scene_hash = spec.get_string_attribute("pmc:scene_hash");
+  info.scene = spec.get_string_attribute("pmc:scene");
+  info.spp = spec.get_int_attribute("pmc:spp");
+  info.sample_begin = spec.get_int_attribute("pmc:sample_begin");
+  info.sample_end = spec.get_int_attribute("pmc:sample_end");
+  info.seed = uint32_t(parse_u64(path, "pmc:seed", spec.get_string_attribute("pmc:seed", "0")));
+  info.cache = spec.get_int_attribute("pmc:cache") != 0;
+  auto counter = [&](const char* name) {
+    return parse_u64(path, name, spec.get_string_attribute(name, "0"));
+  };
+  info.cache_counters.lookups = counter("pmc:cache:lookups");
+  info.cache_counters.hits = counter("pmc:cache:hits");
+  info.cache_counters.misses = counter("pmc:cache:misses");
+  info.cache_counters.inserts = counter("pmc:cache:inserts");
+  info.cache_counters.dropped_full = counter("pmc:cache:dropped_full");
+  info.render_seconds = spec.get_float_attribute("pmc:render_seconds");
+  info.partial = spec.get_int_attribute("pmc:partial") != 0;
+  info.frame_width = spec.full_width;
+  info.frame_height = spec.full_height;
+  info.crop = {spec.x, spec.y, spec.x + spec.width, spec.y + spec.height};
+  if (info.partial)
+    fail(path, ": a partial merge (samples missing) cannot be merged again; merge its parts instead");
+  if (info.spp <= 0 || info.sample_begin < 0 || info.sample_begin >= info.sample_end ||
+      info.sample_end > info.spp)
+    fail(path, ": bad sample range ", ranges_text(info.sample_begin, info.sample_end), " of ", info.spp,
+         " samples");
+  if (spec.full_x != 0 || spec.full_y != 0 || spec.x < 0 || spec.y < 0 || info.crop[2] > info.frame_width ||
+      info.crop[3] > info.frame_height || spec.width <= 0 || spec.height <= 0)
+    fail(path, ": data window ", window_text(info.crop), " is not inside the frame ", info.frame_width, "x",
+         info.frame_height);
+
+  FilmSums& f = part.film;
+  f = FilmSums::zero(spec.width, spec.height);
+  std::vector<uint32_t> channel(f.pixels());
+  auto read_channel = [&](const std::string& name) {
+    const int c = spec.channelindex(name);
+    if (c < 0)
+      fail(path, ": no channel ", name,
+           " (a part needs the film's sums: render it with 'pmc render --samples "
+           "A:B')");
+    if (!in->read_image(0, 0, c, c + 1, OIIO::TypeDesc::UINT, channel.data()))
+      fail(path, ": cannot decode channel ", name, ": ", in->geterror());
+  };
+  for (int k = 0; k < FilmSums::kWords; ++k) {
+    read_channel(sum_channel(k));
+    for (size_t i = 0; i < f.pixels(); ++i) f.sum[i * FilmSums::kWords + size_t(k)] = channel[i];
+  }
+  read_channel(kCountChannels[0]);
+  f.samples = channel;
+  read_channel(kCountChannels[1]);
+  f.bad = channel;
+  read_channel(kCountChannels[2]);
+  f.hits = channel;
+  const uint32_t range = uint32_t(info.sample_end - info.sample_begin);
+  for (size_t i = 0; i < f.pixels(); ++i)
+    if (f.samples[i] != range || f.bad[i] > range)
+      fail(path, ": pixel ", i, " of the window holds ", f.samples[i], " samples (", f.bad[i],
+           " bad), its range ", ranges_text(info.sample_begin, info.sample_end), " has ", range);
+  return part;
+}
+
+MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial) {
+  if (parts.empty()) fail("merge: no parts given");
+  const PartInfo& a = parts[0].info;
+  const std::string& a_path = parts[0].path;
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const PartInfo& b = parts[i].info;
+    const std::string& p = parts[i].path;
+    if (b.scene_hash != a.scene_hash)
+      fail(p, ": a different scene from ", a_path, " (scene hash ", b.scene_hash, " vs ", a.scene_hash,
+           "; scenes ", b.scene, " and ", a.scene, ")");
+    if (b.settings_hash != a.settings_hash)
+      fail(p, ": different render settings from ", a_path, " (settings hash ", b.settings_hash, " vs ",
+           a.settings_hash, ")");
+    if (b.frame_width != a.frame_width || b.frame_height != a.frame_height || b.spp != a.spp ||
+        b.seed != a.seed)
+      fail(p, ": a different frame from ", a_path, " (", b.frame_width, "x", b.frame_height, ", ", b.spp,
+           " spp, seed ", b.seed, " vs ", a.frame_width, "x", a.frame_height, ", ", a.spp, " spp, seed ",
+           a.seed, ")");
+  }
+  // No pixel sample drawn by two parts.
+  for (size_t i = 0; i < parts.size(); ++i)
+    for (size_t j = i + 1; j < parts.size(); ++j) {
+      const PartInfo& x = parts[i].info;
+      const PartInfo& y = parts[j].info;
+      if (overlap(x.sample_begin, x.sample_end, y.sample_begin, y.sample_end) &&
+          overlap(x.crop[0], x.crop[2], y.crop[0], y.crop[2]) &&
+          overlap(x.crop[1], x.crop[3], y.crop[1], y.crop[3]))
+        fail(parts[j].path, ": samples ", ranges_text(y.sample_begin, y.sample_end), " of window ",
+             window_text(y.crop), " overlap ", parts[i].path, " (samples ",
+             ranges_text(x.sample_begin, x.sample_end), " of window ", window_text(x.crop), ")");
+    }
+
+  MergedFrame m;
+  m.info = a;
+  m.info.crop = {0, 0, a.frame_width, a.frame_height};
+  m.info.sample_begin = 0;
+  m.info.sample_end = a.spp;
+  m.info.cache_counters = {};
+  m.info.render_seconds = 0.0;
+  m.film = FilmSums::zero(a.frame_width, a.frame_height);
+  for (const RenderPart& part : parts) {
+    add_film(m.film, part.film, part.info.crop[0], part.info.crop[1]);
+    const PartCacheCounters& c = part.info.cache_counters;
+    m.info.cache_counters.lookups += c.lookups;
+    m.info.cache_counters.hits += c.hits;
+    m.info.cache_counters.misses += c.misses;
+    m.info.cache_counters.inserts += c.inserts;
+    m.info.cache_counters.dropped_full += c.dropped_full;
+    m.info.render_seconds += part.info.render_seconds;
+  }
+  // Every pixel's samples complete (with no overlap, a count of spp means all of 0..spp-1).
+  for (size_t i = 0; i < m.film.pixels(); ++i) {
+    const uint32_t have = m.film.samples[i];
+    if (have == uint32_t(a.spp)) continue;
+    m.missing_pixel_samples += uint64_t(a.spp) - have;
+    if (allow_partial) continue;
+    const int x = int(i % size_t(a.frame_width)), y = int(i / size_t(a.frame_width));
+    std::string covered;
+    for (const RenderPart& part : parts) {
+      const PartInfo& p = part.info;
+      if (x >= p.crop[0] && x < p.crop[2] && y >= p.crop[1] && y < p.crop[3])
+        covered += " " + ranges_text(p.sample_begin, p.sample_end) + " (" + part.path + ")";
+    }
+    fail("merge: samples missing: pixel (", x, ",", y, ") has ", have, " of ", a.spp, " samples; covered by",
+         covered.empty() ? std::string(" no part") : covered,
+         " (pass --allow-partial to merge what there is)");
+  }
+  m.info.partial = m.missing_pixel_samples > 0;
+  return m;
+}
+
+}  // namespace pmc
