@@ -16,5 +16,6 @@ CommandRun add_render_command(CLI::App& pmc);
 CommandRun add_compare_command(CLI::App& pmc);
 CommandRun add_sweep_command(CLI::App& pmc);
 CommandRun add_info_command(CLI::App& pmc);
+CommandRun add_merge_command(CLI::App& pmc);
 
 }  // namespace pmc

@@ -11,6 +11,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/output_guard.h"
+#include "app/part_options.h"
 #include "app/progress.h"
 #include "app/render_options.h"
 #include "app/stats_json.h"
@@ -18,6 +19,7 @@
 #include "core/error.h"
 #include "core/heatmap.h"
 #include "core/tone_map.h"
+#include "gpu/part_identity.h"
 #include "gpu/render_session.h"
 
 namespace pmc {
@@ -69,7 +71,10 @@ int run_render(const RenderArgs& a) {
   OutputGuard guard;
   guard.track(exr);
   guard.track(png);
-  write_exr(exr, out.image);
+  // The EXR records which part of which frame it is (core/render_part.h);
+  // a part (--samples, --crop) also carries the exact sums `pmc merge` adds.
+  const bool part = config.samples || config.crop;
+  write_part_exr(exr, out.image, part_info(session, settings, out), part ? &out.film : nullptr);
   write_png_display(png, tone_map_image(out.image, a.tone_map));
   if (!a.hitmap.empty()) {
     guard.track(a.hitmap);
@@ -127,6 +132,22 @@ CommandRun add_render_command(CLI::App& pmc) {
       ->type_name("MAP.png");
   add_quiet_flag(*app, a->quiet, "the summary and warnings still print");
   declare_render_options(*app, a->config, CacheFlags::All);
+  // A part of the frame (farm chunks; README, Farm rendering): checked against
+  // --spp and the image size by RenderConfig::validate.
+  app->add_option_function<std::string>(
+         "--samples", [a](const std::string& v) { a->config.samples = parse_sample_range(v); },
+         "render only the sample indices [A, B) of the frame's --spp (a farm chunk); the EXR then also "
+         "holds the exact sums 'pmc merge' adds up")
+      ->type_name("A:B")
+      ->default_str("0:spp")
+      ->group("image");
+  app->add_option_function<std::string>(
+         "--crop", [a](const std::string& v) { a->config.crop = parse_crop_window(v); },
+         "render only pixels [x0,x1) x [y0,y1) of the frame (a tile; pixels keep their frame coordinates); "
+         "the EXR's data window is the tile, and it holds the exact sums 'pmc merge' adds up")
+      ->type_name("x0,y0,x1,y1")
+      ->default_str("the whole frame")
+      ->group("image");
   declare_display_options(*app, a->tone_map);
   return [a] { return run_render(*a); };
 }

@@ -37,6 +37,8 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
   j["width"] = s.width;
   j["height"] = s.height;
   j["spp"] = s.spp;
+  j["samples"] = {s.sample_begin, s.sample_end > 0 ? s.sample_end : s.spp};
+  if (s.crop[2] > 0) j["crop"] = {s.crop[0], s.crop[1], s.crop[2], s.crop[3]};
   j["max_depth"] = s.max_depth;
   j["seed"] = s.seed;
   j["paths"] = st.paths;
