@@ -121,9 +121,14 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
          unmatched);
   const std::vector<uint8_t>& bytes = scene.textures.texels();
   set.texel_words.resize(bytes.size() / 4);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+  // R in the low byte: on a little-endian host the words are the bytes as they are.
+  if (!bytes.empty()) std::memcpy(set.texel_words.data(), bytes.data(), set.texel_words.size() * 4);
+#else
   for (size_t i = 0; i < set.texel_words.size(); ++i)
     set.texel_words[i] = uint32_t(bytes[4 * i]) | uint32_t(bytes[4 * i + 1]) << 8 |
                          uint32_t(bytes[4 * i + 2]) << 16 | uint32_t(bytes[4 * i + 3]) << 24;
+#endif
   set.srgb_lut = srgb_decode_table();
   return set;
 }

@@ -5,7 +5,8 @@
 //   formula to 8 bits, checked at every threshold, one float either side, and
 //   on a dense sweep of [0, 1.1].
 // * A mip chain of a known image has the box-filtered values (linear data:
-//   plain averages; colour: averaged in linear light).
+//   plain averages; colour: averaged in linear light), and every level of an
+//   odd-sized noise image equals the plain per-texel box filter bit for bit.
 // * Files decode later, in parallel, into the places their indices promise;
 //   a copy of a pool with pending files decodes first; a corrupt file fails
 //   naming the file and its user when the pool is resolved.
@@ -14,6 +15,7 @@
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -70,6 +72,58 @@ TEST(Texture, MipChainAveragesLinearDataAndColourInLinearLight) {
   EXPECT_EQ(d1[0], 128);                        // (0 + 1 + 1 + 0) / 4 = 0.5 -> 127.5 rounds up
   EXPECT_EQ(c1[0], reference_srgb_byte(0.5f));  // linear 0.5 encoded: 188, not 128
   EXPECT_EQ(c1[3], 128);                        // alpha is data
+}
+
+// The plain per-texel box filter, written out as the mip chain is defined:
+// four taps (odd sizes clamp), colour averaged in linear light.
+std::vector<uint8_t> reference_downsample(const std::vector<uint8_t>& src, int w, int h, bool srgb) {
+  auto to_linear = [](uint8_t b) {
+    float c = b / 255.0f;
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  };
+  const int nw = std::max(1, w >> 1), nh = std::max(1, h >> 1);
+  std::vector<uint8_t> dst(size_t(nw) * nh * 4);
+  for (int y = 0; y < nh; ++y)
+    for (int x = 0; x < nw; ++x)
+      for (int c = 0; c < 4; ++c) {
+        float sum = 0.0f;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            uint8_t b = src[(size_t(std::min(h - 1, 2 * y + dy)) * w + std::min(w - 1, 2 * x + dx)) * 4 + c];
+            sum += (srgb && c < 3) ? to_linear(b) : b / 255.0f;
+          }
+        float avg = sum * 0.25f;
+        uint8_t data = avg >= 1.0f ? 255 : uint8_t(avg * 255.0f + 0.5f);
+        dst[(size_t(y) * nw + x) * 4 + c] = (srgb && c < 3) ? reference_srgb_byte(avg) : data;
+      }
+  return dst;
+}
+
+TEST(Texture, MipChainOfAnOddSizedImageEqualsThePlainBoxFilter) {
+  const int w = 37, h = 10;
+  std::vector<uint8_t> px(size_t(w) * h * 4);
+  uint32_t state = 12345u;
+  for (uint8_t& b : px) {
+    state = state * 1664525u + 1013904223u;
+    b = uint8_t(state >> 24);
+  }
+  for (bool srgb : {false, true}) {
+    TexturePool pool;
+    const PmcTexture& t = pool.textures()[size_t(pool.add("noise", w, h, px, srgb))];
+    std::vector<uint8_t> level = px;
+    int lw = w, lh = h;
+    size_t offset = size_t(t.offset);
+    for (int l = 1; l < t.levels; ++l) {
+      offset += size_t(lw) * lh;
+      level = reference_downsample(level, lw, lh, srgb);
+      lw = std::max(1, lw >> 1);
+      lh = std::max(1, lh >> 1);
+      for (size_t i = 0; i < level.size(); ++i)
+        ASSERT_EQ(pool.texels()[offset * 4 + i], level[i])
+            << "level " << l << " byte " << i << " srgb " << srgb;
+    }
+    EXPECT_EQ(t.levels, 6);  // 37x10, 18x5, 9x2, 4x1, 2x1, 1x1
+  }
 }
 
 void write_png(const std::string& path, int w, int h, uint8_t value) {
