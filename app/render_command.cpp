@@ -4,6 +4,7 @@
 // outputs; every output path is checked before the scene is loaded, then a
 // RenderSession renders and the outputs are written atomically, removed
 // again (OutputGuard) if a later one fails.
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -59,7 +60,10 @@ int run_render(const RenderArgs& a) {
   }
   check_distinct_outputs(outputs);
 
+  const auto device_start = std::chrono::steady_clock::now();
   std::unique_ptr<ClContext> cl = open_device(config);
+  const double device_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - device_start).count();
   RenderSession session(config, *cl);
   const RenderSettings& settings = session.settings();
   if (!a.quiet) print_cache_choice(settings);
@@ -84,7 +88,9 @@ int run_render(const RenderArgs& a) {
   }
   if (!a.stats.empty()) {
     guard.track(a.stats);
-    write_text_file(a.stats, render_json(settings, out.stats, obj).dump(2) + "\n");
+    nlohmann::json j = render_json(settings, out.stats, obj);
+    j["setup_seconds"] = setup_json(session.setup_seconds(), device_seconds);
+    write_text_file(a.stats, j.dump(2) + "\n");
   }
   guard.commit();
   const RenderStats& st = out.stats;

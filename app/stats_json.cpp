@@ -28,6 +28,16 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   return c;
 }
 
+nlohmann::json setup_json(const SetupSeconds& setup, double device_seconds) {
+  return {{"opencl_device", device_seconds},
+          {"scene", setup.scene},
+          {"materials", setup.materials},
+          {"lights", setup.lights},
+          {"bvh", setup.bvh},
+          {"renderer", setup.renderer},
+          {"total", device_seconds + setup.total()}};
+}
+
 nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {
   nlohmann::json j;
   j["scene"] = scene;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "gpu/render_session.h"
 #include "gpu/wavefront_renderer.h"
 
 namespace pmc {
@@ -14,6 +15,9 @@ namespace pmc {
 // entries, memory_bytes, size_reason (in flag names), lookups, hits, misses,
 // hit_rate, inserts, already_present, dropped_full, not_encodable, occupancy.
 nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats);
+// Where a session's setup went: opencl_device (opening the device, timed by
+// the caller), scene, materials, lights, bvh, renderer, total (wall seconds).
+nlohmann::json setup_json(const SetupSeconds& setup, double device_seconds);
 // A render's settings and statistics (`pmc render --stats`).
 nlohmann::json render_json(const RenderSettings& settings, const RenderStats& stats,
                            const std::string& scene);

@@ -4,6 +4,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
@@ -109,9 +110,17 @@ SceneLights resolve_lights(const RenderConfig& c) {
 
 RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : config_(config) {
   config_.validate();
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point mark = Clock::now();
+  auto lap = [&mark](double& seconds) {
+    const Clock::time_point now = Clock::now();
+    seconds = std::chrono::duration<double>(now - mark).count();
+    mark = now;
+  };
   ObjLoadOptions load;
   load.load_textures = false;  // the material compiler loads what live nodes read
   scene_ = load_obj(config_.scene, load);
+  lap(setup_.scene);
   MaterialOptions mo;
   mo.mtlx_files = config_.mtlx;
   mo.override_material = config_.material;
@@ -122,15 +131,19 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
   materials_ = build_material_set(scene_, mo);
   for (CompiledMaterial& m : materials_.program.materials)
     m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
+  lap(setup_.materials);
   settings_ = base_render_settings(config_);
   settings_.camera = resolve_camera(config_, scene_);
   settings_.lights = resolve_lights(config_);
   if (settings_.cache.on)
     size_cache(config_, materials_, settings_.cache, config_.width, config_.height, config_.spp);
+  lap(setup_.lights);
   cutout_ = std::make_unique<CutoutTester>(scene_, materials_);
   tracer_ =
       std::make_unique<EmbreeTracer>(scene_, config_.trace_mode, cutout_->any() ? cutout_.get() : nullptr);
+  lap(setup_.bvh);
   renderer_ = std::make_unique<WavefrontRenderer>(cl, scene_, materials_, *tracer_, config_.shade_lanes);
+  lap(setup_.renderer);
 }
 
 RenderSession::~RenderSession() = default;

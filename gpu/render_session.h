@@ -14,6 +14,8 @@
 // `pmc render`, `compare`, `sweep` and the tests all render through it, so a
 // cached and a cacheless render are always set up the same way.
 //
+// setup_seconds() says where the session's construction went (wall clock).
+//
 // Errors: ConfigError for settings (see core/error.h), pmc::Error naming the
 // file for bad scenes and materials.
 #pragma once
@@ -30,6 +32,16 @@
 
 namespace pmc {
 
+// Wall-clock seconds of each step of a session's setup, in order.
+struct SetupSeconds {
+  double scene = 0;      // OBJ + MTL parsing
+  double materials = 0;  // binding, MaterialX reading, compiling, texture decoding and mip chains
+  double lights = 0;     // camera, lights file and environment map, cache sizing
+  double bvh = 0;        // cut-out tester and Embree's BVH build
+  double renderer = 0;   // OpenCL program build (kernel_build_seconds) and scene buffer uploads
+  double total() const { return scene + materials + lights + bvh + renderer; }
+};
+
 class RenderSession {
  public:
   RenderSession(const RenderConfig& config, const ClContext& cl);
@@ -44,6 +56,7 @@ class RenderSession {
   const RenderSettings& settings() const { return settings_; }
   // Cache points over all compiled materials.
   size_t cache_points() const;
+  const SetupSeconds& setup_seconds() const { return setup_; }
 
   RenderOutput render(const ProgressFn& progress = {}) { return render(settings_, progress); }
   // `settings` must keep settings().cache.on (the program was compiled for it).
@@ -57,6 +70,7 @@ class RenderSession {
   std::unique_ptr<CutoutTester> cutout_;
   std::unique_ptr<EmbreeTracer> tracer_;
   std::unique_ptr<WavefrontRenderer> renderer_;
+  SetupSeconds setup_;
 };
 
 // Limits the host (TBB) and PoCL worker threads to config.threads when set,

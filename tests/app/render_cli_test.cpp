@@ -58,6 +58,15 @@ TEST(RenderCli, WritesExrPngAndStats) {
     EXPECT_TRUE(j.contains(key)) << key;
   for (const char* stage : {"trace", "shade", "shadow", "film"})
     EXPECT_TRUE(j["stage_seconds"].contains(stage)) << stage;
+  // Setup steps: each non-negative, and the total is their sum.
+  double sum = 0.0;
+  for (const char* step : {"opencl_device", "scene", "materials", "lights", "bvh", "renderer"}) {
+    ASSERT_TRUE(j["setup_seconds"].contains(step)) << step;
+    EXPECT_GE(j["setup_seconds"][step].get<double>(), 0.0) << step;
+    sum += j["setup_seconds"][step].get<double>();
+  }
+  EXPECT_NEAR(j["setup_seconds"]["total"].get<double>(), sum, 1e-9);
+  EXPECT_GT(j["setup_seconds"]["renderer"].get<double>(), 0.0);  // builds an OpenCL program
   EXPECT_EQ(j["paths"].get<long>(), 64 * 48 * 2);
   EXPECT_EQ(j["nan_pixels"].get<long>(), 0);
   EXPECT_NE(log.find("spp"), std::string::npos) << "one-line summary expected";
