@@ -11,7 +11,7 @@ from unittest import mock
 
 from bench import cache, common, mtlx_conformance
 
-MODULES = ["cache", "cacheless", "materials", "mtlx_conformance", "sweep", "trace"]
+MODULES = ["cache", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -54,11 +54,14 @@ class CommandLines(unittest.TestCase):
         self.assertEqual(a.command, "scripts/python -m bench.cache --runs 5 --only eval,threshold --doc -")
         a = parse("sweep", [], {"REPEAT": "2", "REPORT_ONLY": "1"})
         self.assertEqual((a.repeat, a.report_only), (2, True))
+        self.assertEqual(parse("speed", ["--only", "cold,scaling"]).parts, ["cold", "scaling"])
+        self.assertEqual(parse("speed", ["--baseline-pmc", "old/pmc"]).parts, ["before", "cold", "scaling"])
 
     def test_bad_values_are_usage_errors(self):
         for module, argv in (("cache", ["--only", "nosuchpart"]), ("cache", ["--spp", "0"]),
                              ("trace", ["--runs", "-1"]), ("sweep", ["--repeat", "x"]),
-                             ("materials", ["--no-such-flag"])):
+                             ("materials", ["--no-such-flag"]), ("speed", ["--only", "cold,fast"]),
+                             ("speed", ["--only", "before"]), ("speed", ["--only", ""])):
             with self.subTest(argv=argv), self.assertRaises(SystemExit) as e, mock.patch("sys.stderr"):
                 parse(module, argv)
             self.assertEqual(e.exception.code, 2)
