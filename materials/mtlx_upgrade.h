@@ -10,8 +10,8 @@
 //  - atan2's inputs in1/in2 become inx/iny (1.36-1.37) or iny/inx (1.38);
 //  - geomattrvalue becomes geompropvalue (1.37).
 // The version attribute is then 1.39. Documents already at 1.39 are untouched.
-// tests/materials/mtlx_upgrade_test.cpp compares the result with what the
-// materialx Python package's upgrade gives.
+// tests/materials/mtlx_library_test.cpp (OldDocumentsUpgradeLikeMaterialXDoes)
+// compares the result with what the materialx Python package's upgrade gives.
 #pragma once
 
 #include <pugixml.hpp>

@@ -10,7 +10,7 @@ medians and per-round ratios (median, median_range, round_ratios), formats
 markdown (md_table) and rewrites its own section of docs/BENCHMARKS.md
 (write_section; replace_section is the pure text operation under it).
 
-Nothing here knows about a particular benchmark; tests/test_common.py checks
+Nothing here knows about a particular benchmark; scripts/bench/tests/test_common.py checks
 the reductions, the table format and the section replacement.
 """
 import argparse
