@@ -35,6 +35,7 @@ PROG = "bench.speed"
 SECTION = "## Speed: default scene, cold kernel cache, scaling (scripts/bench-speed)"
 SCENE = ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]
 PARTS = ["before", "cold", "scaling"]
+PART_TITLES = ["### Against an older pmc", "### Cold kernel cache", "### Scaling"]
 SIZES = [("360p", 640, 360), ("720p", 1280, 720), ("1080p", 1920, 1080), ("4K", 3840, 2160)]
 
 
@@ -65,8 +66,9 @@ def parse(argv=None):
 
 
 def run_measured(cmd, log, env=None):
-    """Runs cmd; returns (wall seconds, peak RSS in MiB) from wait4's rusage of
-    that one process (not the maximum over all children so far)."""
+    """Runs cmd; returns (wall seconds, CPU seconds user+sys, peak RSS in MiB)
+    from wait4's rusage of that one process (not the maximum over all children
+    so far)."""
     t0 = time.perf_counter()
     with open(log, "w") as f:
         f.write(" ".join(cmd) + "\n")
@@ -77,7 +79,7 @@ def run_measured(cmd, log, env=None):
     code = os.waitstatus_to_exitcode(status)
     if code != 0:
         raise common.RunFailed(f"exit status {code} (log: {log})")
-    return wall, ru.ru_maxrss / 1024.0
+    return wall, ru.ru_utime + ru.ru_stime, ru.ru_maxrss / 1024.0
 
 
 def idiff(a, b):
@@ -107,12 +109,12 @@ def main(argv=None):
         global_spp = a.spp if spp is None else spp
         cmd = [binary, "render", *SCENE, "-o", f"{OUT}/{name}.exr", *common.size_args(*size, global_spp),
                "--cache", "off", "--stats", f"{OUT}/{name}.json", *extra]
-        wall, rss = run_measured(cmd, f"{OUT}/{name}.log", env)
+        wall, cpu, rss = run_measured(cmd, f"{OUT}/{name}.log", env)
         s = common.read_json(f"{OUT}/{name}.json")
         loads.sample()
         nonlocal device
         device = device or s.get("device", "?")
-        return {"wall": wall, "rss": rss, "render": s["render_seconds"],
+        return {"wall": wall, "cpu": cpu, "rss": rss, "render": s["render_seconds"],
                 "build": s.get("kernel_build_seconds", float("nan")),
                 "warmup": s.get("kernel_warmup_seconds", float("nan"))}
 
@@ -194,37 +196,70 @@ def main(argv=None):
                 print(f"  round {r + 1}/{RUNS} {label:9s} render {res[label][-1]['render']:6.2f}s "
                       f"peak {res[label][-1]['rss']:.0f} MiB", flush=True)
         t1, t2 = med(res["threads 1"], "render"), med(res["threads 2"], "render")
-        thread_rows = [[label, fmt(med(res[label], "render")), fmt(med(res[label], "wall"))]
-                       for label in ("threads 1", "threads 2")]
-        thread_table = common.md_table(["640x360, " + f"{a.spp} spp", "render_seconds", "whole run (s)"],
-                                       thread_rows)
+        thread_rows = [[label, fmt(med(res[label], "render")), fmt(med(res[label], "wall")),
+                        fmt(med(res[label], "cpu"))] for label in ("threads 1", "threads 2")]
+        thread_table = common.md_table(["640x360, " + f"{a.spp} spp", "render_seconds", "whole run (s)",
+                                        "CPU user+sys (s)"], thread_rows)
         base_px = SIZES[0][1] * SIZES[0][2]
         base_t = med(res[SIZES[0][0]], "render")
         size_rows = []
         for label, w, h in SIZES:
             t = med(res[label], "render")
             size_rows.append([f"{label} ({w}x{h})", f"{w * h / base_px:.0f}x", fmt(t), f"{t / base_t:.1f}x",
-                              f"{1e9 * t / (w * h * a.scaling_spp):.0f}", f"{med(res[label], 'rss'):.0f}"])
+                              f"{1e9 * t / (w * h * a.scaling_spp):.0f}", fmt(med(res[label], "cpu")),
+                              f"{med(res[label], 'rss'):.0f}"])
         size_table = common.md_table(["image", "pixels", "render_seconds", "time", "ns per sample",
-                                      "peak RSS (MiB)"], size_rows)
+                                      "whole run CPU (s)", "peak RSS (MiB)"], size_rows)
         text = (f"Threads (`--threads`: host and PoCL worker threads) on {os.cpu_count()} cores: 2 threads take "
-                f"{t2 / t1:.2f}x the time of 1.\n\n{thread_table}\n\nImage size ({a.scaling_spp} spp, all threads; "
+                f"{t2 / t1:.2f}x the time of 1 (the CPU time says how much of the machine a run got: on a "
+                f"machine shared with other work, wall times are inflated).\n\n{thread_table}\n\nImage size ({a.scaling_spp} spp, all threads; "
                 f"peak RSS is the whole process's maximum resident memory):\n\n{size_table}")
         print("\n" + text + "\n")
         sections.append(("### Scaling", text))
 
     machine = common.machine(device)
-    body = "\n\n".join(f"{title}\n\n{text}" for title, text in sections)
+    produced = (f"Produced by `{a.command}` on {common.utc_now()}, pmc at {common.git_rev('unknown revision')} "
+                f"(`{PMC}`), {RUNS} round(s) interleaved, medians ({loads.note()}).")
+    # Parts not run this time keep their text from the file (each names its own run).
+    kept = previous_parts(a.doc)
+    titles = dict(zip(PARTS, PART_TITLES))
+    parts = []
+    for part in PARTS:
+        new = next((text for title, text in sections if title == titles[part]), None)
+        if new is not None:
+            parts.append(f"{titles[part]}\n\n{produced}\n\n{new}")
+        elif part in kept:
+            parts.append(kept[part])
+    body = "\n\n".join(parts)
     section = f"""{SECTION}
 
-Produced by `{a.command}` on {common.utc_now()}, pmc at {common.git_rev("unknown revision")} (`{PMC}`).
-Machine: {machine}. {RUNS} round(s), configurations interleaved within a round; medians
-({loads.note()}). Scene: `{' '.join(SCENE)}`, cache off unless said otherwise.
+Machine: {machine}. Scene: `{' '.join(SCENE)}`, cache off. Each part below says which command
+produced it and when; timings are wall-clock seconds.
 
 {body}
 """
     print(loads.note())
     common.write_section(a.doc, SECTION, section, PROG)
+
+
+def previous_parts(doc):
+    """The "### " parts of this module's section in `doc`, by part name."""
+    if doc == "-" or not os.path.exists(doc):
+        return {}
+    text = common.read_text(doc)
+    start = text.find(SECTION + "\n")
+    if start < 0:
+        return {}
+    end = text.find("\n## ", start + len(SECTION))
+    section = text[start:end if end >= 0 else len(text)]
+    found = {}
+    for part, title in zip(PARTS, PART_TITLES):
+        i = section.find(title + "\n")
+        if i < 0:
+            continue
+        j = section.find("\n### ", i + len(title))
+        found[part] = section[i:j if j >= 0 else len(section)].rstrip("\n")
+    return found
 
 
 if __name__ == "__main__":
