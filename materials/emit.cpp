@@ -175,7 +175,11 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
         if (!d.operand || !in || !is_numeric(in->type)) continue;
         operands.push_back(cx.operand(*in));
       }
-      cx.em.instr(def->opcode, w, def->imm, dst, operands);
+      unsigned imm = def->imm;
+      if (!def->outputs.empty() && !find_output(*def, n.output, &imm))  // the reader checked the name
+        fail(n.origin, ": node '", n.category, "' has no output '", n.output, "' (it has ",
+             output_names(*def), ")");
+      cx.em.instr(def->opcode, w, imm, dst, operands);
       return def->folds || cx.textures != nullptr;
     }
     case Emit::Lowered:

@@ -384,7 +384,11 @@ class Reader {
 
   int instantiate(const Scope& scope, pugi::xml_node el, const std::string& output) {
     const std::string key = scope_name(scope) + "|" + el.attribute("name").as_string();
-    auto found = memo_.find(key);
+    // A native node with several outputs is one graph node per output used.
+    const NodeDef* def = find_node_def(el.name());
+    const bool multi = def && !def->outputs.empty();
+    const std::string memo_key = multi ? key + "|" + output : key;
+    auto found = memo_.find(memo_key);
     if (found != memo_.end()) return found->second;
     auto expanded = expansions_.find(key);
     if (expanded != expansions_.end()) return expansion_output(expanded->second, output);
@@ -411,18 +415,29 @@ class Reader {
     node.type = parse_type(el.attribute("type").as_string());
     const std::string context = node.origin;
     int id;
-    const NodeDef* def = find_node_def(node.category);
     bool native = false;
-    if (def && node.type != ValueType::None)
+    if (multi) {
+      if (output.empty())
+        fail(context, ": node '", node.category, "' has several outputs (", output_names(*def),
+             "): the connection must name one with output=\"...\"");
+      const OutputDef* o = find_output(*def, output);
+      if (!o)
+        fail(context, ": node '", node.category, "' has no output '", output, "' (it has ",
+             output_names(*def), ")");
+      node.type = parse_type(o->type);
+      node.output = output;
+      native = true;
+    } else if (def && node.type != ValueType::None) {
       for (const std::string& t : def->output_types) native = native || parse_type(t) == node.type;
+    }
     if (is_surface(node.category)) {
       build_surface(scope, el, node, context);
       id = graph_.add(std::move(node));
-      memo_[key] = id;
+      memo_[memo_key] = id;
     } else if (native) {
       build_node(scope, el, *def, node, context);
       id = graph_.add(std::move(node));
-      memo_[key] = id;
+      memo_[memo_key] = id;
     } else {
       Expansion& e = expansions_[key];
       e = expand(scope, el, node, def, context);

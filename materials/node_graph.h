@@ -7,7 +7,10 @@
 // Pobject ...) are explicit nodes, so the dependency analysis sees them. The
 // root is a surface node (one of node_table.h's surface_params categories,
 // or the MTL model) whose inputs become surface parameters. Nodes remember
-// the file and element they came from for error messages.
+// the file and element they came from for error messages. A node with
+// several outputs (flake2d, artistic_ior) becomes one graph node per output a
+// consumer selects (MaterialX's output="..." on the connection), each with
+// its `output` set.
 #pragma once
 
 #include <array>
@@ -57,9 +60,10 @@ struct Input {
 };
 
 struct Node {
-  std::string name;      // element name in the document ("" for nodes pmc made)
-  std::string category;  // MaterialX node category, e.g. "multiply"
-  ValueType type = ValueType::None;
+  std::string name;                  // element name in the document ("" for nodes pmc made)
+  std::string category;              // MaterialX node category, e.g. "multiply"
+  ValueType type = ValueType::None;  // of `output` for a multi-output node
+  std::string output;  // which output of a multi-output node (flake2d's "rand" ...); "" otherwise
   std::vector<Input> inputs;
   std::string origin;   // "file.mtlx: nodegraph 'NG' node 'n1'" for messages
   bool dead = false;    // removed by a pass

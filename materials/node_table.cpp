@@ -293,6 +293,29 @@ std::map<std::string, NodeDef> build() {
                                  in_f("thickness", 0.05f), in_b("staggered", false)};
   def("grid", {"color3", "float"}, lines, PMC_OP_LINEPATTERN, PMC_LINES_GRID);
   def("crosshatch", {"color3", "float"}, lines, PMC_OP_LINEPATTERN, PMC_LINES_CROSSHATCH);
+
+  // Flakes (core/device/pmc_flake.h): four outputs, imm = PMC_FLAKE_* in this order.
+  const std::vector<OutputDef> flake_outputs = {
+      {"id", "integer"}, {"rand", "float"}, {"presence", "float"}, {"flakenormal", "vector3"}};
+  const std::vector<InputDef> flake_frame = {in_geom("normal", "vector3", GeomDefault::Nworld),
+                                             in_geom("tangent", "vector3", GeomDefault::Tworld),
+                                             in_geom("bitangent", "vector3", GeomDefault::Bworld)};
+  for (bool three : {false, true}) {
+    std::vector<InputDef> ins = {in_f("size", 0.01f), in_f("roughness", 0.1f), in_f("coverage", 0.5f),
+                                 three ? in_geom("position", "vector3", GeomDefault::Pobject) : uv};
+    ins.insert(ins.end(), flake_frame.begin(), flake_frame.end());
+    def(three ? "flake3d" : "flake2d", {}, ins, PMC_OP_FLAKE).outputs = flake_outputs;
+  }
+  // pbrlib data nodes (core/device/pmc_pbr_data.h).
+  def("roughness_anisotropy", {"vector2"}, {in_f("roughness", 0), in_f("anisotropy", 0)},
+      PMC_OP_ROUGHNESS_ANISO);
+  def("roughness_dual", {"vector2"}, {in_v2("roughness", 0, 0)}, PMC_OP_ROUGHNESS_DUAL);
+  def("artistic_ior", {},
+      {{"reflectivity", "color3", num(0.944f, 0.776f, 0.373f), GeomDefault::None},
+       {"edge_color", "color3", num(0.998f, 0.981f, 0.751f), GeomDefault::None}},
+      PMC_OP_ARTISTIC_IOR)
+      .outputs = {{"ior", "color3"}, {"extinction", "color3"}};
+  def("blackbody", {"color3"}, {in_f("temperature", 5000)}, PMC_OP_BLACKBODY);
   return m;
 }
 
@@ -306,6 +329,21 @@ const std::map<std::string, NodeDef>& library() {
 const NodeDef* find_node_def(const std::string& category) {
   auto it = library().find(category);
   return it == library().end() ? nullptr : &it->second;
+}
+
+const OutputDef* find_output(const NodeDef& def, const std::string& name, unsigned* index) {
+  for (size_t i = 0; i < def.outputs.size(); ++i)
+    if (def.outputs[i].name == name) {
+      if (index) *index = unsigned(i);
+      return &def.outputs[i];
+    }
+  return nullptr;
+}
+
+std::string output_names(const NodeDef& def) {
+  std::string s;
+  for (const OutputDef& o : def.outputs) s += (s.empty() ? "" : ", ") + o.name;
+  return s;
 }
 
 ValueType resolve_input_type(const InputDef& def, ValueType node_type) {

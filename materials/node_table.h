@@ -24,12 +24,20 @@
 //  1. this table (node_table.cpp): one def() line, with its inputs in operand order;
 //  2. the interpreter, if no existing opcode computes it: the opcode in
 //     PMC_OPCODES (core/abi/pmc_bytecode.h), its case in pmc_interp_run
-//     (core/device/pmc_interp.h), and a parity case in
+//     (core/device/pmc_interp.h; the math of a larger node in its own
+//     core/device/pmc_*.h, included there, which the host reference and the
+//     kernels both compile), and a parity case in
 //     tests/gpu/interpreter_parity_test.cpp (device against host);
 //  3. tests/materials/node_table_test.cpp: an expected value for the node from
 //     its named inputs (an analytic formula or a direct call of the device
 //     function), which checks the operand order; the test fails for a table
-//     node without one.
+//     node without one. The device function itself needs a test against an
+//     independent answer (a formula, published values, MaterialX's own code).
+// A node with several outputs (MaterialX type "multioutput": flake2d,
+// artistic_ior) lists them in `outputs` instead of `output_types`; the
+// opcode's imm is the index of the output a graph node computes
+// (Node::output, from the consumer's output="..."), and node_table_test.cpp
+// expects an answer per output ("flake2d.rand").
 // A node MaterialX defines as a nodegraph needs no entry: the reader expands
 // it from the MaterialX library's implementation.
 #pragma once
@@ -98,11 +106,21 @@ struct Algebra {
   const char* pass_through = nullptr;  // the node equals this input when their widths match
 };
 
+// One named output of a node with several (MaterialX type "multioutput").
+struct OutputDef {
+  std::string name;
+  std::string type;
+};
+
 struct NodeDef {
   std::string category;
-  std::vector<std::string> output_types;  // allowed output types
-  std::vector<InputDef> inputs;           // in operand order
-  int opcode = -1;                        // PMC_OP_*, or -1
+  std::vector<std::string> output_types;  // allowed output types (nodes with one output)
+  // Nodes with several outputs: their names and types, in the order of the
+  // imm that selects one (a graph node computes the output Node::output
+  // names; emit.cpp passes its index as the opcode's imm).
+  std::vector<OutputDef> outputs;
+  std::vector<InputDef> inputs;  // in operand order
+  int opcode = -1;               // PMC_OP_*, or -1
   unsigned imm = 0;
   Emit emit = Emit::Opcode;
   uint32_t deps = 0;  // kDep* bits the node itself reads
@@ -113,6 +131,11 @@ struct NodeDef {
 
 // The definition for `category`, or nullptr if pmc has no native one.
 const NodeDef* find_node_def(const std::string& category);
+// The output named `name` of a multi-output node, or nullptr; its index in
+// def.outputs goes to *index.
+const OutputDef* find_output(const NodeDef& def, const std::string& name, unsigned* index = nullptr);
+// "id, rand, presence, flakenormal", for messages.
+std::string output_names(const NodeDef& def);
 // Resolves an input's declared type for a node of output type `node_type`.
 ValueType resolve_input_type(const InputDef& def, ValueType node_type);
 // Categories in the table (for error messages, docs and tests).

@@ -109,7 +109,7 @@ size_t deduplicate(Graph& g) {
     Node& n = g.nodes[size_t(i)];
     if (n.dead || i == g.surface) continue;
     std::ostringstream key;
-    key << n.category << '|' << int(n.type);
+    key << n.category << '.' << n.output << '|' << int(n.type);  // each output of a multi-output node
     for (const Input& in : n.inputs) {
       key << '|' << in.name << ':';
       if (in.linked) {

@@ -97,6 +97,12 @@
   X(COMPOSITE, 3, 3)      /* fg, bg, mix; imm = PMC_COMP_* (color4 merge nodes) */             \
   X(PREMULT, 1, 1)        /* imm 0: RGB * alpha, 1: RGB / alpha (alpha 0: unchanged) */        \
   X(OUTSIDE, 2, 2)        /* in, mask: in * (1 - mask) */                                      \
+  X(FLAKE, 7, 7)          /* size, roughness, coverage, position, normal, */                   \
+                          /* tangent, bitangent; imm = PMC_FLAKE_* (pmc_flake.h) */            \
+  X(ROUGHNESS_ANISO, 2, 2) /* roughness, anisotropy (pmc_pbr_data.h) */                        \
+  X(ROUGHNESS_DUAL, 1, 1) /* roughness (vector2) */                                            \
+  X(ARTISTIC_IOR, 2, 2)   /* reflectivity, edge_color; imm 0: ior, 1: extinction */            \
+  X(BLACKBODY, 1, 1)      /* temperature (K) -> linear Rec.709 */                              \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
   X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on

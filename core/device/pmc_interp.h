@@ -34,8 +34,10 @@
 #include "pmc_bsdf.h"
 #include "pmc_cache.h"
 #include "pmc_compositing.h"
+#include "pmc_flake.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
+#include "pmc_pbr_data.h"
 #include "pmc_texture.h"
 
 /* What a material may read at the shading point. */
@@ -774,6 +776,47 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
       case PMC_OP_OUTSIDE: /* in, mask (one float) */
         pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
         PMC_CW(PMC_A, A[c][k] * (1.0f - B[0][k]))
+        break;
+      case PMC_OP_FLAKE: /* size, roughness, coverage, position, normal, tangent, bitangent */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        pmc_fetch(code, stack, code[pc + 5u], 3, nn, D); /* a vector2 texcoord gets z = 0 */
+        pmc_fetch(code, stack, code[pc + 6u], 3, nn, E);
+        pmc_fetch(code, stack, code[pc + 7u], 3, nn, F);
+        pmc_fetch(code, stack, code[pc + 8u], 3, nn, R); /* the bitangent, read before R is written */
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float3 bt = make_float3(R[0][k], R[1][k], R[2][k]);
+          PmcFlake f =
+              pmc_flake(A[0][k], B[0][k], T[0][k], make_float3(D[0][k], D[1][k], D[2][k]),
+                        make_float3(E[0][k], E[1][k], E[2][k]), make_float3(F[0][k], F[1][k], F[2][k]), bt);
+          pmc_set_lanes4(R, k, pmc_flake_output(f, imm));
+        }
+        break;
+      case PMC_OP_ROUGHNESS_ANISO: /* roughness, anisotropy */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float2 r = pmc_roughness_anisotropy(A[0][k], B[0][k]);
+          pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
+        }
+        break;
+      case PMC_OP_ROUGHNESS_DUAL: /* roughness (vector2) */
+        pmc_fetch(code, stack, code[pc + 2u], 2, nn, A);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float2 r = pmc_roughness_dual(make_float2(A[0][k], A[1][k]));
+          pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
+        }
+        break;
+      case PMC_OP_ARTISTIC_IOR: /* reflectivity, edge_color; imm 1: extinction */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k, pmc_artistic_ior(pmc_lanes4(A, k), pmc_lanes4(B, k), imm != 0u));
+        break;
+      case PMC_OP_BLACKBODY: /* temperature */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_blackbody(A[0][k]));
         break;
       default:
         return; /* unknown opcode: the compiler never emits one; stop safely */

@@ -77,6 +77,7 @@ enum class Tol {
   Pow,     // 16 ulp
   Scaled,  // a few roundings (possibly fma-contracted) of intermediates up to the operand magnitude
   Noise,   // polynomial/noise evaluation of order-1 values, times amplitude
+  Unit,    // results of order 1 (or their own size) whatever the operands' size
 };
 
 struct OpSpec {
@@ -261,6 +262,27 @@ std::vector<OpSpec> op_specs() {
              uniform(rng, 0.0f, 1.0f) < 0.1f ? 0.0f : uniform(rng, 0.1f, 1.0f);  // alpha 0 passes through
        }});
   add({PMC_OP_OUTSIDE, all, {T, {1, 0, 1}}, Tol::Scaled});
+  // Flakes: outputs id, rand, presence (width 1) and flakenormal (width 3).
+  // A flake's edge is a jump (the rotation's sin/cos may round differently).
+  add({PMC_OP_FLAKE,
+       {1, 3},
+       {{1, 0.05f, 0.5f}, {1, 0, 1}, {1, 0, 1}, {3, -2, 2}, {3, -1, 1}, {3, -1, 1}, {3, -1, 1}},
+       Tol::Unit,
+       true,
+       [](int w, int, Rng& rng) {
+         return w == 3 ? PMC_FLAKE_NORMAL : uint32_t(std::uniform_int_distribution<int>(0, 2)(rng));
+       }});
+  add({PMC_OP_ROUGHNESS_ANISO, {2}, {{1, -1.5f, 1.5f}, {1, -0.5f, 1.5f}}, Tol::Scaled});
+  add({PMC_OP_ROUGHNESS_DUAL, {2}, {{2, -1.5f, 1.5f}}, Tol::Exact});
+  // Edge colours near 0 put k near sqrt(0) of a cancellation (k = 0 exactly at
+  // edge_color 0): rounding differences there are not errors.
+  add({PMC_OP_ARTISTIC_IOR,
+       {3},
+       {{3, 0.05f, 0.9f}, {3, 0.3f, 1}},
+       Tol::Unit,
+       false,
+       [](int, int index, Rng&) { return uint32_t(index % 2); }});
+  add({PMC_OP_BLACKBODY, {3}, {{1, 500, 30000}}, Tol::Unit});
   add({PMC_OP_ROTATE2D, {2}, {{2, -10, 10}, {1, -360, 360}}, Tol::Scaled});
   add({PMC_OP_ROTATE3D,
        {3},
@@ -288,7 +310,10 @@ std::vector<OpSpec> op_specs() {
 // on values of order 1 (the cell fraction x - floor(x) is exact on both
 // sides even at 1e4) over up to 8 octaves, then scale by amplitude: 1e-5 of
 // max(1, |h|, m) is ~100x the expected few-ulp differences and still ~1e4
-// times smaller than the O(1) error of a wrong hash, lane or octave.
+// times smaller than the O(1) error of a wrong hash, lane or octave. Unit
+// drops m where an operand's scale does not reach the result (blackbody's
+// 1000 / T, flake positions divided by the size, artistic_ior's ratios of
+// order-1 values): 1e-5 of max(1, |h|).
 double tolerance(Tol t, double h, double m) {
   const double a = std::fabs(h);
   switch (t) {
@@ -306,6 +331,8 @@ double tolerance(Tol t, double h, double m) {
       return 64 * kEps * std::max({a, m, 1e-3});
     case Tol::Noise:
       return 1e-5 * std::max({1.0, a, m});
+    case Tol::Unit:
+      return 1e-5 * std::max(1.0, a);
   }
   return 0.0;
 }

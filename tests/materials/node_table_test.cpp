@@ -14,11 +14,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
 #include <string>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 #include "core/device/pmc_interp.h"
 #include "materials/emit.h"
@@ -318,7 +321,65 @@ std::map<std::string, Expected> expectations() {
     float4 a = in.at("in1"), b = in.at("in2");
     return bc(a.x * b.x + a.y * b.y + a.z * b.z);
   };
+  // Multi-output nodes: one answer per output, "category.output".
+  for (const char* cat : {"flake2d", "flake3d"}) {
+    const bool three = cat[5] == '3';
+    auto flake = [three](const Named& in) {
+      float4 p = in.at(three ? "position" : "texcoord");
+      return pmc_flake(in.at("size").x, in.at("roughness").x, in.at("coverage").x,
+                       make_float3(p.x, p.y, three ? p.z : 0.0f), xyz(in.at("normal")), xyz(in.at("tangent")),
+                       xyz(in.at("bitangent")));
+    };
+    const std::string c = cat;
+    e[c + ".id"] = [flake](const Named& in, const Shading&, int) { return bc(flake(in).id); };
+    e[c + ".rand"] = [flake](const Named& in, const Shading&, int) { return bc(flake(in).rand); };
+    e[c + ".presence"] = [flake](const Named& in, const Shading&, int) { return bc(flake(in).presence); };
+    e[c + ".flakenormal"] = [flake](const Named& in, const Shading&, int) {
+      float3 n = flake(in).normal;
+      return f4(n.x, n.y, n.z, 0);
+    };
+  }
+  // pbrlib data nodes: MaterialX's GLSL (libraries/pbrlib/genglsl), in double.
+  const double eps = 1.1920928955078125e-7;
+  auto clampd = [](double x, double lo, double hi) { return std::min(std::max(x, lo), hi); };
+  e["roughness_anisotropy"] = [=](const Named& in, const Shading&, int) {
+    double r = in.at("roughness").x, an = in.at("anisotropy").x;
+    double a = clampd(r * r, eps, 1.0);
+    if (an <= 0) return f4(float(a), float(a), 0, 0);
+    double s = std::sqrt(1.0 - clampd(an, 0.0, 0.98));
+    return f4(float(std::min(a / s, 1.0)), float(a * s), 0, 0);
+  };
+  e["roughness_dual"] = [=](const Named& in, const Shading&, int) {
+    double x = in.at("roughness").x, y = in.at("roughness").y;
+    if (y < 0) y = x;
+    return f4(float(clampd(x * x, eps, 1.0)), float(clampd(y * y, eps, 1.0)), 0, 0);
+  };
+  // Gulbrandsen 2014, eqs. for n(r, g) and k(r, n).
+  auto gulbrandsen = [=](const Named& in, bool extinction) {
+    float out[3];
+    for (int l = 0; l < 3; ++l) {
+      double r = clampd(lane(in.at("reflectivity"), l), 0.0, 0.99), g = lane(in.at("edge_color"), l);
+      double n = g * (1 - r) / (1 + r) + (1 - g) * (1 + std::sqrt(r)) / (1 - std::sqrt(r));
+      double k = std::sqrt(std::max(0.0, ((n + 1) * (n + 1) * r - (n - 1) * (n - 1)) / (1 - r)));
+      out[l] = float(extinction ? k : n);
+    }
+    return f4(out[0], out[1], out[2], 0);
+  };
+  e["artistic_ior.ior"] = [=](const Named& in, const Shading&, int) { return gulbrandsen(in, false); };
+  e["artistic_ior.extinction"] = [=](const Named& in, const Shading&, int) { return gulbrandsen(in, true); };
+  // blackbody of the test's temperature input (0.23 + ...): clamped to 800 K; its
+  // values are checked against published chromaticities in pbr_data_test.cpp.
+  e["blackbody"] = [](const Named& in, const Shading&, int) { return pmc_blackbody(in.at("temperature").x); };
   return e;
+}
+
+// The expectation keys of a node: its category, or "category.output" for
+// each output of a multi-output node.
+std::vector<std::pair<std::string, std::string>> answer_keys(const NodeDef& def) {
+  if (def.outputs.empty()) return {{def.category, ""}};
+  std::vector<std::pair<std::string, std::string>> keys;
+  for (const OutputDef& o : def.outputs) keys.push_back({def.category + "." + o.name, o.name});
+  return keys;
 }
 
 // Types of "any" inputs, and string inputs the special emitters read.
@@ -342,6 +403,14 @@ float4 value_for(const InputDef& d, int k, const std::string& category) {
   }
   float base = 0.23f + 0.31f * float(k);
   if (d.name == "scale" && category == "place2d") base = 1.7f;  // not a divisor near 0
+  if (category.compare(0, 5, "flake") == 0) {                   // a point that a flake covers (checked below)
+    if (d.name == "size") return bc(0.05f);
+    if (d.name == "coverage") return bc(0.9f);
+    // A frame of distinct directions (the defaults would all lie near (1, 1, 1)).
+    if (d.name == "normal") return f4(0.1f, 0.2f, 0.9f, 0.3f);
+    if (d.name == "tangent") return f4(0.9f, 0.1f, -0.2f, 0.4f);
+    if (d.name == "bitangent") return f4(-0.2f, 0.9f, 0.1f, 0.5f);
+  }
   return f4(base, base + 0.07f, base + 0.11f, base + 0.19f);
 }
 
@@ -350,12 +419,13 @@ struct Evaluated {
   Named named;
 };
 
-Evaluated evaluate(const NodeDef& def, ValueType type, const Shading& s) {
+Evaluated evaluate(const NodeDef& def, ValueType type, const Shading& s, const std::string& output = "") {
   Graph g;
   Node n;
   n.name = "n";
   n.category = def.category;
   n.type = type;
+  n.output = output;
   n.origin = "node_table_test: " + def.category;
   Evaluated r;
   int k = 0;
@@ -405,7 +475,9 @@ TEST(NodeTable, EveryEmittedNodeHasAnExpectedAnswer) {
     const NodeDef* def = find_node_def(c);
     ASSERT_NE(def, nullptr);
     if (tested_here(*def))
-      EXPECT_TRUE(e.count(c)) << "node '" << c << "' has no expected answer in node_table_test.cpp: add one";
+      for (const auto& key : answer_keys(*def))
+        EXPECT_TRUE(e.count(key.first))
+            << "node '" << key.first << "' has no expected answer in node_table_test.cpp: add one";
   }
 }
 
@@ -415,15 +487,19 @@ TEST(NodeTable, OperandOrderMatchesTheInterpreterForEveryNode) {
   int checked = 0;
   for (const std::string& c : supported_categories()) {
     const NodeDef* def = find_node_def(c);
-    if (!tested_here(*def) || !e.count(c)) continue;
-    for (const std::string& t : def->output_types) {
+    if (!tested_here(*def)) continue;
+    std::vector<std::tuple<std::string, std::string, std::string>> runs;  // key, output, type
+    for (const std::string& t : def->output_types) runs.emplace_back(c, "", t);
+    for (const OutputDef& o : def->outputs) runs.emplace_back(c + "." + o.name, o.name, o.type);
+    for (const auto& [key, output, t] : runs) {
+      if (!e.count(key)) continue;
       const ValueType type = parse_type(t);
       const int w = type_width(type);
-      Evaluated r = evaluate(*def, type, s);
-      float4 want = e.at(c)(r.named, s, w);
+      Evaluated r = evaluate(*def, type, s, output);
+      float4 want = e.at(key)(r.named, s, w);
       for (int l = 0; l < w; ++l) {
         const float got = lane(r.got, l), exp = lane(want, l);
-        EXPECT_NEAR(got, exp, 1e-5f * (1.0f + std::fabs(exp))) << c << " (" << t << ") lane " << l;
+        EXPECT_NEAR(got, exp, 1e-5f * (1.0f + std::fabs(exp))) << key << " (" << t << ") lane " << l;
       }
       ++checked;
     }
@@ -442,16 +518,34 @@ TEST(NodeTable, SwappedInputsAreDetected) {
                          {"remap", "in", "inlow"},
                          {"noise2d", "amplitude", "pivot"},
                          {"ifgreater", "value1", "value2"},
-                         {"place2d", "pivot", "offset"}}) {
-    const NodeDef* def = find_node_def(c);
-    const ValueType type = parse_type(def->output_types.front());
-    Evaluated r = evaluate(*def, type, s);
+                         {"place2d", "pivot", "offset"},
+                         {"flake3d.flakenormal", "normal", "tangent"},
+                         {"flake2d.rand", "size", "roughness"},
+                         {"roughness_anisotropy", "roughness", "anisotropy"},
+                         {"artistic_ior.ior", "reflectivity", "edge_color"}}) {
+    const std::string key = c;
+    const size_t dot = key.find('.');
+    const std::string output = dot == std::string::npos ? "" : key.substr(dot + 1);
+    const NodeDef* def = find_node_def(key.substr(0, dot));
+    const ValueType type =
+        parse_type(output.empty() ? def->output_types.front() : find_output(*def, output)->type);
+    Evaluated r = evaluate(*def, type, s, output);
     Named swapped = r.named;
     std::swap(swapped[a], swapped[b]);
-    float4 right = e.at(c)(r.named, s, type_width(type)), wrong = e.at(c)(swapped, s, type_width(type));
+    float4 right = e.at(key)(r.named, s, type_width(type)), wrong = e.at(key)(swapped, s, type_width(type));
     EXPECT_NEAR(r.got.x, right.x, 1e-5f) << c;
     EXPECT_GT(std::fabs(r.got.x - wrong.x), 1e-3f)
         << c << ": swapping " << a << " and " << b << " went unseen";
+  }
+}
+
+// The flake answers above check the operand order only if the test point
+// lies on a flake (no flake: id, rand and presence are 0 whatever the inputs).
+TEST(NodeTable, FlakeTestPointLiesOnAFlake) {
+  const Shading s;
+  for (const char* c : {"flake2d", "flake3d"}) {
+    Evaluated r = evaluate(*find_node_def(c), ValueType::Float, s, "presence");
+    EXPECT_GT(r.got.x, 0.0f) << c;
   }
 }
 
