@@ -53,6 +53,7 @@ GeomDefault geom_default(const std::string& name) {
   if (name == "Tworld") return GeomDefault::Tworld;
   if (name == "Tobject") return GeomDefault::Tobject;
   if (name == "Bworld" || name == "Bobject") return GeomDefault::Bworld;
+  if (name == "Vworld") return GeomDefault::Vworld;  // nprlib's view direction
   return GeomDefault::None;
 }
 
@@ -264,6 +265,11 @@ class Reader {
         break;
       case GeomDefault::Bworld:
         n.category = "bitangent", n.type = ValueType::Vector3;
+        break;
+      case GeomDefault::Vworld:  // lowered like a viewdirection node (-N, with a warning)
+        n.category = "viewdirection", n.type = ValueType::Vector3;
+        n.inputs = {Input::constant("space", ValueType::String, 0)};
+        n.inputs[0].value.text = "world";
         break;
       default:
         PMC_CHECK(false, "geometric default");

@@ -55,7 +55,7 @@ namespace pmc {
 // Shading-point dependency bits.
 enum : uint32_t { kDepUv = 1, kDepPosition = 2, kDepNormal = 4, kDepTangent = 8, kDepBitangent = 16 };
 
-enum class GeomDefault { None, UV0, Pobject, Pworld, Nworld, Nobject, Tworld, Tobject, Bworld };
+enum class GeomDefault { None, UV0, Pobject, Pworld, Nworld, Nobject, Tworld, Tobject, Bworld, Vworld };
 
 struct InputDef {
   std::string name;
