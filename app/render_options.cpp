@@ -145,6 +145,16 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
         "weight (center mode only)")
         ->check(cli::one_of({"nearest", "bilinear"}))
         ->default_str("bilinear with center, nearest with hit");
+    setter<std::string>(
+        app, "--cache-policy", "cache_policy",
+        [&c](const std::string& v) {
+          c.cache_policy = v == "priority" ? CachePolicy::Priority : CachePolicy::KeepFirst;
+        },
+        "keep-first|priority",
+        "when a cache cell is full: keep its first entries (the paper's rule), or let a camera-ray hit "
+        "replace an entry from a deeper bounce")
+        ->check(cli::one_of({"keep-first", "priority"}))
+        ->default_str("keep-first");
     field(app, "--cache-min-nodes", "cache_min_nodes", c.cache_min_nodes, "N",
           "smallest sub-graph (in nodes) worth a cache point")
         ->capture_default_str();
@@ -212,8 +222,9 @@ void print_cache_choice(const RenderSettings& s) {
   if (!c.on && !c.reason.empty())
     std::fprintf(stderr, "pmc: cache: %s\n", cli::with_flags(c.reason).c_str());
   else if (c.on)
-    std::fprintf(stderr, "pmc: cache: %llu cells x %u entries = %.1f MiB (%s)\n", (unsigned long long)c.cells,
-                 c.ways, double(c.cells) * c.ways * 8.0 / double(1 << 20), cli::with_flags(c.reason).c_str());
+    std::fprintf(stderr, "pmc: cache: %llu cells x %u entries = %.1f MiB (%s)%s\n",
+                 (unsigned long long)c.cells, c.ways, double(c.cells) * c.ways * 8.0 / double(1 << 20),
+                 cli::with_flags(c.reason).c_str(), c.priority ? ", --cache-policy priority" : "");
 }
 
 }  // namespace pmc

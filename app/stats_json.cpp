@@ -11,6 +11,7 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["enabled"] = s.on;
   c["eval"] = s.center ? "center" : "hit";
   c["filter"] = s.bilinear ? "bilinear" : "nearest";
+  c["policy"] = s.priority ? "priority" : "keep-first";
   c["mip_bias"] = s.mip_bias;
   c["cells"] = st.cells;
   c["entries"] = st.ways;
@@ -24,6 +25,10 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["already_present"] = st.already_present;
   c["dropped_full"] = st.dropped_full;
   c["not_encodable"] = st.not_encodable;
+  c["replaced"] = st.replaced;
+  c["camera_lookups"] = st.camera_lookups;
+  c["camera_hits"] = st.camera_hits;
+  c["camera_hit_rate"] = camera_hit_rate(st);
   c["occupancy"] = st.occupancy();
   return c;
 }

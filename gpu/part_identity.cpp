@@ -67,6 +67,7 @@ std::string settings_hash(const RenderSettings& s) {
     add_floats(h, &c.mip_bias, 1);
     h.word(c.center ? 1 : 0);
     h.word(c.bilinear ? 1 : 0);
+    if (c.priority) h.word(0x7072696f72697479ull);  // "priority"; keep-first parts keep their old hashes
   }
   return h.hex();
 }

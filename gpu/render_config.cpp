@@ -76,6 +76,8 @@ void RenderConfig::validate() const {
     fail_config(setting("cache_filter"), " bilinear needs ", setting("cache_eval"),
                 " center (a hit-mode texel holds the value at one sample's uv, not at its centre, so "
                 "there is nothing to interpolate)");
+  if (cache_policy != CachePolicy::KeepFirst && cache_policy != CachePolicy::Priority)
+    fail_config(setting("cache_policy"), ": must be keep-first or priority, got value ", int(cache_policy));
   // Checked even when this scene will not use the cache: a bad value is bad input either way.
   if (cache_cells && *cache_cells <= 0)
     fail_config(setting("cache_cells"), ": must be at least 1, got ", *cache_cells);
@@ -107,6 +109,7 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.cache.mip_bias = c.mip_bias;
   s.cache.center = c.cache_eval == CacheEval::Center;
   s.cache.bilinear = c.effective_cache_filter() == CacheFilter::Bilinear;
+  s.cache.priority = c.cache_policy == CachePolicy::Priority;
   return s;
 }
 

@@ -36,6 +36,10 @@ enum class CacheEval { Hit, Center };
 // The texel a lookup reads: the one under the hit, or a neighbour picked at
 // random with its bilinear weight (center mode only).
 enum class CacheFilter { Nearest, Bilinear };
+// When a cell is full: keep the first entries (the paper's rule), or let an
+// insert from a camera-ray hit replace an entry from a deeper bounce
+// (core/device/pmc_cache.h).
+enum class CachePolicy { KeepFirst, Priority };
 
 struct RenderConfig {
   // The scene and its materials.
@@ -79,7 +83,8 @@ struct RenderConfig {
   int64_t cache_entries = 8;           // entries per cell, 1..1024
   float mip_bias = 0.0f;               // added to the virtual mip level (higher: finer), -32..32
   CacheEval cache_eval = CacheEval::Center;
-  std::optional<CacheFilter> cache_filter;      // unset: bilinear with center, nearest with hit
+  std::optional<CacheFilter> cache_filter;  // unset: bilinear with center, nearest with hit
+  CachePolicy cache_policy = CachePolicy::KeepFirst;
   int cache_min_nodes = kDefaultCacheMinNodes;  // smallest sub-graph worth a cache point
 
   // The machine.

@@ -88,5 +88,9 @@ SceneLights resolve_lights(const RenderConfig& config);
 
 // Hits per lookup, 0 without lookups.
 inline double hit_rate(const CacheStats& s) { return s.lookups ? double(s.hits) / double(s.lookups) : 0.0; }
+// Hits per lookup at camera-ray hits (depth 0), 0 without such lookups.
+inline double camera_hit_rate(const CacheStats& s) {
+  return s.camera_lookups ? double(s.camera_hits) / double(s.camera_lookups) : 0.0;
+}
 
 }  // namespace pmc

@@ -199,6 +199,7 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.cache_cells_hi = uint32_t(cs.cells >> 32);
   frame.mip_bias = cs.mip_bias;
   frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
+  frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
   return frame;
 }
 
@@ -231,6 +232,9 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
   c.inserts = counts[PMC_CSTAT_INSERTS];
   c.dropped_full = counts[PMC_CSTAT_DROPPED_FULL];
   c.not_encodable = counts[PMC_CSTAT_NOT_ENCODABLE];
+  c.replaced = counts[PMC_CSTAT_REPLACED];
+  c.camera_lookups = counts[PMC_CSTAT_CAMERA_LOOKUPS];
+  c.camera_hits = counts[PMC_CSTAT_CAMERA_HITS];
   const size_t words = size_t(cs.cells) * cs.ways;
   std::vector<uint64_t> table(words);
   cl.read(wave.cache_entries, 0, words * sizeof(uint64_t), table.data());

@@ -38,12 +38,18 @@ struct CacheSettings {
   float mip_bias = 0.0f;
   bool center = false;    // --cache-eval center
   bool bilinear = false;  // --cache-filter bilinear (center mode)
+  bool priority = false;  // --cache-policy priority: camera inserts may replace deeper entries
   std::string reason;     // why this size (printed, and written to stats)
 };
 
+// Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one
+// of inserts (into an empty entry), replaced, already_present, dropped_full,
+// not_encodable; camera_* count the lookups at camera-ray hits.
 struct CacheStats {
   uint64_t lookups = 0, hits = 0, misses = 0, inserts = 0, already_present = 0, dropped_full = 0,
            not_encodable = 0;
+  uint64_t replaced = 0;  // --cache-policy priority: camera inserts that replaced a deeper entry
+  uint64_t camera_lookups = 0, camera_hits = 0;
   uint64_t occupied = 0;  // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }

@@ -111,6 +111,7 @@
   X(PmcFrame, cache_cells_hi)      \
   X(PmcFrame, mip_bias)            \
   X(PmcFrame, cache_bilinear)      \
+  X(PmcFrame, cache_policy)        \
   X(PmcCounters, next_rays)
 // clang-format on
 

@@ -176,6 +176,7 @@ typedef struct PmcFrame {
   pmc_u32 cache_cells_lo, cache_cells_hi;
   float mip_bias;
   pmc_u32 cache_bilinear; /* --cache-filter bilinear: jittered texel selection */
+  pmc_u32 cache_policy;   /* --cache-policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

@@ -13,6 +13,21 @@
  * 64-bit compare-and-swap from 0, so readers never see a torn entry; on
  * collision the first value stays (the paper's Algorithm 1).
  *
+ * Replacement policy (PmcCacheTable.policy, --cache-policy):
+ *  - keep-first (the paper's rule, the default): as above; a full cell drops
+ *    the insert. The high word is the whole 32-bit fingerprint.
+ *  - priority: the high word is {30 bits of fingerprint << 2 | depth tag},
+ *    the tag min(depth, 3) of the inserting hit (0: a camera-ray hit, 1..3:
+ *    that many surface hits before it, 3 or more). A camera insert that finds
+ *    its cell full replaces the deepest non-camera entry (the first of equal
+ *    tags) with one 64-bit CAS from the word it read; camera entries are never
+ *    replaced, and deeper inserts never replace anything. The cost: the
+ *    fingerprint loses its 2 low bits, so an absent key matches a given entry
+ *    with probability 2^-30 instead of 2^-32: a lookup that misses in a full
+ *    cell of 8 entries hits falsely with probability about 8 * 2^-30 = 7.5e-9
+ *    (1.9e-9 with keep-first); tests/core/cache_policy_test.cpp measures the
+ *    collision rate on real descriptors. Values keep all 32 bits.
+ *
  * Encodings (32 bits): float as raw bits (exact); colour3/vector3 with
  * non-negative components as RGB9E5 (shared 5-bit exponent, 9-bit mantissas:
  * with M the largest channel, every channel's error is at most
@@ -46,9 +61,17 @@
 #define PMC_CSTAT_NOT_ENCODABLE 4
 #define PMC_CSTAT_MISSES 5          /* lookups that found nothing */
 #define PMC_CSTAT_ALREADY_PRESENT 6 /* inserts that found the key (another work-item won) */
-#define PMC_CSTAT_COUNT 8
+#define PMC_CSTAT_REPLACED 7        /* priority: camera inserts that replaced a deeper entry */
+#define PMC_CSTAT_CAMERA_LOOKUPS 8  /* lookups at camera-ray hits (depth 0) */
+#define PMC_CSTAT_CAMERA_HITS 9     /* ... that hit */
+#define PMC_CSTAT_COUNT 10
 /* Every lookup is a hit or a miss, and every miss ends in exactly one of
- * insert, already present, dropped (cell full) or not encodable. */
+ * insert (into an empty entry), replaced, already present, dropped (cell
+ * full) or not encodable. */
+
+/* Replacement policies (PmcCacheTable.policy). */
+#define PMC_CACHE_KEEP_FIRST 0u
+#define PMC_CACHE_PRIORITY 1u
 
 /* ---- virtual mip level and texel indices --------------------------------- */
 
@@ -345,7 +368,7 @@ typedef struct PmcCacheTable {
   PMC_CACHE_PTR entries; /* cells * ways words */
   pmc_u64 cells;
   pmc_u32 ways;
-  pmc_u32 pad;
+  pmc_u32 policy; /* PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY */
 } PmcCacheTable;
 
 /* Cell index: h1 % Nc (a mask when Nc is a power of two, as auto-sizing picks). */
@@ -353,14 +376,33 @@ PMC_FN pmc_u64 pmc_cache_cell(const PmcCacheTable* t, pmc_u64 h1) {
   return (t->cells & (t->cells - 1ul)) == 0ul ? (h1 & (t->cells - 1ul)) : (h1 % t->cells);
 }
 
+/* Priority entries: the fingerprint's top 30 bits (never 0, so no entry is
+ * the empty word) above the 2-bit depth tag. */
+PMC_FN pmc_u32 pmc_cache_fp30(pmc_u32 fingerprint) {
+  pmc_u32 f = fingerprint >> 2;
+  return f == 0u ? 1u : f;
+}
+PMC_FN pmc_u32 pmc_cache_depth_tag(pmc_u32 depth) { return depth < 3u ? depth : 3u; }
+
+/* The high word an entry of key `k` has (priority: with any tag, so the
+ * comparison masks the tag off): entry e holds k iff ((e >> 32) & mask) == want. */
+PMC_FN pmc_u32 pmc_cache_match_mask(const PmcCacheTable* t) {
+  return t->policy == PMC_CACHE_PRIORITY ? 0xfffffffcu : 0xffffffffu;
+}
+PMC_FN pmc_u32 pmc_cache_match_word(const PmcCacheTable* t, PmcCacheKey k) {
+  return t->policy == PMC_CACHE_PRIORITY ? pmc_cache_fp30(k.fingerprint) << 2 : k.fingerprint;
+}
+
 /* Lookup: 1 and the encoded value on a hit. Entries fill from the front and
- * are never removed, so the first empty entry ends the scan. */
+ * are never emptied (priority replaces one non-empty word by another), so the
+ * first empty entry ends the scan. */
 PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
+  pmc_u32 mask = pmc_cache_match_mask(t), want = pmc_cache_match_word(t, k);
   for (pmc_u32 i = 0; i < t->ways; ++i) {
     pmc_u64 e = pmc_load64(&t->entries[base + i]);
     if (e == 0ul) return 0;
-    if ((pmc_u32)(e >> 32) == k.fingerprint) {
+    if (((pmc_u32)(e >> 32) & mask) == want) {
       *value = (pmc_u32)e;
       return 1;
     }
@@ -371,7 +413,7 @@ PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* valu
 /* Insert (Algorithm 1): publish {fingerprint, value} in the first empty entry
  * with one 64-bit CAS; if the fingerprint is already there the first value
  * stays. Returns 1 inserted, 0 already present, -1 cell full (dropped). */
-PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value) {
+PMC_FN int pmc_cache_insert_keep_first(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u64 word = ((pmc_u64)k.fingerprint << 32) | (pmc_u64)value;
   for (pmc_u32 i = 0; i < t->ways; ++i) {
@@ -384,6 +426,54 @@ PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value
     if ((pmc_u32)(e >> 32) == k.fingerprint) return 0;
   }
   return -1;
+}
+
+/* Insert with the priority policy, from a hit after `depth` surface hits.
+ * Each pass scans the cell: the key found ends it (0); the first empty entry
+ * gets the word by a CAS from 0 (1); in a full cell a camera insert CASes the
+ * deepest non-camera entry from the word the pass read (2), anything else is
+ * dropped (-1). A lost CAS means the cell changed since the pass read it:
+ * the next pass sees the change (the winner may have been this very key).
+ * A word changes at most twice (empty -> entry, non-camera -> camera entry),
+ * so at most 2 * ways CASes of a cell can fail: the loop ends. Two inserts of
+ * one key cannot both succeed: each pass reads every word it does not CAS,
+ * and words only move forward, so the later CAS finds its word changed. */
+PMC_FN int pmc_cache_insert_priority(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value, pmc_u32 depth) {
+  pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
+  pmc_u32 fp = pmc_cache_fp30(k.fingerprint), tag = pmc_cache_depth_tag(depth);
+  pmc_u64 word = ((pmc_u64)((fp << 2) | tag) << 32) | (pmc_u64)value;
+  for (pmc_u32 pass = 0; pass <= 2u * t->ways; ++pass) {
+    pmc_u32 victim = t->ways, victim_tag = 0u;
+    pmc_u64 victim_word = 0ul;
+    int lost = 0;
+    for (pmc_u32 i = 0; i < t->ways; ++i) {
+      pmc_u64 e = pmc_load64(&t->entries[base + i]);
+      if (e == 0ul) {
+        if (pmc_cas64(&t->entries[base + i], 0ul, word) == 0ul) return 1;
+        lost = 1;
+        break;
+      }
+      pmc_u32 high = (pmc_u32)(e >> 32);
+      if ((high >> 2) == fp) return 0;
+      if ((high & 3u) > victim_tag) {
+        victim = i;
+        victim_tag = high & 3u;
+        victim_word = e;
+      }
+    }
+    if (lost) continue;
+    if (tag != 0u || victim == t->ways) return -1;
+    if (pmc_cas64(&t->entries[base + victim], victim_word, word) == victim_word) return 2;
+  }
+  return -1; /* not reached (see above) */
+}
+
+/* Insert under the table's policy from a hit after `depth` surface hits (0:
+ * the camera ray's; keep-first ignores it). Returns 1 inserted into an empty
+ * entry, 2 replaced a deeper entry (priority), 0 already present, -1 dropped. */
+PMC_FN int pmc_cache_insert(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value, pmc_u32 depth) {
+  if (t->policy == PMC_CACHE_PRIORITY) return pmc_cache_insert_priority(t, k, value, depth);
+  return pmc_cache_insert_keep_first(t, k, value);
 }
 
 #endif /* PMC_CACHE_H */

@@ -62,6 +62,9 @@ typedef struct PmcCacheContext {
                   * neighbour with its bilinear weight (--cache-filter) */
   pmc_u32 material;
   pmc_u32 center;      /* --cache-eval center: evaluate misses at the texel centre */
+  pmc_u32 depth;       /* surface hits before this one (0: a camera-ray hit); the
+                        * priority policy tags entries with it, and camera
+                        * lookups are counted apart */
   PmcCacheTexel texel; /* the shading point's texel, if the caller computed it
                         * (ready); else the first lookup computes it */
   pmc_u32 hits;        /* out: cache points found in this evaluation */
@@ -355,7 +358,9 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             PmcCacheKey key =
                 pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_lookups - 1u);
             pmc_u32 bits;
+            const pmc_u32 camera = cx->depth == 0u ? 1u : 0u;
             cx->counts[PMC_CSTAT_LOOKUPS] += 1u;
+            cx->counts[PMC_CSTAT_CAMERA_LOOKUPS] += camera;
             if (pmc_cache_lookup(&cx->table, key, &bits)) {
               float4 v = pmc_cache_decode(bits, imm >> 14);
               float* row = stack + dst * PMC_LANES + k;
@@ -364,6 +369,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               if (width > 2u) row[2 * PMC_LANES] = v.z;
               cx->hits += 1u;
               cx->counts[PMC_CSTAT_HITS] += 1u;
+              cx->counts[PMC_CSTAT_CAMERA_HITS] += camera;
               hit = 1;
             } else {
               cx->counts[PMC_CSTAT_MISSES] += 1u;
@@ -417,8 +423,9 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               if (cx->center) v = pmc_cache_decode(bits, imm >> 14);
               PmcCacheKey key =
                   pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_stores - 1u);
-              int result = pmc_cache_insert(&cx->table, key, bits);
-              if (result > 0) cx->counts[PMC_CSTAT_INSERTS] += 1u;
+              int result = pmc_cache_insert(&cx->table, key, bits, cx->depth);
+              if (result == 1) cx->counts[PMC_CSTAT_INSERTS] += 1u;
+              if (result == 2) cx->counts[PMC_CSTAT_REPLACED] += 1u;
               if (result == 0) cx->counts[PMC_CSTAT_ALREADY_PRESENT] += 1u;
               if (result < 0) cx->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
             } else {

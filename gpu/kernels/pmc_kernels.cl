@@ -104,6 +104,7 @@ typedef struct PmcHitPoint {
   float2 cache_jitter; /* --cache-filter bilinear: texel selection offset */
   PmcCacheTexel texel; /* ready when the material has cache points */
   uint cache_points;   /* how many (the cells to prefetch) */
+  uint depth;          /* surface hits of the path before this one (0: camera ray) */
 } PmcHitPoint;
 
 /* The material cache's table as this frame sized it. */
@@ -113,7 +114,7 @@ static inline PmcCacheTable pmc_frame_cache_table(__constant PmcFrame* frame,
   t.entries = entries;
   t.cells = ((ulong)frame->cache_cells_hi << 32) | (ulong)frame->cache_cells_lo;
   t.ways = frame->cache_ways;
-  t.pad = 0u;
+  t.policy = frame->cache_policy;
   return t;
 }
 
@@ -135,6 +136,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   PmcHit hit = hits[i];
   hp->path = ray.id;
   __global PmcPathState* path = &paths[ray.id];
+  hp->depth = path->depth;
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->surface = hit.prim >= 0;
   const PmcLightSet* lights = &scene->light_set;
@@ -244,6 +246,7 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->bias = frame->mip_bias;
     cache->material = (uint)hp->material;
     cache->center = frame->cache_center;
+    cache->depth = hp->depth;
     cache->jitter = hp->cache_jitter;
     cache->texel = hp->texel;
     cache->hits = 0u;

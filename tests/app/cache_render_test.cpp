@@ -219,8 +219,16 @@ TEST(CacheRender, StatsReportTheCache) {
   ASSERT_TRUE(on.stats.contains("cache")) << on.stats.dump();
   const nlohmann::json& c = on.stats["cache"];
   for (const char* key : {"lookups", "hits", "misses", "inserts", "already_present", "dropped_full",
-                          "not_encodable", "occupancy", "memory_bytes", "cells", "entries", "size_reason"})
+                          "not_encodable", "occupancy", "memory_bytes", "cells", "entries", "size_reason",
+                          "policy", "replaced", "camera_lookups", "camera_hits", "camera_hit_rate"})
     ASSERT_TRUE(c.contains(key)) << key << " in " << c.dump();
+  EXPECT_EQ(c["policy"], "keep-first") << "the paper's rule is the default";
+  EXPECT_EQ(c["replaced"].get<uint64_t>(), 0u) << "keep-first replaces nothing";
+  const uint64_t camera_lookups = c["camera_lookups"], camera_hits = c["camera_hits"];
+  EXPECT_GT(camera_lookups, 0u);
+  EXPECT_LT(camera_lookups, c["lookups"].get<uint64_t>()) << "deeper bounces look up too";
+  EXPECT_LE(camera_hits, camera_lookups);
+  EXPECT_NEAR(c["camera_hit_rate"].get<double>(), double(camera_hits) / double(camera_lookups), 1e-12);
   uint64_t lookups = c["lookups"], hits = c["hits"], misses = c["misses"], inserts = c["inserts"],
            present = c["already_present"], dropped = c["dropped_full"], unencodable = c["not_encodable"],
            cells = c["cells"], entries = c["entries"], memory = c["memory_bytes"];

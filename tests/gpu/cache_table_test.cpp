@@ -59,7 +59,7 @@ __kernel void cache_stress(__global volatile ulong* entries, ulong cells, uint w
   t.entries = entries;
   t.cells = cells;
   t.ways = ways;
-  t.pad = 0u;
+  t.policy = PMC_CACHE_KEEP_FIRST;
   for (uint r = 0; r < rounds; ++r) {
     uint o = r * n + gid;
     uint now = atomic_inc(clock);
@@ -74,7 +74,7 @@ __kernel void cache_stress(__global volatile ulong* entries, ulong cells, uint w
     uint d = delay + (uint)(pmc_mix64(now) % 64u); /* jitter: some inserts of a key coincide */
     for (uint i = 0; i < d; ++i) spin = pmc_mix64(spin);
     tick[o] = spin == 1ul ? 0xfffffffeu : now; /* keeps the loop */
-    result[o] = pmc_cache_insert(&t, key, now);
+    result[o] = pmc_cache_insert(&t, key, now, 0u);
     v = 0xffffffffu;
     after[o] = pmc_cache_lookup(&t, key, &v) ? v : 0xffffffffu;
     v = 0xffffffffu;
@@ -288,27 +288,27 @@ TEST(CacheTable, HostLookupAndInsertSemantics) {
   EXPECT_EQ(pmc_cache_lookup(&t, same[0], &v), 0) << "empty table: miss";
   // A value of 0 (black in RGB9E5, 0.0f as float) is a real entry: the
   // fingerprint keeps the word non-zero.
-  EXPECT_EQ(pmc_cache_insert(&t, same[0], 0u), 1);
+  EXPECT_EQ(pmc_cache_insert(&t, same[0], 0u, 0u), 1);
   v = 123u;
   ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
   EXPECT_EQ(v, 0u);
   EXPECT_EQ(words[1 * ways + 0], uint64_t(same[0].fingerprint) << 32);
   // First value stays.
-  EXPECT_EQ(pmc_cache_insert(&t, same[0], 77u), 0);
+  EXPECT_EQ(pmc_cache_insert(&t, same[0], 77u, 0u), 0);
   ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);
   EXPECT_EQ(v, 0u);
   // Fill the cell; the next distinct key is dropped, the others still work.
-  for (uint32_t i = 1; i < ways; ++i) EXPECT_EQ(pmc_cache_insert(&t, same[i], 100u + i), 1);
-  EXPECT_EQ(pmc_cache_insert(&t, same[ways], 999u), -1) << "full cell: dropped";
+  for (uint32_t i = 1; i < ways; ++i) EXPECT_EQ(pmc_cache_insert(&t, same[i], 100u + i, 0u), 1);
+  EXPECT_EQ(pmc_cache_insert(&t, same[ways], 999u, 0u), -1) << "full cell: dropped";
   EXPECT_EQ(pmc_cache_lookup(&t, same[ways], &v), 0) << "a dropped key stays a miss";
-  EXPECT_EQ(pmc_cache_insert(&t, same[ways + 1], 998u), -1);
+  EXPECT_EQ(pmc_cache_insert(&t, same[ways + 1], 998u, 0u), -1);
   for (uint32_t i = 1; i < ways; ++i) {
     ASSERT_EQ(pmc_cache_lookup(&t, same[i], &v), 1);
     EXPECT_EQ(v, 100u + i);
-    EXPECT_EQ(pmc_cache_insert(&t, same[i], 5u), 0) << "present keys report 0 even in a full cell";
+    EXPECT_EQ(pmc_cache_insert(&t, same[i], 5u, 0u), 0) << "present keys report 0 even in a full cell";
   }
   // Other cells are unaffected.
-  EXPECT_EQ(pmc_cache_insert(&t, elsewhere, 42u), 1);
+  EXPECT_EQ(pmc_cache_insert(&t, elsewhere, 42u, 0u), 1);
   ASSERT_EQ(pmc_cache_lookup(&t, elsewhere, &v), 1);
   EXPECT_EQ(v, 42u);
   // No word has a zero fingerprint, no cell holds a fingerprint twice.
@@ -324,7 +324,7 @@ TEST(CacheTable, HostLookupAndInsertSemantics) {
   // Same fingerprint in another cell is a different entry (cell + fingerprint is the key).
   PmcCacheKey twin = same[0];
   twin.h1 = elsewhere.h1;
-  EXPECT_EQ(pmc_cache_insert(&t, twin, 55u), 1);
+  EXPECT_EQ(pmc_cache_insert(&t, twin, 55u, 0u), 1);
   ASSERT_EQ(pmc_cache_lookup(&t, twin, &v), 1);
   EXPECT_EQ(v, 55u);
   ASSERT_EQ(pmc_cache_lookup(&t, same[0], &v), 1);

@@ -64,6 +64,8 @@ TEST(RenderConfig, EachBadFieldIsNamed) {
               c.cache_filter = CacheFilter::Bilinear;
             }),
             (S{"cache_filter", "cache_eval"}));
+  EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_policy = static_cast<CachePolicy>(7); }),
+            S{"cache_policy"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_cells = 0; }), S{"cache_cells"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_entries = 1025; }), S{"cache_entries"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_cells = int64_t(1) << 50; }),
@@ -94,6 +96,15 @@ TEST(RenderConfig, CacheFilterFollowsTheEvalModeUnlessGiven) {
   const RenderSettings s = base_render_settings(c);
   EXPECT_TRUE(s.cache.center);
   EXPECT_FALSE(s.cache.bilinear);
+}
+
+TEST(RenderConfig, CachePolicyIsKeepFirstUnlessPriorityIsAsked) {
+  RenderConfig c = valid();
+  EXPECT_EQ(c.cache_policy, CachePolicy::KeepFirst) << "the paper's rule is the default";
+  EXPECT_FALSE(base_render_settings(c).cache.priority);
+  c.cache_policy = CachePolicy::Priority;
+  EXPECT_NO_THROW(c.validate());
+  EXPECT_TRUE(base_render_settings(c).cache.priority);
 }
 
 TEST(RenderConfig, CameraComesFromFlagsThenTheCameraFileThenFraming) {

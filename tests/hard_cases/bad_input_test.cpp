@@ -376,6 +376,8 @@ TEST(BadInput, ContradictoryCacheModes) {
                  {"--cache-filter bilinear", "--cache-eval center"});
   expect_refused(dir, render(dir, plain, "--cache-filter trilinear"), {"--cache-filter", "trilinear"});
   expect_refused(dir, render(dir, plain, "--cache-eval middle"), {"--cache-eval", "middle"});
+  expect_refused(dir, render(dir, plain, "--cache-policy lru"),
+                 {"--cache-policy", "expected keep-first or priority, got 'lru'"});
 }
 
 TEST(BadInput, CacheLargerThanFreeMemory) {

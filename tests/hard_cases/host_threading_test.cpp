@@ -182,7 +182,7 @@ TEST(HostThreading, CacheTableConcurrentInsertsKeepTheFirstValue) {
       for (uint32_t r = 0; r < rounds; ++r) {
         uint32_t k = (t * 7u + r) % keys;
         uint32_t value = (k << 16) | (t << 12) | (r & 0xfffu);
-        int res = pmc_cache_insert(&table, key_of(k), value);
+        int res = pmc_cache_insert(&table, key_of(k), value, 0u);
         pmc_stat_add(stats, res > 0 ? PMC_CSTAT_INSERTS : res < 0 ? PMC_CSTAT_DROPPED_FULL : PMC_CSTAT_HITS);
         uint32_t v = 0xffffffffu;
         after[t].push_back(pmc_cache_lookup(&table, key_of(k), &v) ? v : 0xffffffffu);
