@@ -9,9 +9,9 @@ import unittest
 from contextlib import redirect_stdout
 from unittest import mock
 
-from bench import cache, common, mtlx_conformance
+from bench import cache, cache_policy, common, mtlx_conformance
 
-MODULES = ["cache", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
+MODULES = ["cache", "cache_policy", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -59,6 +59,7 @@ class CommandLines(unittest.TestCase):
 
     def test_bad_values_are_usage_errors(self):
         for module, argv in (("cache", ["--only", "nosuchpart"]), ("cache", ["--spp", "0"]),
+                             ("cache_policy", ["--fractions", "1,0"]), ("cache_policy", ["--fractions", "a"]),
                              ("trace", ["--runs", "-1"]), ("sweep", ["--repeat", "x"]),
                              ("materials", ["--no-such-flag"]), ("speed", ["--only", "cold,fast"]),
                              ("speed", ["--only", "before"]), ("speed", ["--only", ""])):
@@ -145,3 +146,38 @@ class MtlxConformance(unittest.TestCase):
             self.assertEqual([l for l in text.splitlines() if l.startswith("usemtl")], ["usemtl A", "usemtl B"])
             self.assertEqual(sum(l.startswith("f ") for l in text.splitlines()), 2 * 2 * 2 * 3)
             self.assertEqual(sum(l.startswith("v ") for l in text.splitlines()), 2 * 3 * 4)
+
+
+class CachePolicyReport(unittest.TestCase):
+    def data(self, camera_hits_priority_16):
+        def cache_stats(camera_hits, hit_rate, replaced):
+            return dict(lookups=1000, misses=400, hit_rate=hit_rate, camera_hit_rate=camera_hits / 200,
+                        camera_lookups=200, camera_hits=camera_hits, replaced=replaced, dropped_full=10,
+                        memory_bytes=2**20)
+        return dict(command="scripts/python -m bench.cache_policy", now="now", rev="abc", machine="m", load="l",
+                    elapsed=60, width=64, height=36, spp=4, runs=2, rt_priority=None, full_cells=1024, entries=8,
+                    fractions=[1, 16], cells={"1": 1024, "16": 64},
+                    times={"off": [4.0, 4.4], "keep-first 1/1": [2.0, 2.2], "priority 1/1": [2.0, 2.2],
+                           "keep-first 1/16": [3.0, 3.3], "priority 1/16": [2.1, 2.3]},
+                    psnr={"keep-first 1/1": 45.0, "priority 1/1": 45.0, "keep-first 1/16": 45.0,
+                          "priority 1/16": 45.0},
+                    cache={"keep-first 1/1": cache_stats(180, 0.8, 0), "priority 1/1": cache_stats(180, 0.8, 0),
+                           "keep-first 1/16": cache_stats(40, 0.1, 0),
+                           "priority 1/16": cache_stats(camera_hits_priority_16, 0.08, 77)})
+
+    def test_verdicts_follow_the_numbers(self):
+        section, _ = cache_policy.report(self.data(90))
+        self.assertTrue(section.startswith(cache_policy.SECTION))
+        self.assertIn("keep-first -> priority: 1/1: 90.0% -> 90.0% (0 replaced), 1/16: 20.0% -> 45.0% (77 replaced). "
+                      "Priority hits at least as often on camera rays at every size: **yes**. Where priority "
+                      "replaced nothing (1/1)", section)
+        # full 2.0 / 2.1 -> speedup 2.0x; priority 1/16: 4.2 / 2.2 = 1.91x, 95%; keep-first 4.2 / 3.15 = 1.33x, 67%
+        self.assertIn("`priority` keeps 95% of the full-size speedup (1.91x of 2.00x): goal 90% **met**", section)
+        self.assertIn("`keep-first` keeps 67% of the full-size speedup (1.33x of 2.00x): goal 90% **not met**",
+                      section)
+        self.assertIn("the same 45.0 dB for every size and policy", section)
+        self.assertIn("- Default: priority wins at 1/16 (speedup 1.91x against keep-first's 1.33x", section)
+        self.assertIn("| 1/16 | 64 | 1.00 | `priority` | 45.0% | 8.0% | 77 | 2.20 |", section)
+        section, _ = cache_policy.report(self.data(30))
+        self.assertIn("on camera rays at every size: **no**", section)
+        self.assertIn("- Default: priority does not win at 1/16", section)
