@@ -4,7 +4,7 @@ after an empty kernel cache against a warm one, and scaling with threads and
 image size (with peak memory). Prints tables and writes the "Speed" section of
 docs/BENCHMARKS.md.
 
-    scripts/python -m bench.speed --baseline-pmc ../pmc-baseline/build/pmc
+    scripts/python -m bench.speed --baseline-pmc ../pmc-baseline/build/pmc --baseline-label 31f7cc9
                                        all three parts (default 3 rounds; medians)
     scripts/python -m bench.speed --only cold,scaling      without the older pmc
     scripts/python -m bench.speed --only before --runs 5 --baseline-pmc OLD
@@ -45,6 +45,8 @@ def parse(argv=None):
     common.add_runs(p, 3)
     p.add_argument("--baseline-pmc", metavar="PATH",
                    help="an older pmc binary for the 'before' part (built from the commit to compare with)")
+    p.add_argument("--baseline-label", metavar="TEXT",
+                   help="what the older pmc is, for the report (for example the commit it was built from)")
     p.add_argument("--only", default=",".join(PARTS), metavar="PARTS",
                    help=f"comma-separated parts to run, of {','.join(PARTS)} (default all)")
     p.add_argument("--spp", type=common.positive_int, default=16, metavar="N",
@@ -146,7 +148,8 @@ def main(argv=None):
                 for name, rms in (("baseline", rms_base), ("current", rms_cur))]
         table = common.md_table(["pmc", "render_seconds", "whole run (s)", f"RMS vs {a.reference_spp} spp"], rows)
         ratio = common.median(ratios)
-        text = (f"Render time, this build against `{base}` (default scene, cache off, 640x360, {a.spp} spp):\n\n"
+        label = f" ({a.baseline_label})" if a.baseline_label else ""
+        text = (f"Render time, this build against `{base}`{label} (default scene, cache off, 640x360, {a.spp} spp):\n\n"
                 f"{table}\n\nrender_seconds ratio current / baseline (median of per-round ratios): "
                 f"**{ratio:.2f}** ({100 * (1 - ratio):.0f}% lower). Images "
                 f"{'identical (idiff)' if same else 'differ; compare their RMS against the reference'}.")
