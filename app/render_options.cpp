@@ -171,7 +171,7 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
       app, "--trace-mode", "trace_mode", [&c](const std::string& v) { c.trace_mode = parse_trace_mode(v); },
       "MODE", "Embree query style: single, stream or packet16")
       ->check(cli::one_of({"single", "stream", "packet16"}))
-      ->default_str("single");
+      ->default_str("stream");
   field(app, "--chunk-rays", "chunk_rays", c.chunk_rays, "N",
         "rays per streamed chunk with --transfer copy (0: the whole queue)")
       ->capture_default_str();

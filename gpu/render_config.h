@@ -90,7 +90,9 @@ struct RenderConfig {
   // The machine.
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)
   std::optional<int> threads;  // host and PoCL worker threads (unset: all cores)
-  TraceMode trace_mode = TraceMode::Single;
+  // stream: rtcIntersect1M over the queue; on Sponza 5-10% less render time
+  // than single (docs/BENCHMARKS.md, Tracing), images identical.
+  TraceMode trace_mode = TraceMode::Stream;
   int64_t chunk_rays = 65536;                  // copy transfers: rays per streamed chunk (0: the whole queue)
   TransferMode transfer = TransferMode::Auto;  // how hits reach the device (gpu/host_link.h)
   int shade_lanes = 0;  // hits per shade work-item: 1, 2, 4 ... 64 (0: 16 on CPU devices, 1 on GPUs)

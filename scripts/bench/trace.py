@@ -26,7 +26,7 @@ SECTION = "## Tracing: pmc vs Embree's pathtracer (scripts/bench-trace)"
 LEGACY = {"SCENE": "--scene", "OUTDIR": "--out-dir", "DOC": "--doc", "PMC": "--pmc", "RUNS": "--runs"}
 DEPTH = 4
 EYE, AT, FOV = (-110, 20, 0), (100, 20, 0), 45
-# Configurations besides "pmc" (pmc's defaults: single, chunk 65536, the one compared with Embree).
+# Configurations besides "pmc" (pmc's defaults: stream, chunk 65536, the one compared with Embree).
 MODES = ["single", "stream", "packet16"]
 CHUNKS = [65536, 0]
 
@@ -80,7 +80,7 @@ def main(argv=None):
         sys.exit(f"{PROG}: scene {SCENE} not found")
     os.makedirs(OUT, exist_ok=True)
 
-    def pmc_cmd(name, spp=SPP, trace="single", chunk=65536):
+    def pmc_cmd(name, spp=SPP, trace="stream", chunk=65536):
         return [PMC, "render", SCENE, "-o", f"{OUT}/{name}.exr",
                 "--camera-from", csv(EYE), "--camera-at", csv(AT), "--fov", str(FOV),
                 "--env", "1,1,1", "--width", str(W), "--height", str(H), "--spp", str(spp),
@@ -124,7 +124,7 @@ def main(argv=None):
                 "version": version.group(1) if version else "?", "isa": isa}
 
     def pmc_name(mode, chunk):
-        return "pmc" if (mode, chunk) == ("single", 65536) else f"pmc-{mode}-chunk{chunk}"
+        return "pmc" if (mode, chunk) == ("stream", 65536) else f"pmc-{mode}-chunk{chunk}"
 
     CONFIGS = [("pmc", lambda n: run_pmc(n)), ("embree", lambda n: run_embree(n))]
     for mode in MODES:
@@ -223,8 +223,8 @@ def main(argv=None):
                                   "transfer (s)", "render_seconds", "Mrays/s in trace"], grid_rows)
 
     stage_keys = ["camera", "trace", "shadow", "shade", "transfer", "film"]
-    stage_cols = [("pmc", "chunk 65536")] + ([("pmc-single-chunk0", "chunk 0")]
-                                             if "pmc-single-chunk0" not in failed else [])
+    stage_cols = [("pmc", "chunk 65536")] + ([("pmc-stream-chunk0", "chunk 0")]
+                                             if "pmc-stream-chunk0" not in failed else [])
     stage_rows = []
     for k in stage_keys + ["sum of stages", "render_seconds"]:
         row = [k]
@@ -234,7 +234,7 @@ def main(argv=None):
                  else render if k == "render_seconds" else med(name, k))
             row += [fmt(v), f"{100 * v / render:.0f}%"]
         stage_rows.append(row)
-    stage_header = ["pmc stage (`single`)"]
+    stage_header = ["pmc stage (`stream`)"]
     for _, label in stage_cols:
         stage_header += [f"{label} (s)", "of render"]
     stage_table = common.md_table(stage_header, stage_rows)
@@ -309,7 +309,7 @@ wall time inside Embree calls.
 
 {grid_table}
 
-Where pmc's time goes (`stage_seconds`, trace mode `single`). `trace` and
+Where pmc's time goes (`stage_seconds`, trace mode `stream`, the default). `trace` and
 `shadow` are host wall time in Embree; `camera`, `shade` and `film` are OpenCL
 event times (PoCL runs them on the same cores as Embree); `transfer` is host
 time in blocking reads, which also wait for kernels still running, plus the
