@@ -38,7 +38,12 @@ namespace pmc {
 namespace {
 
 nlohmann::json error_json(const ImageError& e) {
-  return {{"rmse", e.rmse}, {"relmse", e.relmse}, {"psnr", e.psnr}, {"max_abs_error", e.max_abs}};
+  return {{"rmse", e.rmse},
+          {"relmse", e.relmse},
+          {"psnr", e.psnr},
+          {"max_abs_error", e.max_abs},
+          {"worst_tile_psnr", e.worst_tile_psnr},
+          {"worst_tile", {e.worst_tile_x, e.worst_tile_y, kMetricTile}}};
 }
 
 // Reads --reference and checks it against the render's size, before
@@ -84,6 +89,8 @@ std::string report_markdown(const nlohmann::json& m, const std::string& obj, con
     << "| time with cache (s) | " << m["time_on_seconds"].get<double>() << " |\n"
     << "| speed ratio (off / on) | " << m["speed_ratio"].get<double>() << " |\n"
     << "| PSNR cached vs cacheless (dB) | " << m["psnr"].get<double>() << " |\n"
+    << "| worst 16x16 tile PSNR (dB) | " << m["cached_vs_cacheless"]["worst_tile_psnr"].get<double>()
+    << " |\n"
     << "| RMSE | " << m["rmse"].get<double>() << " |\n"
     << "| relMSE | " << m["relmse"].get<double>() << " |\n"
     << "| max abs error | " << m["max_abs_error"].get<double>() << " |\n"

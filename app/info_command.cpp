@@ -26,8 +26,9 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
   static const char* enc[] = {"float", "rgb9e5", "half2"};
   std::printf("  cache points: %zu\n", m.cache_plan.points.size());
   for (const CachePoint& cp : m.cache_plan.points)
-    std::printf("    + %s: saves a sub-graph of %d nodes, stored as %s\n", node_label(*g, cp.node).c_str(),
-                cp.subgraph_nodes, enc[cp.encoding % 3]);
+    std::printf("    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s\n",
+                node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key),
+                enc[cp.encoding % 3]);
   for (const auto& [n, why] : m.cache_plan.not_cached)
     std::printf("    - %s: %s\n", node_label(*g, n).c_str(), why.c_str());
 }
@@ -38,6 +39,7 @@ struct InfoArgs {
   std::string mtlx_library;
   std::vector<std::string> mtlx, mtlx_search_paths;
   int cache_min_nodes = kDefaultCacheMinNodes;
+  bool cache_position_keys = true;
 };
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
@@ -67,6 +69,7 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
     mo.override_material = a.material;
     mo.compile.cache = true;
     mo.compile.cache_min_nodes = a.cache_min_nodes;
+    mo.compile.cache_position_keys = a.cache_position_keys;
     MaterialSet set = build_material_set(scene, mo);
     std::printf("bytecode: %zu words for %zu materials\n", set.program.code.size(),
                 set.program.materials.size());
@@ -136,6 +139,12 @@ CommandRun add_info_command(CLI::App& pmc) {
       ->type_name("N")
       ->check(cli::at_least(1))
       ->capture_default_str();
+  app->add_option_function<std::string>(
+         "--cache-keys", [a](const std::string& v) { a->cache_position_keys = v != "uv"; },
+         "what cache points are keyed on: uv texels only, or also 3D position cells")
+      ->type_name("uv|uv+position")
+      ->check(cli::one_of({"uv", "uv+position"}))
+      ->default_str("uv+position");
   return [a, app] { return run_info(*a, *app); };
 }
 

@@ -155,6 +155,13 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
         "replace an entry from a deeper bounce")
         ->check(cli::one_of({"keep-first", "priority"}))
         ->default_str("keep-first");
+    setter<std::string>(
+        app, "--cache-keys", "cache_keys", [&c](const std::string& v) { c.cache_position_keys = v != "uv"; },
+        "uv|uv+position",
+        "what cache points are keyed on: uv texels only (the paper), or also 3D position cells for "
+        "sub-graphs that read the position alone (noise3d, fractal3d, ...)")
+        ->check(cli::one_of({"uv", "uv+position"}))
+        ->default_str("uv+position");
     field(app, "--cache-min-nodes", "cache_min_nodes", c.cache_min_nodes, "N",
           "smallest sub-graph (in nodes) worth a cache point")
         ->capture_default_str();

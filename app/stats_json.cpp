@@ -29,6 +29,10 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["camera_lookups"] = st.camera_lookups;
   c["camera_hits"] = st.camera_hits;
   c["camera_hit_rate"] = camera_hit_rate(st);
+  c["position_lookups"] = st.position_lookups;
+  c["position_hits"] = st.position_hits;
+  c["position_hit_rate"] = position_hit_rate(st);
+  c["uv_hit_rate"] = uv_hit_rate(st);
   c["occupancy"] = st.occupancy();
   return c;
 }

@@ -4,15 +4,22 @@
 // with peak 1 (what a display shows at exposure 1; HDR outliers would
 // otherwise dominate); relMSE divides each squared error by the reference's
 // squared value plus 0.01 (the usual guard for dark pixels); RMSE and the
-// maximum absolute error are unclamped.
+// maximum absolute error are unclamped. The worst tile is the 16x16 tile
+// (partial at the right and bottom edges) with the lowest clamped PSNR: a
+// local artefact (an aliasing pattern, one mis-cached object) hides in the
+// whole-image PSNR but not there.
 #pragma once
 
 #include "core/image_io.h"
 
 namespace pmc {
 
+constexpr int kMetricTile = 16;
+
 struct ImageError {
   double rmse = 0, relmse = 0, psnr = 0, max_abs = 0;
+  double worst_tile_psnr = 0;
+  int worst_tile_x = 0, worst_tile_y = 0;  // its top-left pixel
 };
 
 // Throws pmc::Error if the sizes differ.

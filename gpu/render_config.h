@@ -86,6 +86,7 @@ struct RenderConfig {
   std::optional<CacheFilter> cache_filter;  // unset: bilinear with center, nearest with hit
   CachePolicy cache_policy = CachePolicy::KeepFirst;
   int cache_min_nodes = kDefaultCacheMinNodes;  // smallest sub-graph worth a cache point
+  bool cache_position_keys = true;              // --cache-keys uv+position (false: uv)
 
   // The machine.
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)

@@ -30,8 +30,8 @@ void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheS
   if (points == 0) {
     cache.on = false;  // nothing cacheable: run the cacheless path, allocate nothing
     std::ostringstream os;
-    os << "no cacheable nodes in this scene's materials (none depends on uv alone with a sub-graph of at "
-          "least "
+    os << "no cacheable nodes in this scene's materials (none depends on uv alone or position alone with a "
+          "sub-graph of at least "
        << setting("cache_min_nodes") << " nodes): the cacheless program runs and no table is allocated";
     cache.reason = os.str();
     return;
@@ -128,6 +128,7 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
   mo.mtlx.search_paths = config_.mtlx_search_paths;
   mo.compile.cache = config_.cache;
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
+  mo.compile.cache_position_keys = config_.cache_position_keys;
   materials_ = build_material_set(scene_, mo);
   for (CompiledMaterial& m : materials_.program.materials)
     m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);

@@ -92,5 +92,13 @@ inline double hit_rate(const CacheStats& s) { return s.lookups ? double(s.hits) 
 inline double camera_hit_rate(const CacheStats& s) {
   return s.camera_lookups ? double(s.camera_hits) / double(s.camera_lookups) : 0.0;
 }
+// The same for position-keyed points, and for uv-keyed ones (the rest).
+inline double position_hit_rate(const CacheStats& s) {
+  return s.position_lookups ? double(s.position_hits) / double(s.position_lookups) : 0.0;
+}
+inline double uv_hit_rate(const CacheStats& s) {
+  const uint64_t lookups = s.lookups - s.position_lookups, hits = s.hits - s.position_hits;
+  return lookups ? double(hits) / double(lookups) : 0.0;
+}
 
 }  // namespace pmc

@@ -235,6 +235,8 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
   c.replaced = counts[PMC_CSTAT_REPLACED];
   c.camera_lookups = counts[PMC_CSTAT_CAMERA_LOOKUPS];
   c.camera_hits = counts[PMC_CSTAT_CAMERA_HITS];
+  c.position_lookups = counts[PMC_CSTAT_POSITION_LOOKUPS];
+  c.position_hits = counts[PMC_CSTAT_POSITION_HITS];
   const size_t words = size_t(cs.cells) * cs.ways;
   std::vector<uint64_t> table(words);
   cl.read(wave.cache_entries, 0, words * sizeof(uint64_t), table.data());

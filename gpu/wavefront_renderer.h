@@ -44,13 +44,15 @@ struct CacheSettings {
 
 // Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one
 // of inserts (into an empty entry), replaced, already_present, dropped_full,
-// not_encodable; camera_* count the lookups at camera-ray hits.
+// not_encodable; camera_* count the lookups at camera-ray hits, position_*
+// those of position-keyed cache points.
 struct CacheStats {
   uint64_t lookups = 0, hits = 0, misses = 0, inserts = 0, already_present = 0, dropped_full = 0,
            not_encodable = 0;
   uint64_t replaced = 0;  // --cache-policy priority: camera inserts that replaced a deeper entry
   uint64_t camera_lookups = 0, camera_hits = 0;
-  uint64_t occupied = 0;  // non-empty entries after the render
+  uint64_t position_lookups = 0, position_hits = 0;  // of position-keyed points (the rest are uv-keyed)
+  uint64_t occupied = 0;                             // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }
 };

@@ -35,6 +35,14 @@ bool is_texcoord(const Node& n) {
   return def && def->opcode == PMC_OP_TEXCOORD;
 }
 
+bool is_position(const Node& n) {
+  const NodeDef* def = find_node_def(n.category);
+  return def && def->opcode == PMC_OP_POSITION;
+}
+
+// The dependency bits a cache point may have: exactly one key input.
+bool keyable(uint32_t d, bool position_keys) { return d == kDepUv || (position_keys && d == kDepPosition); }
+
 }  // namespace
 
 std::vector<int> subgraph_order(const Graph& g, int node) {
@@ -50,16 +58,20 @@ std::vector<int> subgraph_order(const Graph& g, int node) {
   return order;
 }
 
-CachePlan plan_cache(const Graph& g, int min_nodes) {
+const char* cache_key_name(CacheKey k) { return k == CacheKey::Position ? "position" : "uv"; }
+
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys) {
   CachePlan plan;
   std::vector<uint32_t> deps = dependencies(g);
   std::vector<int> order = topological_order(g);
-  // Is any consumer of a node uv-only too? Then the node is not the highest.
-  std::vector<char> has_uv_only_consumer(g.nodes.size(), 0);
+  // Does any consumer of a node depend on the same single key input? Then the
+  // node is not the highest of its kind.
+  std::vector<char> has_keyed_consumer(g.nodes.size(), 0);
   for (int i : order) {
     if (i == g.surface) continue;
     for (const Input& in : g.nodes[size_t(i)].inputs)
-      if (in.linked && deps[size_t(i)] == kDepUv) has_uv_only_consumer[size_t(in.node)] = 1;
+      if (in.linked && keyable(deps[size_t(i)], position_keys) && deps[size_t(i)] == deps[size_t(in.node)])
+        has_keyed_consumer[size_t(in.node)] = 1;
   }
   std::set<int> chosen;
   std::function<void(int)> consider = [&](int n) {
@@ -71,29 +83,34 @@ CachePlan plan_cache(const Graph& g, int min_nodes) {
     if (!encoding_for(node.type, enc)) {
       why = std::string(type_name(node.type)) + " values have no 32-bit encoding; trying its inputs";
     } else if (size < min_nodes) {
-      why = "sub-graph of " + std::to_string(size) + " nodes is cheaper than a lookup (threshold " +
-            std::to_string(min_nodes) + ")";
-    } else if (node.input("index") && is_texcoord(node)) {
-      why = "a bare texcoord";
+      why = dependency_names(deps[size_t(n)]) + "-only sub-graph of " + std::to_string(size) +
+            " nodes is cheaper than a lookup (threshold " + std::to_string(min_nodes) + ")";
+    } else if ((node.input("index") && is_texcoord(node)) || is_position(node)) {
+      why = is_position(node) ? "a bare position" : "a bare texcoord";
     } else {
       chosen.insert(n);
-      plan.points.push_back({n, size, enc});
+      plan.points.push_back(
+          {n, size, enc, deps[size_t(n)] == kDepPosition ? CacheKey::Position : CacheKey::Uv});
       return;
     }
     plan.not_cached.push_back({n, why});
     if (size >= min_nodes)
       for (const Input& in : node.inputs)
-        if (in.linked && deps[size_t(in.node)] == kDepUv) consider(in.node);
+        if (in.linked && deps[size_t(in.node)] == deps[size_t(n)]) consider(in.node);
   };
   for (int i : order) {
     if (i == g.surface) continue;
     uint32_t d = deps[size_t(i)];
-    if (d == kDepUv && !has_uv_only_consumer[size_t(i)]) {
+    const Node& node = g.nodes[size_t(i)];
+    if (keyable(d, position_keys) && !has_keyed_consumer[size_t(i)]) {
       consider(i);
-    } else if (d != kDepUv && d != 0 && (d & kDepUv) == 0 && !is_texcoord(g.nodes[size_t(i)])) {
-      plan.not_cached.push_back({i, "depends on " + dependency_names(d)});
-    } else if (d != kDepUv && (d & kDepUv)) {
-      plan.not_cached.push_back({i, "depends on " + dependency_names(d) + ", not only uv"});
+    } else if (keyable(d, position_keys) || d == 0 || is_texcoord(node) || is_position(node)) {
+      continue;  // below a point of its kind, constant, or a bare key input
+    } else if (d == kDepPosition) {
+      plan.not_cached.push_back({i, "depends on position (position keys are off)"});
+    } else {
+      plan.not_cached.push_back(
+          {i, "depends on " + dependency_names(d) + ", not on uv alone or position alone"});
     }
   }
   return plan;

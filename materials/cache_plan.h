@@ -2,13 +2,19 @@
 //
 // Bottom-up dependency bits (graph_analysis.h) say which shading-point inputs each
 // node reads. A node is a cache point when its whole sub-graph depends on uv
-// and nothing else (and is not constant), no consumer of it is also uv-only
-// (it is the highest such node), its value has a 32-bit encoding (float,
+// and nothing else, or on position and nothing else (and is not constant),
+// no consumer of it has the same single dependency (it is the highest such
+// node), its value has a 32-bit encoding (float,
 // non-negative colour3/vector3 as RGB9E5, vector2 as two halves), and its
 // sub-graph has at least `min_nodes` nodes: a smaller sub-graph costs less to
-// evaluate than a lookup. When the highest uv-only node cannot be encoded or
-// is too cheap, its uv-only inputs are considered instead. A material can
-// have several cache points. Every other node gets a reason for the plan dump.
+// evaluate than a lookup. When the highest such node cannot be encoded or
+// is too cheap, its inputs of the same dependency are considered instead. A
+// uv-only point is keyed on the uv texel, a position-only one on the position
+// cell (pmc_cache.h). Sub-graphs that read uv and position together, or the
+// normal or tangent frame, are not cached: their value is not a function of
+// one key (a uv seam or a normal map would alias across the key's cell).
+// A material can have several cache points. Every other node gets a reason
+// for the plan dump.
 #pragma once
 
 #include <cstdint>
@@ -19,11 +25,16 @@
 
 namespace pmc {
 
+enum class CacheKey { Uv, Position };
+
 struct CachePoint {
   int node = -1;
   int subgraph_nodes = 0;  // nodes a hit skips
   uint32_t encoding = 0;   // PMC_ENC_*
+  CacheKey key = CacheKey::Uv;
 };
+
+const char* cache_key_name(CacheKey k);
 
 struct CachePlan {
   std::vector<CachePoint> points;
@@ -37,7 +48,8 @@ struct CachePlan {
 // quarter of it. 8 keeps clear of the losing end.
 constexpr int kDefaultCacheMinNodes = 8;
 
-CachePlan plan_cache(const Graph& g, int min_nodes);
+// `position_keys`: position-only sub-graphs may become (position-keyed) points.
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true);
 // Nodes of the sub-graph under `node` (itself included), inputs first.
 std::vector<int> subgraph_order(const Graph& g, int node);
 

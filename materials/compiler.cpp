@@ -24,7 +24,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   std::vector<uint32_t> deps = dependencies(g);
   std::vector<char> is_point(g.nodes.size(), 0);
   if (options.cache) {
-    cm.cache_plan = plan_cache(g, options.cache_min_nodes);
+    cm.cache_plan = plan_cache(g, options.cache_min_nodes, options.cache_position_keys);
     std::vector<CachePoint> kept;
     for (const CachePoint& p : cm.cache_plan.points)
       // The node id travels in 14 bits of the instruction; the interpreter
@@ -111,22 +111,24 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   };
   // The cache group: every cache point's LOOKUP first, then the union of
   // their sub-graphs (each node once, its own texcoord included, in
-  // block-local slots), then one STORE per point. All points of an
-  // evaluation share the texel, so they hit or miss together; the last
+  // block-local slots), then one STORE per point. A LOOKUP's skip word
+  // carries PMC_CACHE_KEY_POSITION for a position-keyed point; the last
   // LOOKUP jumps past the group when every lookup hit. On any miss the whole
   // union runs once (shared nodes are not evaluated per point) and each
   // STORE inserts and delivers only the values that missed.
   if (!cm.cache_plan.points.empty()) {
     std::vector<int> point_dst;
     size_t last_lookup = 0;
+    uint32_t last_kind = 0;
     for (const CachePoint& p : cm.cache_plan.points) {
       const Node& n = g.nodes[size_t(p.node)];
       int dst = allocate(width_of(p.node), "cache point '" + n.name + "'");
       slot_of[size_t(p.node)] = dst;
       point_dst.push_back(dst);
       last_lookup = em.size();
+      last_kind = p.key == CacheKey::Position ? PMC_CACHE_KEY_POSITION : 0u;
       em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(p.node), uint32_t(p.node) | (p.encoding << 14),
-                   uint32_t(dst), {0u});
+                   uint32_t(dst), {last_kind});
     }
     size_t after_lookups = em.size();
     std::vector<int> group;
@@ -152,7 +154,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
                {Emitter::slot(uint32_t(block_slots[size_t(p.node)]), w)});
       release(block_slots[size_t(p.node)], w);
     }
-    em.patch(last_lookup + 2, uint32_t(em.size() - after_lookups));
+    em.patch(last_lookup + 2, uint32_t(em.size() - after_lookups) | last_kind);
   }
   for (int i : order) {
     if (i == g.surface || is_point[size_t(i)]) continue;
@@ -236,8 +238,10 @@ std::string disassemble(const MaterialProgram& program, const CompiledMaterial& 
     else
       os << "s" << program.code[pc + 1];
     if (op == PMC_OP_CACHE_LOOKUP) {
-      os << " node " << (pmc_op_imm(h) & 0x3fffu) << " enc " << (pmc_op_imm(h) >> 14) << " (hit: skip "
-         << program.code[pc + 2] << " words)\n";
+      const uint32_t word = program.code[pc + 2];
+      os << " node " << (pmc_op_imm(h) & 0x3fffu) << " enc " << (pmc_op_imm(h) >> 14) << " key "
+         << ((word & PMC_CACHE_KEY_POSITION) ? "position" : "uv") << " (hit: skip "
+         << (word & ~PMC_CACHE_KEY_POSITION) << " words)\n";
       pc += 3;
       continue;
     }

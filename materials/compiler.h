@@ -11,8 +11,8 @@
 // refused with an error naming the material.
 //
 // With the cache on, a material's cache points form one group at the start
-// of its program: a CACHE_LOOKUP per point (all share the shading point's
-// texel, so they hit or miss together), then the union of their sub-graphs
+// of its program: a CACHE_LOOKUP per point (uv points share the shading
+// point's texel, position points its cell), then the union of their sub-graphs
 // (each node once, its own texcoord included, in group-local slots), then a
 // CACHE_STORE per point that inserts and delivers the values that missed.
 // The last lookup jumps past the group when every lookup hit. The group is
@@ -36,6 +36,7 @@ namespace pmc {
 struct CompileOptions {
   bool cache = false;  // emit the cache group (CACHE_LOOKUP/CACHE_STORE) for cache points
   int cache_min_nodes = kDefaultCacheMinNodes;
+  bool cache_position_keys = true;  // position-only sub-graphs become position-keyed points
 };
 
 struct CompiledMaterial {

@@ -98,6 +98,9 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     info.flags = cm.has_cutout ? PMC_MAT_CUTOUT : 0u;
     for (int k = 0; k < 3; ++k) info.emission[k] = cm.constant_emission[k];
     info.cache_points = uint32_t(cm.cache_plan.points.size());
+    info.cache_position_mask = 0u;
+    for (size_t p = 0; p < cm.cache_plan.points.size() && p < 32; ++p)
+      if (cm.cache_plan.points[p].key == CacheKey::Position) info.cache_position_mask |= 1u << p;
   }
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (used[i]) continue;

@@ -63,6 +63,7 @@
   X(PmcMaterialInfo, flags)        \
   X(PmcMaterialInfo, emission)     \
   X(PmcMaterialInfo, cache_points) \
+  X(PmcMaterialInfo, cache_position_mask) \
   X(PmcFrame, cam_eye)             \
   X(PmcFrame, cam_spread)          \
   X(PmcFrame, cam_forward)         \

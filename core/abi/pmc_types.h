@@ -92,14 +92,16 @@ typedef struct PmcTexture {
 
 /* Per material: where its program starts, its constant emission (the
  * light table and next-event estimation use it) and how many cache points
- * its program looks up (0 with the cache off). */
+ * its program looks up (0 with the cache off), and which of them are keyed on
+ * the position cell rather than the uv texel. */
 #define PMC_MAT_CUTOUT 1u
 typedef struct PmcMaterialInfo {
   pmc_u32 entry;
   pmc_u32 flags;
   float emission[3];
   pmc_u32 cache_points;
-  pmc_u32 pad[2];
+  pmc_u32 cache_position_mask; /* bit p: its p-th cache point is keyed on position */
+  pmc_u32 pad[1];
 } PmcMaterialInfo;
 
 /* Light types (PmcLight.type); core/device/pmc_lights.h samples and

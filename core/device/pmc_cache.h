@@ -13,6 +13,16 @@
  * 64-bit compare-and-swap from 0, so readers never see a torn entry; on
  * collision the first value stays (the paper's Algorithm 1).
  *
+ * Position keys (beyond the paper, which keys on uv only): a cache point whose
+ * sub-graph reads the surface position and nothing else is keyed on a cell of
+ * a 3D virtual grid instead: level lambda = -log2(r) + bias from the ray
+ * cone's radius r at the hit in scene units (the footprint's minor half-axis,
+ * as min(|g1|, |g2|) is in uv), cell floor(p * 2^lambda) per axis. Its hash
+ * has its own domain constant, so a uv texel and a position cell with equal
+ * indices hash apart. Both kinds share the table, the fingerprints and the
+ * policies; a material's group mixes them freely (the lookup's skip word
+ * carries the kind in bit 31).
+ *
  * Replacement policy (PmcCacheTable.policy, --cache-policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops
  *    the insert. The high word is the whole 32-bit fingerprint.
@@ -59,12 +69,14 @@
 #define PMC_CSTAT_INSERTS 2
 #define PMC_CSTAT_DROPPED_FULL 3
 #define PMC_CSTAT_NOT_ENCODABLE 4
-#define PMC_CSTAT_MISSES 5          /* lookups that found nothing */
-#define PMC_CSTAT_ALREADY_PRESENT 6 /* inserts that found the key (another work-item won) */
-#define PMC_CSTAT_REPLACED 7        /* priority: camera inserts that replaced a deeper entry */
-#define PMC_CSTAT_CAMERA_LOOKUPS 8  /* lookups at camera-ray hits (depth 0) */
-#define PMC_CSTAT_CAMERA_HITS 9     /* ... that hit */
-#define PMC_CSTAT_COUNT 10
+#define PMC_CSTAT_MISSES 5            /* lookups that found nothing */
+#define PMC_CSTAT_ALREADY_PRESENT 6   /* inserts that found the key (another work-item won) */
+#define PMC_CSTAT_REPLACED 7          /* priority: camera inserts that replaced a deeper entry */
+#define PMC_CSTAT_CAMERA_LOOKUPS 8    /* lookups at camera-ray hits (depth 0) */
+#define PMC_CSTAT_CAMERA_HITS 9       /* ... that hit */
+#define PMC_CSTAT_POSITION_LOOKUPS 10 /* lookups of position-keyed points */
+#define PMC_CSTAT_POSITION_HITS 11    /* ... that hit */
+#define PMC_CSTAT_COUNT 12
 /* Every lookup is a hit or a miss, and every miss ends in exactly one of
  * insert (into an empty entry), replaced, already present, dropped (cell
  * full) or not encodable. */
@@ -75,8 +87,9 @@
 
 /* ---- virtual mip level and texel indices --------------------------------- */
 
-/* Integer virtual mip level floor(-log2(m) + bias), m = min(|g1|, |g2|), from
- * the footprint gradients; always finite and clamped. Degenerate footprints
+/* Integer virtual mip level floor(-log2(m) + bias) of a footprint of size m
+ * (pmc_cache_lambda: m = min(|g1|, |g2|) from the uv gradients; position
+ * keys: the cone radius in scene units); always finite and clamped. Degenerate footprints
  * (zero-area uv triangles, no cone, |g| overflowing or underflowing float)
  * use the finest level so distinct points never share a coarse texel by
  * accident. Lengths are sqrt(x^2 + y^2) on both sides (an overflow-safe
@@ -84,10 +97,7 @@
  * With an integral bias (the usual case) the level comes exactly from m's
  * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
  * a library log2 cost about as much as the rest of a lookup on PoCL. */
-PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
-  float l1 = sqrt(g1.x * g1.x + g1.y * g1.y), l2 = sqrt(g2.x * g2.x + g2.y * g2.y);
-  float m = fmin(l1, l2);
-  if (!(m > 0.0f) || !isfinite(m)) m = fmax(l1, l2);
+PMC_FN int pmc_cache_level(float m, float bias) {
   float b = isfinite(bias) ? bias : 0.0f;
   if (m > 0.0f && isfinite(m) && b == floor(b) && fabs(b) <= 64.0f) {
     int bits = as_int(m);
@@ -101,6 +111,13 @@ PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
   if (!(lambda > (float)PMC_LAMBDA_MIN)) lambda = (float)PMC_LAMBDA_MIN; /* also NaN */
   if (lambda > (float)PMC_LAMBDA_MAX) lambda = (float)PMC_LAMBDA_MAX;
   return (int)floor(lambda);
+}
+
+PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
+  float l1 = sqrt(g1.x * g1.x + g1.y * g1.y), l2 = sqrt(g2.x * g2.x + g2.y * g2.y);
+  float m = fmin(l1, l2);
+  if (!(m > 0.0f) || !isfinite(m)) m = fmax(l1, l2);
+  return pmc_cache_level(m, bias);
 }
 
 /* 2^e for an integer e in [-126, 127], exactly, from the exponent bits (a
@@ -218,6 +235,7 @@ typedef struct PmcCacheTexel {
   pmc_u64 hash;  /* pmc_cache_texel_hash */
   pmc_u64 base;  /* pmc_cache_group_base */
   long tx, ty;   /* texel indices */
+  long tz;       /* position cells: the third index (0 for uv texels) */
   int lambda;    /* virtual mip level */
   pmc_u32 ready; /* the fields above are filled */
 } PmcCacheTexel;
@@ -230,11 +248,40 @@ PMC_FN PmcCacheTexel pmc_cache_texel_of(float2 uv, float2 g1, float2 g2, float b
   t.lambda = pmc_cache_lambda(g1, g2, bias);
   t.tx = pmc_cache_texel_jittered(uv.x, t.lambda, jitter.x);
   t.ty = pmc_cache_texel_jittered(uv.y, t.lambda, jitter.y);
+  t.tz = 0L;
   t.hash = pmc_cache_texel_hash(t.lambda, t.tx, t.ty);
   t.base = pmc_cache_group_base(t.hash, material);
   t.ready = 1u;
   return t;
 }
+
+/* The hash of a position cell (level and three indices): a domain constant
+ * of its own, so it never equals the texel hash of a uv texel by design. */
+PMC_FN pmc_u64 pmc_cache_cell3_hash(int lambda, long tx, long ty, long tz) {
+  pmc_u64 a = pmc_mix64(((pmc_u64)(pmc_u32)(lambda + 64) << 48) ^ 0x8c2d5f0e1b3a7d49UL);
+  pmc_u64 b = pmc_mix64(a ^ (pmc_u64)tx);
+  pmc_u64 c = pmc_mix64(b ^ ((pmc_u64)ty * 0x9e3779b97f4a7c15UL));
+  return pmc_mix64(c ^ ((pmc_u64)tz * 0xc2b2ae3d27d4eb4fUL));
+}
+
+/* The position cell of a shading point: level from the ray cone's radius at
+ * the hit (scene units) and the mip bias, indices of p * 2^lambda + jitter
+ * per axis (uniform offsets in [-0.5, 0.5) give stochastic trilinear
+ * selection, as they give bilinear selection for uv). */
+PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float4 jitter, pmc_u32 material) {
+  PmcCacheTexel t;
+  t.lambda = pmc_cache_level(radius, bias);
+  t.tx = pmc_cache_texel_jittered(p.x, t.lambda, jitter.x);
+  t.ty = pmc_cache_texel_jittered(p.y, t.lambda, jitter.y);
+  t.tz = pmc_cache_texel_jittered(p.z, t.lambda, jitter.z);
+  t.hash = pmc_cache_cell3_hash(t.lambda, t.tx, t.ty, t.tz);
+  t.base = pmc_cache_group_base(t.hash, material);
+  t.ready = 1u;
+  return t;
+}
+
+/* The CACHE_LOOKUP skip word: bit 31 marks a position-keyed point. */
+#define PMC_CACHE_KEY_POSITION 0x80000000u
 
 /* ---- encodings --------------------------------------------------------------- */
 

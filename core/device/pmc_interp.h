@@ -26,6 +26,12 @@
  * read their shading inputs through lane_of[]), and each store inserts and
  * delivers those values back to the points they belong to. A batch in which
  * every point hit skips the group entirely.
+ *
+ * A cache point is keyed on the shading point's uv texel or, when its
+ * sub-graph reads the position only, on its position cell (pmc_cache.h); each
+ * point of a lane computes either at most once. In --cache-eval center the
+ * group's sub-graphs read the texel's centre uv and the cell's centre
+ * position, so a stored value depends on its key alone.
  */
 #ifndef PMC_INTERP_H
 #define PMC_INTERP_H
@@ -57,9 +63,11 @@ typedef struct PmcCacheContext {
   PmcCacheTable table;
   float2 g1, g2; /* ray-cone uv gradients at the hit */
   float bias;    /* --mip-bias */
-  float2 jitter; /* added to uv * 2^lambda before flooring, in [-0.5, 0.5):
-                  * 0 is the nearest texel; uniform random offsets pick a
-                  * neighbour with its bilinear weight (--cache-filter) */
+  float4 jitter; /* added to uv * 2^lambda (x, y) and to the position *
+                  * 2^lambda (x, y, z) before flooring, in [-0.5, 0.5): 0 is
+                  * the nearest texel; uniform random offsets pick a neighbour
+                  * with its bilinear (trilinear) weight (--cache-filter) */
+  float radius;  /* ray-cone radius at the hit, scene units (position keys) */
   pmc_u32 material;
   pmc_u32 center;      /* --cache-eval center: evaluate misses at the texel centre */
   pmc_u32 depth;       /* surface hits before this one (0: a camera-ray hit); the
@@ -67,6 +75,7 @@ typedef struct PmcCacheContext {
                         * lookups are counted apart */
   PmcCacheTexel texel; /* the shading point's texel, if the caller computed it
                         * (ready); else the first lookup computes it */
+  PmcCacheTexel cell;  /* the same for its position cell */
   pmc_u32 hits;        /* out: cache points found in this evaluation */
   /* out: PMC_CSTAT_* events, counted privately (no atomics per lookup); the
    * caller adds them up: the shade kernel once per work-group. */
@@ -268,18 +277,25 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
   int lane_of[PMC_LANES];
   float2 uv_now[PMC_LANES];
   float footprint_now[PMC_LANES];
-  /* The cache group: lookups and stores so far, and per point which lookups
-   * missed; every cache point of a point shares its texel. */
-  pmc_u32 n_lookups = 0u, n_stores = 0u;
+  float3 pos_now[PMC_LANES]; /* likewise the position */
+  /* The cache group: lookups and stores so far, which of them are keyed on
+   * position, and per point which lookups missed; every uv point of a point
+   * shares its texel, every position point its cell. */
+  pmc_u32 n_lookups = 0u, n_stores = 0u, by_position = 0u;
   pmc_u32 missed[PMC_LANES];
-  PmcCacheTexel texel[PMC_LANES];
+  PmcCacheTexel texel[PMC_LANES], cell[PMC_LANES];
   for (int k = 0; k < PMC_BATCH(n); ++k) {
     lane_of[k] = k;
     uv_now[k] = in[k].uv;
     footprint_now[k] = in[k].footprint;
+    pos_now[k] = in[k].position;
     missed[k] = 0u;
     texel[k].ready = 0u;
-    if (cache) texel[k] = cache[k].texel;
+    cell[k].ready = 0u;
+    if (cache) {
+      texel[k] = cache[k].texel;
+      cell[k] = cache[k].cell;
+    }
   }
   for (int guard = 0; guard < 1 << 16; ++guard) {
     pmc_u32 h = code[pc];
@@ -320,7 +336,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         break;
       case PMC_OP_POSITION:
         for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = in[lane_of[k]].position;
+          float3 v = pos_now[k];
           pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
         }
         break;
@@ -346,21 +362,30 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
          * the number of words to skip when no point needs the group (0 but
          * for the group's last lookup, whose skip passes the group's
-         * sub-graphs and STOREs). A hit delivers its value at once. */
+         * sub-graphs and STOREs), with PMC_CACHE_KEY_POSITION set for a
+         * position-keyed point. A hit delivers its value at once. */
         pmc_u32 bit = 1u << (n_lookups & 31u);
+        const pmc_u32 word = code[pc + 2u];
+        const int positional = (word & PMC_CACHE_KEY_POSITION) != 0u;
+        if (positional) by_position |= bit;
         n_lookups += 1u;
         for (int k = 0; k < PMC_BATCH(n); ++k) {
           int hit = 0;
           if (cache) {
             PmcCacheContext* cx = &cache[k];
-            if (!texel[k].ready) /* once per point: every cache point shares the texel */
-              texel[k] = pmc_cache_texel_of(in[k].uv, cx->g1, cx->g2, cx->bias, cx->jitter, cx->material);
-            PmcCacheKey key =
-                pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_lookups - 1u);
+            /* once per point: every cache point of a kind shares its texel or cell */
+            if (positional && !cell[k].ready)
+              cell[k] = pmc_cache_cell_of(in[k].position, cx->radius, cx->bias, cx->jitter, cx->material);
+            if (!positional && !texel[k].ready)
+              texel[k] = pmc_cache_texel_of(in[k].uv, cx->g1, cx->g2, cx->bias,
+                                            make_float2(cx->jitter.x, cx->jitter.y), cx->material);
+            const PmcCacheTexel* t = positional ? &cell[k] : &texel[k];
+            PmcCacheKey key = pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_lookups - 1u);
             pmc_u32 bits;
             const pmc_u32 camera = cx->depth == 0u ? 1u : 0u;
             cx->counts[PMC_CSTAT_LOOKUPS] += 1u;
             cx->counts[PMC_CSTAT_CAMERA_LOOKUPS] += camera;
+            cx->counts[PMC_CSTAT_POSITION_LOOKUPS] += (pmc_u32)positional;
             if (pmc_cache_lookup(&cx->table, key, &bits)) {
               float4 v = pmc_cache_decode(bits, imm >> 14);
               float* row = stack + dst * PMC_LANES + k;
@@ -370,6 +395,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               cx->hits += 1u;
               cx->counts[PMC_CSTAT_HITS] += 1u;
               cx->counts[PMC_CSTAT_CAMERA_HITS] += camera;
+              cx->counts[PMC_CSTAT_POSITION_HITS] += (pmc_u32)positional;
               hit = 1;
             } else {
               cx->counts[PMC_CSTAT_MISSES] += 1u;
@@ -377,21 +403,25 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
           }
           if (!hit) missed[k] |= bit;
         }
-        pmc_u32 skip = code[pc + 2u];
+        pmc_u32 skip = word & ~PMC_CACHE_KEY_POSITION;
         pc += 3u;
         if (skip != 0u) { /* the group's last lookup: pack the points that need it */
           nn = 0;
           for (int k = 0; k < PMC_BATCH(n); ++k)
             if (missed[k] != 0u) {
               lane_of[nn] = k;
-              if (cache && cache[k].center) {
+              uv_now[nn] = in[k].uv;
+              footprint_now[nn] = in[k].footprint;
+              pos_now[nn] = in[k].position;
+              if (cache && cache[k].center && texel[k].ready) {
                 uv_now[nn] = make_float2(pmc_cache_texel_center(texel[k].tx, texel[k].lambda),
                                          pmc_cache_texel_center(texel[k].ty, texel[k].lambda));
                 footprint_now[nn] = pmc_cache_texel_footprint(texel[k].lambda, cache[k].bias);
-              } else {
-                uv_now[nn] = in[k].uv;
-                footprint_now[nn] = in[k].footprint;
               }
+              if (cache && cache[k].center && cell[k].ready)
+                pos_now[nn] = make_float3(pmc_cache_texel_center(cell[k].tx, cell[k].lambda),
+                                          pmc_cache_texel_center(cell[k].ty, cell[k].lambda),
+                                          pmc_cache_texel_center(cell[k].tz, cell[k].lambda));
               ++nn;
             }
           if (nn == 0) { /* every point hit: skip the sub-graphs and stores */
@@ -421,8 +451,9 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             pmc_u32 bits;
             if (pmc_cache_encode(v, imm >> 14, &bits)) {
               if (cx->center) v = pmc_cache_decode(bits, imm >> 14);
+              const PmcCacheTexel* t = (by_position & bit) ? &cell[k] : &texel[k];
               PmcCacheKey key =
-                  pmc_cache_key_at(texel[k].hash, texel[k].base, cx->material, imm & 0x3fffu, n_stores - 1u);
+                  pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_stores - 1u);
               int result = pmc_cache_insert(&cx->table, key, bits, cx->depth);
               if (result == 1) cx->counts[PMC_CSTAT_INSERTS] += 1u;
               if (result == 2) cx->counts[PMC_CSTAT_REPLACED] += 1u;
@@ -444,6 +475,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             lane_of[k] = k;
             uv_now[k] = in[k].uv;
             footprint_now[k] = in[k].footprint;
+            pos_now[k] = in[k].position;
           }
         }
         pc += 2u + nargs;

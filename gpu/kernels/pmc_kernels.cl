@@ -100,11 +100,13 @@ typedef struct PmcHitPoint {
   float t, hit_scale, area2, cone_width;
   int prim, material;
   uint path;
-  int surface;         /* 0: the ray escaped */
-  float2 cache_jitter; /* --cache-filter bilinear: texel selection offset */
-  PmcCacheTexel texel; /* ready when the material has cache points */
-  uint cache_points;   /* how many (the cells to prefetch) */
-  uint depth;          /* surface hits of the path before this one (0: camera ray) */
+  int surface;              /* 0: the ray escaped */
+  float4 cache_jitter;      /* --cache-filter bilinear: texel (x, y) and cell (x, y, z) selection offsets */
+  PmcCacheTexel texel;      /* ready when the material has uv-keyed cache points */
+  PmcCacheTexel cell;       /* ready when it has position-keyed ones */
+  uint cache_points;        /* how many (the cells to prefetch) */
+  uint cache_position_mask; /* bit p: the p-th point is keyed on position */
+  uint depth;               /* surface hits of the path before this one (0: camera ray) */
 } PmcHitPoint;
 
 /* The material cache's table as this frame sized it. */
@@ -213,18 +215,27 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cone_width = cone_width;
   hp->prim = hit.prim;
   hp->material = tri.material;
-  hp->cache_jitter = make_float2(0.0f, 0.0f);
+  hp->cache_jitter = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
   hp->texel.ready = 0u;
+  hp->cell.ready = 0u;
   hp->cache_points = 0u;
+  hp->cache_position_mask = 0u;
   if (frame->cache_on) {
-    if (frame->cache_bilinear) {
-      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
-      hp->cache_jitter = make_float2(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
-                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f);
-    }
     hp->cache_points = scene->materials[tri.material].cache_points;
-    if (hp->cache_points > 0u)
-      hp->texel = pmc_cache_texel_of(uv, g1, g2, frame->mip_bias, hp->cache_jitter, (uint)tri.material);
+    hp->cache_position_mask = scene->materials[tri.material].cache_position_mask;
+    if (frame->cache_bilinear && hp->cache_points > 0u) {
+      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
+      hp->cache_jitter = make_float4(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
+                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f,
+                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_W) - 0.5f, 0.0f);
+    }
+    const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
+    if ((all & ~hp->cache_position_mask) != 0u)
+      hp->texel = pmc_cache_texel_of(uv, g1, g2, frame->mip_bias,
+                                     make_float2(hp->cache_jitter.x, hp->cache_jitter.y), (uint)tri.material);
+    if (hp->cache_position_mask != 0u)
+      hp->cell =
+          pmc_cache_cell_of(pos, 0.5f * cone_width, frame->mip_bias, hp->cache_jitter, (uint)tri.material);
   }
 }
 
@@ -248,7 +259,9 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->center = frame->cache_center;
     cache->depth = hp->depth;
     cache->jitter = hp->cache_jitter;
+    cache->radius = 0.5f * hp->cone_width;
     cache->texel = hp->texel;
+    cache->cell = hp->cell;
     cache->hits = 0u;
     for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache->counts[c] = 0u;
   }
@@ -490,10 +503,12 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   if (frame->cache_on) {
     const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
     for (int k = 0; k < n; ++k)
-      if (hp[k].surface && hp[k].texel.ready) {
+      if (hp[k].surface && hp[k].cache_points > 0u) {
         uint points = min(hp[k].cache_points, 8u);
-        for (uint p = 0u; p < points; ++p) /* cell of the p-th point (pmc_cache_key_at); volatile: loaded */
-          (void)cache_entries[pmc_cache_cell(&table, hp[k].texel.base + (ulong)p) * (ulong)table.ways];
+        for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at); volatile: loaded */
+          ulong base = ((hp[k].cache_position_mask >> p) & 1u) ? hp[k].cell.base : hp[k].texel.base;
+          (void)cache_entries[pmc_cache_cell(&table, base + (ulong)p) * (ulong)table.ways];
+        }
       }
   }
 

@@ -404,6 +404,58 @@ TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
   }
 }
 
+// Position cells (position-keyed cache points) on the device: level, three
+// indices, hash and group base equal the host's on hard positions, radii
+// and biases.
+const char* kCellKernel = R"CL(
+#include "pmc_cache.h"
+__kernel void cells(__global const float* in, __global long* out, uint n) {
+  uint i = get_global_id(0);
+  if (i >= n) return;
+  __global const float* p = in + 9 * i;
+  PmcCacheTexel t = pmc_cache_cell_of(make_float3(p[0], p[1], p[2]), p[3], p[4],
+                                      make_float4(p[5], p[6], p[7], 0.0f), (uint)p[8]);
+  __global long* o = out + 6 * i;
+  o[0] = t.lambda;
+  o[1] = t.tx;
+  o[2] = t.ty;
+  o[3] = t.tz;
+  o[4] = (long)t.hash;
+  o[5] = (long)t.base;
+}
+)CL";
+
+TEST(CacheTable, DevicePositionCellsEqualTheHostsOnHardInputs) {
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  std::vector<float> coords = {0.0f, 0.25f, -0.3f, 1.0f, -1.0f, 123.456f, 1e7f, -1e7f, 3e38f, inf, -inf, nan};
+  std::vector<float> radii = {1e-3f, 0.01f, 0.37f, 1.0f, 3e-7f, 0.0f, 1e18f, 1e30f, inf, nan, -1.0f};
+  std::vector<float> biases = {0.0f, 1.0f, -2.0f, 0.5f, 64.0f, nan};
+  std::mt19937 rng(73);
+  std::uniform_real_distribution<float> jit(-0.5f, 0.5f);
+  std::vector<float> in;
+  for (float x : coords)
+    for (float r : radii)
+      for (float bias : biases) {
+        const size_t k = in.size() / 9;
+        in.insert(in.end(), {x, coords[(k / 5) % coords.size()], -coords[(k / 3) % coords.size()], r, bias,
+                             jit(rng), jit(rng), jit(rng), float(k % 7)});
+      }
+  const uint32_t n = uint32_t(in.size() / 9);
+  const std::vector<int64_t> out = run_per_item<int64_t>(kCellKernel, "cells", in, n, 6);
+  for (uint32_t i = 0; i < n; ++i) {
+    const float* p = &in[size_t(i) * 9];
+    PmcCacheTexel t = pmc_cache_cell_of(make_float3(p[0], p[1], p[2]), p[3], p[4],
+                                        make_float4(p[5], p[6], p[7], 0.0f), uint32_t(p[8]));
+    const int64_t* o = &out[size_t(i) * 6];
+    ASSERT_EQ(o[0], t.lambda) << "radius " << p[3] << " bias " << p[4];
+    ASSERT_EQ(o[1], t.tx) << "x " << p[0] << " level " << t.lambda;
+    ASSERT_EQ(o[2], t.ty) << "y " << p[1] << " level " << t.lambda;
+    ASSERT_EQ(o[3], t.tz) << "z " << p[2] << " level " << t.lambda;
+    ASSERT_EQ(uint64_t(o[4]), t.hash);
+    ASSERT_EQ(uint64_t(o[5]), t.base);
+  }
+}
+
 // Value encodings on the device: encodability, the 32-bit word and the
 // decoded value equal the host's bit for bit for random and extreme values
 // (0, -0, denormals, powers of two and their neighbours, 65408 and above,

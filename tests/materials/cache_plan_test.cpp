@@ -4,8 +4,10 @@
 // On graphs built in code:
 //  (a) a uv-only chain texcoord -> multiply -> noise2d -> mix -> base_color
 //      has exactly one cache point, at its top (the mix feeding the surface);
-//  (b) a position input anywhere below makes every node above it
-//      uncacheable (each listed with a reason naming position);
+//  (b) a position input mixed with uv anywhere below makes every node above
+//      it uncacheable (each listed with a reason naming position); the
+//      position-only part below is a position-keyed point when big enough,
+//      and nothing with position keys off;
 //  (c) two uv-only branches under a position-dependent mix give two cache
 //      points, the two branch tops;
 //  (d) a sub-graph smaller than min_nodes is not cached, with its reason;
@@ -113,10 +115,17 @@ TEST(CachePlan, PositionBelowMakesEverythingAboveUncacheable) {
   // The uv part below the add (texcoord, multiply) is two nodes: too small.
   EXPECT_FALSE(is_point(plan, mul));
   EXPECT_NE(reason_for(plan, mul).find("cheaper"), std::string::npos) << reason_for(plan, mul);
-  // Even with min_nodes 1 nothing above the position is cached.
+  // Even with min_nodes 1 nothing above the position is cached; the
+  // position-only convert below is, keyed on position (not the bare position).
   CachePlan all = plan_cache(g, 1);
-  for (int n : {sum, noise, mix, pos, pxy}) EXPECT_FALSE(is_point(all, n)) << g.nodes[size_t(n)].name;
+  for (int n : {sum, noise, mix, pos}) EXPECT_FALSE(is_point(all, n)) << g.nodes[size_t(n)].name;
   EXPECT_TRUE(is_point(all, mul)) << "min_nodes 1: the uv-only top below the position is cached";
+  ASSERT_TRUE(is_point(all, pxy)) << "min_nodes 1: the position-only top is cached";
+  for (const CachePoint& p : all.points)
+    EXPECT_EQ(p.key, p.node == pxy ? CacheKey::Position : CacheKey::Uv) << g.nodes[size_t(p.node)].name;
+  CachePlan uv_only = plan_cache(g, 1, false);
+  for (int n : {sum, noise, mix, pos, pxy}) EXPECT_FALSE(is_point(uv_only, n)) << g.nodes[size_t(n)].name;
+  EXPECT_TRUE(is_point(uv_only, mul));
 }
 
 TEST(CachePlan, TwoUvBranchesUnderAPositionDependentMixGiveTwoPoints) {
@@ -136,7 +145,8 @@ TEST(CachePlan, TwoUvBranchesUnderAPositionDependentMixGiveTwoPoints) {
   EXPECT_TRUE(is_point(plan, b1));
   EXPECT_TRUE(is_point(plan, b2));
   EXPECT_FALSE(is_point(plan, top));
-  EXPECT_NE(reason_for(plan, top).find("not only uv"), std::string::npos) << reason_for(plan, top);
+  EXPECT_NE(reason_for(plan, top).find("not on uv alone or position alone"), std::string::npos)
+      << reason_for(plan, top);
   EXPECT_NE(reason_for(plan, f).find("position"), std::string::npos) << reason_for(plan, f);
 }
 

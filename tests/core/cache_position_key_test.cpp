@@ -1,0 +1,163 @@
+// cache_position_key_test.cpp — position-keyed cache descriptors
+// (core/device/pmc_cache.h: pmc_cache_cell_of, pmc_cache_cell3_hash).
+//
+// A position cell is (level from the cone radius in scene units, floor(p *
+// 2^level) per axis). Hard inputs: huge and negative coordinates, NaN/Inf
+// positions, radii 0 / subnormal / huge / Inf / NaN must give a finite level
+// in [PMC_LAMBDA_MIN, PMC_LAMBDA_MAX] and indices without overflow; points in
+// one cell share a key, neighbouring cells (along each axis, at each level,
+// of other nodes and materials) and the uv texel with the same indices do
+// not; ~100k distinct cells hash without (cell, fingerprint) collisions; the
+// jittered cell is picked with its trilinear weight along each axis.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <set>
+#include <tuple>
+#include <vector>
+
+#include "core/device/pmc_cache.h"
+
+namespace pmc {
+namespace {
+
+const float kNaN = std::numeric_limits<float>::quiet_NaN();
+const float kInf = std::numeric_limits<float>::infinity();
+const float4 kNoJitter = make_float4(0, 0, 0, 0);
+
+PmcCacheKey position_key(uint32_t material, uint32_t node, float3 p, float radius) {
+  PmcCacheTexel c = pmc_cache_cell_of(p, radius, 0.0f, kNoJitter, material);
+  return pmc_cache_key_at(c.hash, c.base, material, node, 0u);
+}
+
+bool same(PmcCacheKey a, PmcCacheKey b) { return a.h1 == b.h1 && a.fingerprint == b.fingerprint; }
+
+TEST(CachePositionKey, LevelComesFromTheConeRadiusInSceneUnits) {
+  // floor(-log2(r)): radius 1/1000 -> level 9 (cells of 1/512), 1 -> 0, 3 -> -2.
+  EXPECT_EQ(pmc_cache_cell_of(make_float3(0, 0, 0), 1.0f / 1000.0f, 0.0f, kNoJitter, 0).lambda, 9);
+  EXPECT_EQ(pmc_cache_cell_of(make_float3(0, 0, 0), 1.0f, 0.0f, kNoJitter, 0).lambda, 0);
+  EXPECT_EQ(pmc_cache_cell_of(make_float3(0, 0, 0), 3.0f, 0.0f, kNoJitter, 0).lambda, -2);
+  EXPECT_EQ(pmc_cache_cell_of(make_float3(0, 0, 0), 1.0f, 2.0f, kNoJitter, 0).lambda, 2) << "bias adds";
+  // A cell is at least the radius wide and narrower than the footprint's
+  // diameter, as a uv texel is against min(|g1|, |g2|).
+  for (float r : {1e-4f, 0.01f, 0.3f, 1.0f, 7.0f, 1000.0f}) {
+    int l = pmc_cache_cell_of(make_float3(0, 0, 0), r, 0.0f, kNoJitter, 0).lambda;
+    float width = std::ldexp(1.0f, -l);
+    EXPECT_GE(width, r) << r;
+    EXPECT_LT(width, 2.0f * r) << r;
+  }
+}
+
+TEST(CachePositionKey, HardInputsGiveFiniteClampedLevelsAndNoOverflow) {
+  const float radii[] = {0.0f, -1.0f, 1e-45f, 1e-38f, 1e-20f, 1e-3f, 1.0f, 1e20f, 3.4e38f, kInf, kNaN};
+  const float coords[] = {0.0f,  -0.0f,  1e-30f,  -1e-30f,  0.5f, -0.5f, 1e7f, -1e7f,
+                          1e19f, -1e19f, 3.4e38f, -3.4e38f, kInf, -kInf, kNaN};
+  for (float r : radii)
+    for (float x : coords) {
+      PmcCacheTexel c =
+          pmc_cache_cell_of(make_float3(x, -x, 0.25f), r, 0.0f, make_float4(0.49f, -0.5f, 0, 0), 3);
+      EXPECT_GE(c.lambda, PMC_LAMBDA_MIN) << "r " << r << " x " << x;
+      EXPECT_LE(c.lambda, PMC_LAMBDA_MAX) << "r " << r << " x " << x;
+      const long lim = (long(1) << 62) + (long(1) << 32);
+      EXPECT_LE(std::labs(c.tx), lim) << "r " << r << " x " << x;
+      EXPECT_LE(std::labs(c.ty), lim) << "r " << r << " x " << x;
+      EXPECT_EQ(c.ready, 1u);
+      // The centre of the cell is finite, so center-mode evaluation reads a real position.
+      EXPECT_TRUE(std::isfinite(pmc_cache_texel_center(c.tx, c.lambda))) << "r " << r << " x " << x;
+    }
+  // Degenerate radii use the finest level (distinct points never share a coarse cell by accident).
+  for (float r : {0.0f, -1.0f, kInf, kNaN})
+    EXPECT_EQ(pmc_cache_cell_of(make_float3(1, 2, 3), r, 0.0f, kNoJitter, 0).lambda, PMC_LAMBDA_MAX) << r;
+  // Huge coordinates that differ stay in different cells, at any level.
+  for (int l : {PMC_LAMBDA_MIN, 0, PMC_LAMBDA_MAX}) {
+    const float r = std::ldexp(1.0f, -l);
+    EXPECT_FALSE(same(position_key(0, 1, make_float3(1e19f, 0, 0), r),
+                      position_key(0, 1, make_float3(std::nextafter(1e19f, 0.0f), 0, 0), r)))
+        << "level " << l;
+    EXPECT_FALSE(same(position_key(0, 1, make_float3(-3e38f, 0, 0), r),
+                      position_key(0, 1, make_float3(3e38f, 0, 0), r)))
+        << "level " << l;
+  }
+}
+
+TEST(CachePositionKey, SameCellSharesAKeyAndNeighboursDoNot) {
+  const float r = 1.0f / 1000.0f;  // level 9: cells of 1/512
+  const float w = 1.0f / 512.0f;
+  std::mt19937 rng(5);
+  std::uniform_int_distribution<int> cell(-5000, 5000);
+  std::uniform_real_distribution<float> in(0.05f, 0.95f);
+  for (int i = 0; i < 5000; ++i) {
+    const float x0 = float(cell(rng)) * w, y0 = float(cell(rng)) * w, z0 = float(cell(rng)) * w;
+    const float3 p = make_float3(x0 + in(rng)*w, y0 + in(rng)*w, z0 + in(rng)*w);
+    const float3 q = make_float3(x0 + in(rng)*w, y0 + in(rng)*w, z0 + in(rng)*w);
+    PmcCacheKey k = position_key(1, 7, p, r);
+    ASSERT_TRUE(same(k, position_key(1, 7, q, r))) << "same cell";
+    ASSERT_FALSE(same(k, position_key(1, 7, make_float3(p.x + w, p.y, p.z), r))) << "next cell in x";
+    ASSERT_FALSE(same(k, position_key(1, 7, make_float3(p.x, p.y - w, p.z), r))) << "previous cell in y";
+    ASSERT_FALSE(same(k, position_key(1, 7, make_float3(p.x, p.y, p.z + w), r))) << "next cell in z";
+    ASSERT_FALSE(same(k, position_key(1, 7, make_float3(-p.x, p.y, p.z), r)) && std::fabs(p.x) >= w)
+        << "mirrored cell";
+    ASSERT_FALSE(same(k, position_key(1, 8, p, r))) << "other node";
+    ASSERT_FALSE(same(k, position_key(2, 7, p, r))) << "other material";
+    ASSERT_FALSE(same(k, position_key(1, 7, p, r * 0.5f))) << "finer level";
+    // The uv texel with the cell's x and y indices is a different key.
+    PmcCacheTexel c = pmc_cache_cell_of(p, r, 0.0f, kNoJitter, 1);
+    PmcCacheKey uv = pmc_cache_key(1, 7, 0u, c.lambda, c.tx, c.ty);
+    ASSERT_FALSE(same(k, uv)) << "uv texel with equal indices";
+  }
+}
+
+TEST(CachePositionKey, NoCellAndFingerprintCollisionsAmongDistinctCells) {
+  // Dense blocks of cells (including the same indices at every level and
+  // every permutation of axes), and random cells: a (cell, fingerprint)
+  // collision in 2^20 cells has probability ~1e-6 (see the uv test).
+  const uint64_t cells = uint64_t(1) << 20;
+  std::vector<std::pair<uint64_t, uint32_t>> cf;
+  std::set<std::tuple<int, long, long, long>> seen;
+  auto add = [&](int l, long x, long y, long z) {
+    if (!seen.insert({l, x, y, z}).second) return;
+    pmc_u64 h = pmc_cache_cell3_hash(l, x, y, z);
+    PmcCacheKey k = pmc_cache_key_at(h, pmc_cache_group_base(h, 2u), 2u, 5u, 0u);
+    cf.push_back({k.h1 % cells, k.fingerprint});
+  };
+  for (int l = 6; l < 10; ++l)
+    for (long x = -12; x < 12; ++x)
+      for (long y = -12; y < 12; ++y)
+        for (long z = -12; z < 12; ++z) add(l, x, y, z);
+  std::mt19937_64 rng(17);
+  while (cf.size() < 150000)
+    add(int(rng() % 57) - 16, long(rng() % 2000001) - 1000000, long(rng() % 2000001) - 1000000,
+        long(rng() % 2000001) - 1000000);
+  std::sort(cf.begin(), cf.end());
+  size_t collisions = 0;
+  for (size_t i = 1; i < cf.size(); ++i) collisions += cf[i] == cf[i - 1];
+  EXPECT_EQ(collisions, 0u) << cf.size() << " cells";
+}
+
+// --cache-filter bilinear with position keys: offsets uniform in [-0.5, 0.5)
+// on each axis pick the neighbour cell with its linear weight per axis, so
+// the mean of the picked cells' centres is the position itself (trilinear).
+TEST(CachePositionKey, JitteredCellsAverageToThePosition) {
+  const float r = 0.1f;  // level 3: cells of 1/8
+  const float3 p = make_float3(0.3f, -1.17f, 2.02f);
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<float> offset(-0.5f, 0.5f);
+  double sx = 0, sy = 0, sz = 0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    PmcCacheTexel c = pmc_cache_cell_of(p, r, 0.0f, make_float4(offset(rng), offset(rng), offset(rng), 0), 0);
+    sx += pmc_cache_texel_center(c.tx, c.lambda);
+    sy += pmc_cache_texel_center(c.ty, c.lambda);
+    sz += pmc_cache_texel_center(c.tz, c.lambda);
+  }
+  // Each centre is within one cell (1/8) of p: the mean's sd < 0.125 / sqrt(n) = 2.8e-4.
+  EXPECT_NEAR(sx / n, p.x, 1.5e-3);
+  EXPECT_NEAR(sy / n, p.y, 1.5e-3);
+  EXPECT_NEAR(sz / n, p.z, 1.5e-3);
+}
+
+}  // namespace
+}  // namespace pmc
