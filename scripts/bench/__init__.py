@@ -5,6 +5,7 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
 
     bench.cache       the material cache off vs on, cache-eval modes, the cache point threshold
     bench.cache_policy  --cache-policy keep-first vs priority in tables smaller than the automatic size
+    bench.cache_position  --cache-keys uv vs uv+position on scenes with solid (position-driven) textures
     bench.cacheless   the cacheless path against a pmc built from before the cache existed
     bench.materials   how much of the render time goes into material networks
     bench.sweep       `pmc sweep` cache size / mip bias / equal-time convergence figures

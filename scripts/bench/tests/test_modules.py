@@ -9,9 +9,9 @@ import unittest
 from contextlib import redirect_stdout
 from unittest import mock
 
-from bench import cache, cache_policy, common, mtlx_conformance
+from bench import cache, cache_policy, cache_position, common, mtlx_conformance
 
-MODULES = ["cache", "cache_policy", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
+MODULES = ["cache", "cache_policy", "cache_position", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -62,7 +62,8 @@ class CommandLines(unittest.TestCase):
                              ("cache_policy", ["--fractions", "1,0"]), ("cache_policy", ["--fractions", "a"]),
                              ("trace", ["--runs", "-1"]), ("sweep", ["--repeat", "x"]),
                              ("materials", ["--no-such-flag"]), ("speed", ["--only", "cold,fast"]),
-                             ("speed", ["--only", "before"]), ("speed", ["--only", ""])):
+                             ("speed", ["--only", "before"]), ("speed", ["--only", ""]),
+                             ("cache_position", ["--scenes", "nosuch"]), ("cache_position", ["--scenes", ","])):
             with self.subTest(argv=argv), self.assertRaises(SystemExit) as e, mock.patch("sys.stderr"):
                 parse(module, argv)
             self.assertEqual(e.exception.code, 2)
@@ -181,3 +182,26 @@ class CachePolicyReport(unittest.TestCase):
         section, _ = cache_policy.report(self.data(30))
         self.assertIn("on camera rays at every size: **no**", section)
         self.assertIn("- Default: priority does not win at 1/16", section)
+
+
+class CachePositionReport(unittest.TestCase):
+    def data(self, marble_hit):
+        def scene(pos_lookups, pos_hit, t_pos):
+            hits = {"uv": dict(hit_rate=0.9, uv_hit_rate=0.9, position_hit_rate=0.0, lookups=100, position_lookups=0),
+                    "uv+position": dict(hit_rate=0.85, uv_hit_rate=0.9, position_hit_rate=pos_hit, lookups=150,
+                                        position_lookups=pos_lookups)}
+            bias = {k: dict(psnr=45.0, worst_tile_psnr=36.0, worst_tile=[0, 0, 16]) for k in hits}
+            return dict(hits=hits, bias=bias, memory={"uv": 2**20, "uv+position": 2**21},
+                        times={"off": [2.0, 2.2, 2.1], "uv": [1.9, 2.0, 2.0], "uv+position": [t_pos] * 3})
+        return dict(command="scripts/python -m bench.cache_position", now="now", rev="abc", machine="m", load="l",
+                    elapsed=60, width=640, height=360, spp=16, ref_spp=256, runs=3,
+                    scenes={"marble": scene(50, marble_hit, 1.0), "default": scene(50, 0.7, 1.2),
+                            "solid": scene(150, 0.75, 1.5)})
+
+    def test_goals_follow_the_numbers(self):
+        section, _ = cache_position.report(self.data(0.81))
+        self.assertTrue(section.startswith(cache_position.SECTION))
+        self.assertIn("81.0% of its lookups hit at 16 spp; goal 80% **met**", section)
+        self.assertIn("goal 1.3x at 40 dB **met**", section)  # 2.1 / 1.5 = 1.4x, 45 dB
+        section, _ = cache_position.report(self.data(0.75))
+        self.assertIn("goal 80% **not met**", section)

@@ -1,0 +1,245 @@
+"""bench.cache_position — position-keyed cache points (--cache-keys uv vs
+uv+position) on scenes whose materials read the position. Prints a table and
+writes the "Position-keyed cache points" section of docs/BENCHMARKS.md.
+
+    scripts/python -m bench.cache_position                  three scenes, 640x360, 16 spp, 3 rounds
+    scripts/python -m bench.cache_position --runs 1 --width 160 --height 90 --ref-spp 32 --doc -    a quick look
+
+Scenes:
+  marble   ../shared/scenes/materialx/geometry/sphere.obj with the MaterialX
+           project's standard_surface_marble_solid.mtlx (Marble_3D: fractal3d
+           on the position), white environment;
+  default  data/default (uv networks on the floor, walls, box and cylinder;
+           a position-driven marble on the sphere);
+  solid    data/default/room.obj with data/default/solid_materials.mtlx: every
+           pattern a solid texture (noise3d, fractal3d, cellnoise3d,
+           worleynoise3d on the position).
+Method, per scene:
+  1. untimed renders (cache off, uv, uv+position) fill PoCL's kernel cache
+     and the OS file cache; kernel compiles are never in render_seconds;
+  2. per cached configuration one `pmc compare` at the timed size (hit rates
+     by key type from its metrics: uv_hit_rate, position_hit_rate) and one
+     at REF_SPP samples and half the size (cached vs cacheless, same seed):
+     whole-image PSNR and the worst 16x16 tile's, the cache's bias once the
+     path noise has mostly averaged out;
+  3. RUNS rounds of `pmc render` with --cache off, --cache-keys uv and
+     --cache-keys uv+position, the order rotated each round; the median
+     render_seconds, off / on over the medians, and the range of the
+     per-round ratios.
+"""
+import json
+import os
+import sys
+import time
+
+from bench import common
+
+PROG = "bench.cache_position"
+SECTION = "## Position-keyed cache points (scripts/bench-cache-position)"
+MTLX = "../shared/scenes/materialx"
+SCENES = {
+    "marble": [f"{MTLX}/geometry/sphere.obj", "--mtlx", f"{MTLX}/standard_surface_marble_solid.mtlx",
+               "--material", "Marble_3D", "--env", "1,1,1"],
+    "default": ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"],
+    "solid": ["data/default/room.obj", "--mtlx", "data/default/solid_materials.mtlx"],
+}
+KEYS = ["uv", "uv+position"]
+GOAL_MARBLE_HIT = 0.80  # the issue: the marble on the MaterialX sphere hits at least 80% at 16 spp
+GOAL_SPEEDUP = 1.3  # a scene of position-driven materials gains at least 1.3x ...
+GOAL_PSNR = 40.0  # ... with its bias at least 40 dB
+
+
+def parse(argv=None):
+    p = common.make_parser("cache_position", __doc__)
+    common.add_pmc(p)
+    common.add_runs(p, 3)
+    p.add_argument("--width", type=common.positive_int, default=640, metavar="W", help="image width (default 640)")
+    p.add_argument("--height", type=common.positive_int, default=360, metavar="H", help="image height (default 360)")
+    p.add_argument("--spp", type=common.positive_int, default=16, metavar="N", help="samples per pixel (default 16)")
+    p.add_argument("--ref-spp", type=common.positive_int, default=256, metavar="N",
+                   help="samples of the bias measurement, at half the width and height (default 256)")
+    p.add_argument("--scenes", default=",".join(SCENES), metavar="LIST",
+                   help=f"scenes to measure (default {','.join(SCENES)})")
+    common.add_out_dir(p, "out/bench-cache-position")
+    common.add_doc(p)
+    p.add_argument("--report-only", action="store_true",
+                   help="render nothing: rewrite the table and the section from OUT_DIR/results.json of the last run")
+    a = common.parse_args(p, "cache_position", None, argv)
+    a.scenes = [s for s in a.scenes.split(",") if s]
+    bad = [s for s in a.scenes if s not in SCENES]
+    if bad or not a.scenes:
+        p.error(f"--scenes: unknown scene(s) {', '.join(bad) or '(none)'}; choose from {', '.join(SCENES)}")
+    return a
+
+
+def progress(msg):
+    print(f"{PROG}: {msg}", flush=True)
+
+
+def tag(*parts):
+    return "_".join(p.replace("+", "_").replace("/", "_") for p in parts)
+
+
+class Measure:
+    def __init__(self, args):
+        self.a = args
+        self.out = args.out_dir
+        self.log = os.path.join(self.out, "log.txt")
+        open(self.log, "w").close()
+
+    def render(self, scene, name, extra):
+        exr, js = f"{self.out}/{name}.exr", f"{self.out}/{name}.json"
+        cmd = [self.a.pmc, "render", *SCENES[scene], "-o", exr, "--stats", js, *common.size_args(self.a.width, self.a.height, self.a.spp), *extra]
+        return common.run_pmc(cmd, js, self.log, f"render {name}", append=True)[0]
+
+    def compare(self, scene, name, extra, w, h, spp):
+        d = f"{self.out}/{name}"
+        common.run([self.a.pmc, "compare", *SCENES[scene], "--out-dir", d, *common.size_args(w, h, spp),
+                    *extra], self.log, f"compare {name}", append=True)
+        return common.read_json(f"{d}/metrics.json")
+
+    def scene(self, scene, load):
+        configs = [("off", ["--cache", "off"])] + [(k, ["--cache", "on", "--cache-keys", k]) for k in KEYS]
+        progress(f"{scene}: warm-up renders (untimed)")
+        for name, extra in configs:
+            self.render(scene, tag(scene, "warm", name), extra)
+        result = {"hits": {}, "bias": {}, "memory": {}, "times": {n: [] for n, _ in configs}}
+        for k in KEYS:
+            progress(f"{scene}: pmc compare, --cache-keys {k} ({self.a.spp} spp, then {self.a.ref_spp} spp)")
+            m = self.compare(scene, tag(scene, "hits", k), ["--cache-keys", k], self.a.width, self.a.height,
+                             self.a.spp)
+            c = m["cache"]
+            result["hits"][k] = {key: c.get(key) for key in ("hit_rate", "uv_hit_rate", "position_hit_rate",
+                                                             "lookups", "position_lookups")}
+            result["memory"][k] = c.get("memory_bytes")
+            b = self.compare(scene, tag(scene, "bias", k), ["--cache-keys", k], max(1, self.a.width // 2),
+                             max(1, self.a.height // 2), self.a.ref_spp)["cached_vs_cacheless"]
+            result["bias"][k] = {"psnr": b["psnr"], "worst_tile_psnr": b["worst_tile_psnr"],
+                                 "worst_tile": b["worst_tile"]}
+        for r in range(self.a.runs):
+            for name, extra in common.round_order(configs, r):
+                st = self.render(scene, tag(scene, f"r{r}", name), extra)
+                result["times"][name].append(st["render_seconds"])
+                result.setdefault("device", st.get("device", ""))
+                load.sample()
+            progress(f"{scene} round {r + 1}/{self.a.runs}: " +
+                     ", ".join(f"{n} {result['times'][n][-1]:.2f} s" for n, _ in configs))
+        return result
+
+    def all(self):
+        t0 = time.time()
+        load = common.LoadSampler()
+        scenes = {s: self.scene(s, load) for s in self.a.scenes}
+        device = next((r.get("device", "") for r in scenes.values()), "")
+        return dict(command=self.a.command, now=common.utc_now(), rev=common.git_rev(ignore=["docs/BENCHMARKS.md"]),
+                    machine=common.machine(device), load=load.note(), elapsed=time.time() - t0,
+                    width=self.a.width, height=self.a.height, spp=self.a.spp, ref_spp=self.a.ref_spp,
+                    runs=self.a.runs, scenes=scenes)
+
+
+def pct(x):
+    return "-" if x is None else f"{100 * x:.1f}%"
+
+
+def report(data):
+    """The section (markdown) and what to print."""
+    rows, lines = [], []
+    speed = {}
+    for scene, r in data["scenes"].items():
+        t_off = common.median(r["times"]["off"])
+        rows.append([scene, "`--cache off`", f"{t_off:.2f}", "-", "-", "-", "-", "-", "-", "-"])
+        for k in KEYS:
+            t = common.median(r["times"][k])
+            ratios = common.round_ratios(r["times"]["off"], r["times"][k])
+            speed[(scene, k)] = t_off / t
+            h, b = r["hits"][k], r["bias"][k]
+            pos = h["position_hit_rate"] if h.get("position_lookups") else None
+            uv_lookups = (h.get("lookups") or 0) - (h.get("position_lookups") or 0)
+            uv = h["uv_hit_rate"] if uv_lookups > 0 else None
+            rows.append([scene, f"`--cache-keys {k}`", f"{t:.2f}",
+                         f"**{t_off / t:.2f}x** ({min(ratios):.2f}-{max(ratios):.2f})", pct(uv), pct(pos),
+                         pct(h["hit_rate"]), f"{b['psnr']:.1f}", f"{b['worst_tile_psnr']:.1f}",
+                         f"{(r['memory'][k] or 0) / 2**20:.1f}"])
+    table = common.md_table(["scene", "cache", "time (s)", "speedup off / on (range)", "uv hit rate",
+                             "position hit rate", "total hit rate",
+                             f"PSNR vs off at {data['ref_spp']} spp (dB)", "worst 16x16 tile (dB)", "cache MiB"],
+                            rows)
+    sc = data["scenes"]
+    if "default" in sc:
+        d = sc["default"]["hits"]["uv+position"]
+        lines.append(f"- Default scene: the sphere's marble is cached (position-keyed lookups: "
+                     f"{d.get('position_lookups', 0)}, {pct(d['position_hit_rate'])} hit): goal **"
+                     f"{'met' if (d.get('position_lookups') or 0) > 0 else 'not met'}**. Its speedup goes from "
+                     f"{speed[('default', 'uv')]:.2f}x (uv keys) to {speed[('default', 'uv+position')]:.2f}x.")
+    if "marble" in sc:
+        m = sc["marble"]["hits"]["uv+position"]["position_hit_rate"]
+        lines.append(f"- Marble on the MaterialX sphere: {pct(m)} of its lookups hit at {data['spp']} spp; goal "
+                     f"{100 * GOAL_MARBLE_HIT:.0f}% **{'met' if m >= GOAL_MARBLE_HIT else 'not met'}**.")
+    if "solid" in sc:
+        s, b = speed[("solid", "uv+position")], sc["solid"]["bias"]["uv+position"]
+        ok = s >= GOAL_SPEEDUP and b["psnr"] >= GOAL_PSNR
+        lines.append(f"- Solid-texture room: {s:.2f}x with position keys (uv keys alone: "
+                     f"{speed[('solid', 'uv')]:.2f}x, nothing to cache); bias {b['psnr']:.1f} dB over the image, "
+                     f"{b['worst_tile_psnr']:.1f} dB in its worst tile; goal {GOAL_SPEEDUP}x at "
+                     f"{GOAL_PSNR:.0f} dB **{'met' if ok else 'not met'}**.")
+    size = common.size_args(data["width"], data["height"], data["spp"])
+    section = f"""{SECTION}
+
+Produced by `{data['command']}` on {data['now']} ({data['elapsed'] / 60:.1f} minutes).
+Machine: {data['machine']}; checkout {data['rev']}; {data['load']}.
+
+Per scene: time at {data['width']}x{data['height']}, {data['spp']} spp, seed 0 (`pmc render SCENE {' '.join(size)}
+--cache off | --cache-keys uv | --cache-keys uv+position`), {common.rounds_text(data['runs'])}, the order
+rotated each round; time is the median `render_seconds`, speedup the median off over the median on (in
+brackets the lowest and highest ratio of one round). Hit rates by key type come from one `pmc compare` at
+the same size (uv and position lookups counted apart; "-": no lookups of that kind). The bias is a
+second `pmc compare` at half the size and {data['ref_spp']} spp (cached vs cacheless, same seed): PSNR
+over the image and in its worst 16x16 tile. Defaults otherwise: `--cache-eval center --cache-filter
+bilinear`, keep-first. Scenes: `marble` = the MaterialX project's standard_surface_marble_solid.mtlx on
+its sphere; `default` = data/default; `solid` = data/default/room.obj with
+data/default/solid_materials.mtlx (every pattern a solid texture). Other builds may have shared the 2
+cores: read ratios, not single times.
+
+{table}
+
+""" + "\n".join(lines) + """
+
+Where position keys do not pay, and why: a 3D grid cut by a surface has more cells per unit of area than
+a 2D texel grid of the same spacing (up to 1.7x for a plane at 45 degrees to the axes), and trilinear
+selection reaches 8 cells where bilinear reaches 4, so at equal samples a position point is looked up in
+more distinct keys, and misses more, than a uv point. Light sub-graphs (a noise and a few arithmetic
+nodes) cost little more than a lookup on PoCL; the gain comes from the heavy ones (fractal3d's octaves).
+Thin, high-contrast solid patterns (the marble's veins) are smoothed by the cell-sized trilinear
+filter: their worst tiles are below the whole image by 10 dB or more; finer cells (--mip-bias 1) buy
+accuracy back at the price of hits, which is what a per-point level offset from the pattern's bandwidth
+(issue 14, item 3) would do automatically.
+"""
+    return section, "\n" + table + "\n\n" + "\n".join(lines) + "\n"
+
+
+def main(argv=None):
+    args = parse(argv)
+    common.chdir_root()
+    saved = os.path.join(args.out_dir, "results.json")
+    if args.report_only:
+        try:
+            data = common.read_json(saved)
+        except (OSError, ValueError) as e:
+            sys.exit(f"{PROG}: --report-only needs {saved} from an earlier run: {e}")
+    else:
+        args.pmc = common.find_pmc(args.pmc, PROG)
+        for s in args.scenes:
+            if not os.path.isfile(SCENES[s][0]):
+                sys.exit(f"{PROG}: scene {SCENES[s][0]} not found (../shared beside the repository?)")
+        os.makedirs(args.out_dir, exist_ok=True)
+        data = Measure(args).all()
+        with open(saved, "w") as f:
+            json.dump(data, f, indent=1)
+        data = json.loads(json.dumps(data))
+    section, printed = report(data)
+    print(printed)
+    common.write_section(args.doc, SECTION, section, PROG)
+
+
+if __name__ == "__main__":
+    main()
