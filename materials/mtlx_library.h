@@ -14,7 +14,8 @@
 // that says how to point pmc at it.
 //
 // Loaded once per folder and process: every top-level .mtlx file of its
-// stdlib, pbrlib, bxdf, nprlib and cmlib folders (a few ms with pugixml).
+// stdlib, pbrlib, bxdf, bxdf/translation, nprlib and cmlib folders (a few ms
+// with pugixml).
 #pragma once
 
 #include <map>
