@@ -10,7 +10,9 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "materials/emit.h"
 #include "materials/mtlx_library.h"
+#include "materials/mtlx_matrix.h"
 #include "materials/mtlx_upgrade.h"
 #include "materials/node_table.h"
 
@@ -219,6 +221,23 @@ class Reader {
     if (t == ValueType::Boolean) {
       v.f[0] = (s == "true" || s == "1") ? 1.0f : 0.0f;
       if (s != "true" && s != "false" && s != "1" && s != "0") fail(context, ": '", s, "' is not a boolean");
+      return v;
+    }
+    if (is_matrix(t)) {  // 9 or 16 numbers, row-major
+      const size_t count = t == ValueType::Matrix44 ? 16 : 9;
+      std::istringstream is(s);
+      std::string item;
+      while (std::getline(is, item, ',')) {
+        char* end = nullptr;
+        float x = std::strtof(item.c_str(), &end);
+        while (end && (*end == ' ' || *end == '\t')) ++end;
+        if (end == item.c_str() || (end && *end != '\0'))
+          fail(context, ": '", s, "' is not a ", type_name(t), " value");
+        v.matrix.push_back(x);
+      }
+      if (v.matrix.size() != count)
+        fail(context, ": '", s, "' is not a ", type_name(t), " value (", count, " numbers expected, ",
+             v.matrix.size(), " given)");
       return v;
     }
     int n = type_width(t);
@@ -444,6 +463,9 @@ class Reader {
       build_node(scope, el, *def, node, context);
       id = graph_.add(std::move(node));
       memo_[memo_key] = id;
+    } else if (pugi::xml_node nd = matrix_nodedef(el, node.category)) {
+      id = fold_matrix(scope, el, nd, node, context);
+      memo_[memo_key] = id;
     } else {
       Expansion& e = expansions_[key];
       e = expand(scope, el, node, def, context);
@@ -452,6 +474,94 @@ class Reader {
     active_.erase(key);
     active_path_.pop_back();
     return id;
+  }
+
+  // The definition of a node on matrices that pmc folds (mtlx_matrix.h): one
+  // with a matrix input or output and no implementation nodegraph (switch
+  // on matrices has one: it expands into ifgreater nodes, which fold).
+  pugi::xml_node matrix_nodedef(pugi::xml_node el, const std::string& category) {
+    bool maybe = category == "transformmatrix" || category == "determinant" ||
+                 !el.attribute("nodedef").empty() || is_matrix(parse_type(el.attribute("type").as_string()));
+    for (pugi::xml_node c : el.children("input"))
+      maybe = maybe || is_matrix(parse_type(c.attribute("type").as_string()));
+    if (!maybe) return {};
+    pugi::xml_node nd = match_nodedef(el, category, el.attribute("type").as_string());
+    if (!nd) return {};
+    bool matrix = false;
+    for (pugi::xml_node o : nd.children("output"))
+      matrix = matrix || is_matrix(parse_type(o.attribute("type").as_string()));
+    for (pugi::xml_node i : nodedef_inputs(nd))
+      matrix = matrix || is_matrix(parse_type(i.attribute("type").as_string()));
+    const std::string name = nd.attribute("name").as_string();
+    if (!matrix || doc_defs_.implementation(name) ||
+        (library() && library()->definitions().implementation(name)))
+      return {};
+    return nd;
+  }
+
+  // A matrix node, folded: a constant (a matrix, determinant's float,
+  // extract's row), or transformmatrix's nodes on vectors.
+  int fold_matrix(const Scope& scope, pugi::xml_node el, pugi::xml_node nd, const Node& node,
+                  const std::string& context) {
+    const std::string nd_name = nd.attribute("name").as_string();
+    std::map<std::string, Input> ins = instance_inputs(scope, el, nd, context);
+    const ValueType out = parse_type(nd.child("output").attribute("type").as_string());
+    if (node.category == "transformmatrix") {
+      auto mat = ins.find("mat"), vec = ins.find("in");
+      if (mat == ins.end() || vec == ins.end() || !is_matrix(mat->second.type))
+        fail(context, ": transformmatrix definition ", nd_name, " lacks its 'in' or matrix 'mat' input");
+      Matrix m = Matrix::of(constant_of(mat->second, context + " input 'mat'"));
+      return lower_transformmatrix(graph_, vec->second, m, out, context);
+    }
+    std::map<std::string, Value> values;
+    for (const auto& [name, in] : ins) values[name] = constant_of(in, context + " input '" + name + "'");
+    Value r = fold_matrix_node(node.category, out, values, context + " (" + nd_name + ")");
+    Node c;
+    c.name = node.name;
+    c.category = "constant";
+    c.type = r.type;
+    c.origin = context;
+    Input v;
+    v.name = "value";
+    v.type = r.type;
+    v.value = r;
+    c.inputs = {v};
+    return graph_.add(std::move(c));
+  }
+
+  // The constant value of an input of a matrix node: its value, or the
+  // folded value of the sub-graph it links to (which must not vary).
+  Value constant_of(const Input& in, const std::string& context) {
+    if (!in.linked) {
+      Value v = in.value;
+      v.type = in.type;
+      return v;
+    }
+    return folded_value(in.node, context, 0);
+  }
+  Value folded_value(int id, const std::string& context, size_t depth) {
+    const Node& n = graph_.nodes[size_t(id)];
+    if (is_matrix(n.type)) return n.inputs.at(0).value;  // matrix nodes are folded constants
+    if (depth >= kMaxNesting) fail(context, ": the sub-graph feeding a matrix is nested too deeply");
+    Node copy = n;
+    for (Input& i : copy.inputs) {
+      if (!i.linked) continue;
+      Value v = folded_value(i.node, context, depth + 1);
+      const ValueType t = i.type;
+      i.linked = false;
+      i.node = -1;
+      i.value = v;
+      i.value.type = t;
+      if (type_width(v.type) == 1)
+        for (int k = 1; k < 4; ++k) i.value.f[size_t(k)] = i.value.f[0];
+    }
+    Value out;
+    if (!evaluate_constant(graph_, copy, out))
+      fail(context, ": pmc folds matrices when it reads a document, so this must be constant, but node '",
+           n.name.empty() ? n.category : n.name, "' (", n.category, ", ", n.origin,
+           ") varies over the surface");
+    out.type = n.type;
+    return out;
   }
 
   // A nodedef's inputs, its `inherit`ed definitions' included (its own win).
@@ -540,13 +650,28 @@ class Reader {
     }
     // The instance's inputs, as the implementation graph's interface.
     std::map<std::string, Input>& iface = ifaces_.emplace_back();
+    iface = instance_inputs(scope, el, nd, context);
+    Expansion e;
+    e.scope = Scope{ng, ++next_scope_, &iface,
+                    context + " (expanded from " + ng.attribute("name").as_string() + ")"};
+    e.nodedef = nd;
+    e.context = context;
+    return e;
+  }
+
+  // A node's inputs as its definition `nd` lists them: connected, the
+  // document's values, or the definition's defaults.
+  std::map<std::string, Input> instance_inputs(const Scope& scope, pugi::xml_node el, pugi::xml_node nd,
+                                               const std::string& context) {
+    const std::string nd_name = nd.attribute("name").as_string();
+    std::map<std::string, Input> iface;
     for (pugi::xml_node d : nodedef_inputs(nd)) {
       Input in;
       in.name = d.attribute("name").as_string();
       in.type = parse_type(d.attribute("type").as_string());
       const std::string ctx = context + " input '" + in.name + "'";
       pugi::xml_node c = el.find_child_by_attribute("input", "name", in.name.c_str());
-      if (in.type == ValueType::None && !c) continue;  // a matrix or other type pmc does not read, unset
+      if (in.type == ValueType::None && !c) continue;  // a type pmc does not read, unset
       if (in.type == ValueType::None)
         fail(ctx, ": inputs of type ", d.attribute("type").as_string(), " are not supported");
       if (c) {
@@ -567,12 +692,7 @@ class Reader {
     for (pugi::xml_node c : el.children("input"))
       if (!nodedef_input(nd, c.attribute("name").as_string()))
         warn(context + ": unknown input '" + c.attribute("name").as_string() + "' ignored");
-    Expansion e;
-    e.scope = Scope{ng, ++next_scope_, &iface,
-                    context + " (expanded from " + ng.attribute("name").as_string() + ")"};
-    e.nodedef = nd;
-    e.context = context;
-    return e;
+    return iface;
   }
 
   int expansion_output(Expansion& e, const std::string& output) {
@@ -730,12 +850,20 @@ class Reader {
         Input in;
         in.name = "in";
         in.type = parse_type(type);
-        if (!is_numeric(in.type))
-          fail(conv.origin, ": output type '", type,
-               "' cannot be shown (pmc previews data outputs and "
-               "surfaceshader outputs)");
-        connect(scope, output, in, conv.origin);
-        if (in.linked) in.type = graph_.nodes[size_t(in.node)].type;
+        if (is_matrix(in.type)) {  // shown as its first row (mtlx_matrix.h)
+          connect(scope, output, in, conv.origin);
+          Matrix m = Matrix::of(constant_of(in, conv.origin));
+          Input row = Input::constant("in", ValueType::Color3, float(m.at(0, 0)), float(m.at(0, 1)),
+                                      float(m.at(0, 2)));
+          warn(conv.origin + ": a " + type + " output is previewed as its first row (m00, m01, m02)");
+          in = row;
+        } else {
+          if (!is_numeric(in.type))
+            fail(conv.origin, ": output type '", type,
+                 "' cannot be shown (pmc previews numeric, matrix and surfaceshader outputs)");
+          connect(scope, output, in, conv.origin);
+          if (in.linked) in.type = graph_.nodes[size_t(in.node)].type;
+        }
         conv.inputs.push_back(in);
         int c = graph_.add(conv);
         Node surface;

@@ -67,15 +67,20 @@ const char* type_name(ValueType t) {
       return "surfaceshader";
     case ValueType::Material:
       return "material";
+    case ValueType::Matrix33:
+      return "matrix33";
+    case ValueType::Matrix44:
+      return "matrix44";
     default:
       return "none";
   }
 }
 
 ValueType parse_type(const std::string& n) {
-  for (ValueType t : {ValueType::Float, ValueType::Integer, ValueType::Boolean, ValueType::Vector2,
-                      ValueType::Vector3, ValueType::Vector4, ValueType::Color3, ValueType::Color4,
-                      ValueType::String, ValueType::Filename, ValueType::Surface, ValueType::Material})
+  for (ValueType t :
+       {ValueType::Float, ValueType::Integer, ValueType::Boolean, ValueType::Vector2, ValueType::Vector3,
+        ValueType::Vector4, ValueType::Color3, ValueType::Color4, ValueType::String, ValueType::Filename,
+        ValueType::Surface, ValueType::Material, ValueType::Matrix33, ValueType::Matrix44})
     if (n == type_name(t)) return t;
   return ValueType::None;
 }

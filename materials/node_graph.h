@@ -10,7 +10,10 @@
 // the file and element they came from for error messages. A node with
 // several outputs (flake2d, artistic_ior) becomes one graph node per output a
 // consumer selects (MaterialX's output="..." on the connection), each with
-// its `output` set.
+// its `output` set. Matrices (matrix33, matrix44) are no shading values: the
+// reader folds every matrix node to a constant (mtlx_matrix.h), and the nodes
+// that consume one (transformmatrix, determinant, extract) become nodes on
+// vectors; a matrix constant left in a graph reaches no output.
 #pragma once
 
 #include <array>
@@ -32,7 +35,9 @@ enum class ValueType {
   String,
   Filename,
   Surface,
-  Material
+  Material,
+  Matrix33,  // folded by the reader; width 0 (not a shading value)
+  Matrix44
 };
 
 // Number of float lanes a value of this type occupies (0 for non-numeric types).
@@ -44,7 +49,8 @@ bool is_numeric(ValueType t);
 struct Value {
   ValueType type = ValueType::None;
   std::array<float, 4> f{0, 0, 0, 0};
-  std::string text;  // strings and filenames
+  std::string text;           // strings and filenames
+  std::vector<float> matrix;  // matrix33 / matrix44 entries, row-major (MaterialX's order)
   static Value number(ValueType t, float a, float b = 0, float c = 0, float d = 0);
 };
 
