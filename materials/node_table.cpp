@@ -316,6 +316,20 @@ std::map<std::string, NodeDef> build() {
       PMC_OP_ARTISTIC_IOR)
       .outputs = {{"ior", "color3"}, {"extinction", "color3"}};
   def("blackbody", {"color3"}, {in_f("temperature", 5000)}, PMC_OP_BLACKBODY);
+  // Hair data nodes (core/device/pmc_hair_data.h); outputs are vectors (MaterialX's types).
+  def("chiang_hair_roughness", {},
+      {in_f("longitudinal", 0.1f), in_f("azimuthal", 0.2f), in_f("scale_TT", 0.5f), in_f("scale_TRT", 2.0f)},
+      PMC_OP_HAIR_ROUGHNESS)
+      .outputs = {{"roughness_R", "vector2"}, {"roughness_TT", "vector2"}, {"roughness_TRT", "vector2"}};
+  def("deon_hair_absorption_from_melanin", {"vector3"},
+      {in_f("melanin_concentration", 0.25f),
+       in_f("melanin_redness", 0.5f),
+       {"eumelanin_color", "color3", num(0.657704f, 0.498077f, 0.254107f), GeomDefault::None},
+       {"pheomelanin_color", "color3", num(0.829444f, 0.67032f, 0.349938f), GeomDefault::None}},
+      PMC_OP_HAIR_MELANIN);
+  def("chiang_hair_absorption_from_color", {"vector3"},
+      {{"color", "color3", num(1, 1, 1), GeomDefault::None}, in_f("azimuthal_roughness", 0.2f)},
+      PMC_OP_HAIR_COLOR);
   return m;
 }
 

@@ -103,6 +103,9 @@
   X(ROUGHNESS_DUAL, 1, 1) /* roughness (vector2) */                                            \
   X(ARTISTIC_IOR, 2, 2)   /* reflectivity, edge_color; imm 0: ior, 1: extinction */            \
   X(BLACKBODY, 1, 1)      /* temperature (K) -> linear Rec.709 */                              \
+  X(HAIR_ROUGHNESS, 4, 4) /* longitudinal, azimuthal, scale_TT, scale_TRT; imm = PMC_HAIR_* */ \
+  X(HAIR_MELANIN, 4, 4)   /* concentration, redness, eumelanin and pheomelanin colours */      \
+  X(HAIR_COLOR, 2, 2)     /* color, azimuthal_roughness (pmc_hair_data.h) */                   \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
   X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on

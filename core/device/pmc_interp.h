@@ -41,6 +41,7 @@
 #include "pmc_cache.h"
 #include "pmc_compositing.h"
 #include "pmc_flake.h"
+#include "pmc_hair_data.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_pbr_data.h"
@@ -856,6 +857,29 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
       case PMC_OP_BLACKBODY: /* temperature */
         pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
         for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_blackbody(A[0][k]));
+        break;
+      case PMC_OP_HAIR_ROUGHNESS: /* longitudinal, azimuthal, scale_TT, scale_TRT */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
+        pmc_fetch(code, stack, code[pc + 5u], 1, nn, D);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k, pmc_chiang_hair_roughness(A[0][k], B[0][k], T[0][k], D[0][k], imm));
+        break;
+      case PMC_OP_HAIR_MELANIN: /* concentration, redness, eumelanin_color, pheomelanin_color */
+        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        PMC_FETCH4(T, 2);
+        PMC_FETCH4(D, 3);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k,
+                         pmc_deon_hair_absorption(A[0][k], B[0][k], pmc_lanes4(T, k), pmc_lanes4(D, k)));
+        break;
+      case PMC_OP_HAIR_COLOR: /* color, azimuthal_roughness */
+        PMC_FETCH4(A, 0);
+        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          pmc_set_lanes4(R, k, pmc_chiang_hair_absorption(pmc_lanes4(A, k), B[0][k]));
         break;
       default:
         return; /* unknown opcode: the compiler never emits one; stop safely */

@@ -283,6 +283,16 @@ std::vector<OpSpec> op_specs() {
        false,
        [](int, int index, Rng&) { return uint32_t(index % 2); }});
   add({PMC_OP_BLACKBODY, {3}, {{1, 500, 30000}}, Tol::Unit});
+  // Hair data: roughness in and beyond its clamp [0.001, 1] (pow(x, 20) near 1),
+  // the three outputs by imm.
+  add({PMC_OP_HAIR_ROUGHNESS,
+       {2},
+       {{1, -0.2f, 1.2f}, {1, -0.2f, 1.2f}, {1, 0, 3}, {1, 0, 3}},
+       Tol::Unit,
+       false,
+       [](int, int index, Rng&) { return uint32_t(index % 3); }});
+  add({PMC_OP_HAIR_MELANIN, {3}, {{1, 0, 0.99f}, {1, 0, 1}, {3, 0.05f, 1}, {3, 0.05f, 1}}, Tol::Unit});
+  add({PMC_OP_HAIR_COLOR, {3}, {{3, 0.0005f, 1.2f}, {1, 0, 1}}, Tol::Unit});
   add({PMC_OP_ROTATE2D, {2}, {{2, -10, 10}, {1, -360, 360}}, Tol::Scaled});
   add({PMC_OP_ROTATE3D,
        {3},

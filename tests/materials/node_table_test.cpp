@@ -370,6 +370,34 @@ std::map<std::string, Expected> expectations() {
   // blackbody of the test's temperature input (0.23 + ...): clamped to 800 K; its
   // values are checked against published chromaticities in pbr_data_test.cpp.
   e["blackbody"] = [](const Named& in, const Shading&, int) { return pmc_blackbody(in.at("temperature").x); };
+  // Hair data nodes: MaterialX's GLSL (mx_chiang_hair_bsdf.glsl), in double.
+  const char* hair_outputs[] = {"roughness_R", "roughness_TT", "roughness_TRT"};
+  for (int o = 0; o < 3; ++o)
+    e[std::string("chiang_hair_roughness.") + hair_outputs[o]] = [=](const Named& in, const Shading&, int) {
+      double l = clampd(in.at("longitudinal").x, 0.001, 1.0), a = clampd(in.at("azimuthal").x, 0.001, 1.0);
+      double v = std::pow(0.726 * l + 0.812 * l * l + 3.7 * std::pow(l, 20.0), 2.0);
+      double s = 0.265 * a + 1.194 * a * a + 5.372 * std::pow(a, 22.0);
+      double scale = o == 0 ? 1.0 : std::pow(in.at(o == 1 ? "scale_TT" : "scale_TRT").x, 2.0);
+      return f4(float(v * scale), float(s), 0, 0);
+    };
+  e["deon_hair_absorption_from_melanin"] = [=](const Named& in, const Shading&, int) {
+    double m = -std::log(std::max(1.0 - in.at("melanin_concentration").x, 1e-4));
+    double red = in.at("melanin_redness").x;
+    float out[3];
+    for (int l = 0; l < 3; ++l)
+      out[l] = float(std::max(0.0, m * (1 - red) * -std::log(lane(in.at("eumelanin_color"), l)) +
+                                       m * red * -std::log(lane(in.at("pheomelanin_color"), l))));
+    return f4(out[0], out[1], out[2], 0);
+  };
+  e["chiang_hair_absorption_from_color"] = [=](const Named& in, const Shading&, int) {
+    double b = in.at("azimuthal_roughness").x;
+    double fac = 5.969 - 0.215 * b + 2.532 * b * b - 10.73 * std::pow(b, 3) + 5.574 * std::pow(b, 4) +
+                 0.245 * std::pow(b, 5);
+    float out[3];
+    for (int l = 0; l < 3; ++l)
+      out[l] = float(std::pow(std::log(clampd(lane(in.at("color"), l), 0.001, 1.0)) / fac, 2));
+    return f4(out[0], out[1], out[2], 0);
+  };
   return e;
 }
 
@@ -522,7 +550,9 @@ TEST(NodeTable, SwappedInputsAreDetected) {
                          {"flake3d.flakenormal", "normal", "tangent"},
                          {"flake2d.rand", "size", "roughness"},
                          {"roughness_anisotropy", "roughness", "anisotropy"},
-                         {"artistic_ior.ior", "reflectivity", "edge_color"}}) {
+                         {"artistic_ior.ior", "reflectivity", "edge_color"},
+                         {"chiang_hair_roughness.roughness_TT", "longitudinal", "azimuthal"},
+                         {"deon_hair_absorption_from_melanin", "melanin_concentration", "melanin_redness"}}) {
     const std::string key = c;
     const size_t dot = key.find('.');
     const std::string output = dot == std::string::npos ? "" : key.substr(dot + 1);
