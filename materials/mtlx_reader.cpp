@@ -131,6 +131,7 @@ class Reader {
   std::set<std::string> active_;  // instantiation stack, for cycles
   std::vector<std::string> active_path_;
   std::map<int, int> geom_nodes_;  // GeomDefault -> node index
+  std::map<int, Value> folded_;    // node index -> its folded value (inputs of matrix nodes)
 
   [[noreturn]] static void fail_with(const std::string& message) { throw Error(message); }
 
@@ -144,6 +145,7 @@ class Reader {
     active_.clear();
     active_path_.clear();
     geom_nodes_.clear();
+    folded_.clear();
   }
 
   // Builds the current material with `build`; an error makes it a failed
@@ -542,6 +544,8 @@ class Reader {
   Value folded_value(int id, const std::string& context, size_t depth) {
     const Node& n = graph_.nodes[size_t(id)];
     if (is_matrix(n.type)) return n.inputs.at(0).value;  // matrix nodes are folded constants
+    auto known = folded_.find(id);                       // shared sub-graphs fold once
+    if (known != folded_.end()) return known->second;
     if (depth >= kMaxNesting) fail(context, ": the sub-graph feeding a matrix is nested too deeply");
     Node copy = n;
     for (Input& i : copy.inputs) {
@@ -561,6 +565,7 @@ class Reader {
            n.name.empty() ? n.category : n.name, "' (", n.category, ", ", n.origin,
            ") varies over the surface");
     out.type = n.type;
+    folded_[id] = out;
     return out;
   }
 

@@ -387,6 +387,28 @@ TEST(MtlxMatrix, MatricesThatVaryOrCannotBeBuiltFailNamingTheNode) {
   EXPECT_MENTIONS(e, "out of range");
 }
 
+TEST(MtlxMatrix, SharedDataSubGraphsFoldOnce) {
+  // 40 levels of x_k = x_{k-1} + x_{k-1}, each level's two inputs the same node:
+  // folded without memory, the creatematrix's row would take 2^40 evaluations.
+  std::string body =
+      "<constant name=\"x0\" type=\"float\"><input name=\"value\" type=\"float\" "
+      "value=\"1e-12\"/></constant>";
+  for (int k = 1; k <= 40; ++k) {
+    const std::string prev = "x" + std::to_string(k - 1);
+    body += "<add name=\"x" + std::to_string(k) +
+            "\" type=\"float\"><input name=\"in1\" type=\"float\" nodename=\"" + prev +
+            "\"/><input name=\"in2\" type=\"float\" nodename=\"" + prev + "\"/></add>";
+  }
+  body +=
+      "<combine3 name=\"row\" type=\"vector3\"><input name=\"in1\" type=\"float\" "
+      "nodename=\"x40\"/></combine3>"
+      "<creatematrix name=\"mat\" type=\"matrix33\"><input name=\"in1\" type=\"vector3\" "
+      "nodename=\"row\"/></creatematrix>";
+  // v * M with row 0 = (2^40 * 1e-12, 0, 0), rows 1 and 2 the identity's.
+  const double x = std::ldexp(1e-12, 40);
+  expect_near(evaluate(transformed(body)).color, {kV[0] * x, kV[1], kV[2]}, 1e-5, "shared sub-graph");
+}
+
 TEST(MtlxMatrix, FourByFourAlgebraAgreesWithItsDefinitions) {
   // The folding arithmetic itself on a 4x4: A * inverse(A) = I, det(A^T) = det(A),
   // det(A B) = det(A) det(B).
