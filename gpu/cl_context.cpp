@@ -83,9 +83,10 @@ std::vector<ClDeviceInfo> list_cl_devices() {
   return out;
 }
 
-ClBuffer::ClBuffer(cl_context ctx, size_t bytes, cl_mem_flags flags) : bytes_(bytes) {
+ClBuffer::ClBuffer(cl_context ctx, size_t bytes, cl_mem_flags flags, void* host) : bytes_(bytes) {
   cl_int st = CL_SUCCESS;
-  mem_ = clCreateBuffer(ctx, flags, std::max<size_t>(bytes, 16), nullptr, &st);
+  // A host pointer's buffer is exactly its bytes; others get at least 16.
+  mem_ = clCreateBuffer(ctx, flags, host ? bytes : std::max<size_t>(bytes, 16), host, &st);
   if (st != CL_SUCCESS)
     fail("OpenCL: cannot allocate a buffer of ", bytes, " bytes (error ", st,
          "): the device may be out of memory");
@@ -144,6 +145,12 @@ ClBuffer ClContext::buffer(size_t bytes, const void* data, cl_mem_flags flags) c
   ClBuffer b(context_, bytes, flags);
   if (data && bytes) write(b, 0, bytes, data, true);
   return b;
+}
+
+ClBuffer ClContext::shared_buffer(size_t bytes, const void* data) const {
+  if (!data || bytes == 0 || !info_.host_unified_memory) return buffer(bytes, data, CL_MEM_READ_ONLY);
+  // The kernels only read it: OpenCL's void* is not a licence to write.
+  return ClBuffer(context_, bytes, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, const_cast<void*>(data));
 }
 
 void ClContext::write(const ClBuffer& b, size_t offset, size_t bytes, const void* src, bool blocking) const {

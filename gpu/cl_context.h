@@ -39,7 +39,7 @@ void cl_check(cl_int status, const char* what);
 class ClBuffer {
  public:
   ClBuffer() = default;
-  ClBuffer(cl_context ctx, size_t bytes, cl_mem_flags flags = CL_MEM_READ_WRITE);
+  ClBuffer(cl_context ctx, size_t bytes, cl_mem_flags flags = CL_MEM_READ_WRITE, void* host = nullptr);
   ~ClBuffer();
   ClBuffer(ClBuffer&& o) noexcept : mem_(std::exchange(o.mem_, nullptr)), bytes_(o.bytes_) {}
   ClBuffer& operator=(ClBuffer&& o) noexcept;
@@ -72,6 +72,16 @@ class ClContext {
   template <typename T>
   ClBuffer buffer_of(const std::vector<T>& v, cl_mem_flags flags = CL_MEM_READ_ONLY) const {
     return buffer(v.size() * sizeof(T), v.empty() ? nullptr : v.data(), flags);
+  }
+  // A read-only buffer of the `bytes` at `data`, which the caller keeps alive
+  // and unchanged for the buffer's lifetime. On devices with host-unified
+  // memory (CPU devices, integrated GPUs) it is that memory itself
+  // (CL_MEM_USE_HOST_PTR: no allocation, no copy); on others (discrete GPUs)
+  // the bytes are copied to the device, as buffer() does.
+  ClBuffer shared_buffer(size_t bytes, const void* data) const;
+  template <typename T, typename A>
+  ClBuffer shared_buffer_of(const std::vector<T, A>& v) const {
+    return shared_buffer(v.size() * sizeof(T), v.empty() ? nullptr : v.data());
   }
   void write(const ClBuffer& b, size_t offset, size_t bytes, const void* src, bool blocking) const;
   void read(const ClBuffer& b, size_t offset, size_t bytes, void* dst) const;  // blocking

@@ -10,15 +10,15 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   triangle_material.reserve(scene.triangles.size());
   for (const PmcTriangle& t : scene.triangles) triangle_material.push_back(t.material);
   material_count = int(mats.infos.size());
-  buffers[kScene_positions] = cl.buffer_of(scene.positions);
-  buffers[kScene_normals] = cl.buffer_of(scene.normals);
-  buffers[kScene_uvs] = cl.buffer_of(scene.uvs);
-  buffers[kScene_triangles] = cl.buffer_of(scene.triangles);
-  buffers[kScene_code] = cl.buffer_of(mats.program.code);
-  buffers[kScene_materials] = cl.buffer_of(mats.infos);
-  buffers[kScene_textures] = cl.buffer_of(scene.textures.textures());
-  buffers[kScene_texels] = cl.buffer_of(mats.texel_words);
-  buffers[kScene_srgb_lut] = cl.buffer_of(mats.srgb_lut);
+  buffers[kScene_positions] = cl.shared_buffer_of(scene.positions);
+  buffers[kScene_normals] = cl.shared_buffer_of(scene.normals);
+  buffers[kScene_uvs] = cl.shared_buffer_of(scene.uvs);
+  buffers[kScene_triangles] = cl.shared_buffer_of(scene.triangles);
+  buffers[kScene_code] = cl.shared_buffer_of(mats.program.code);
+  buffers[kScene_materials] = cl.shared_buffer_of(mats.infos);
+  buffers[kScene_textures] = cl.shared_buffer_of(scene.textures.textures());
+  buffers[kScene_texels] = cl.shared_buffer_of(mats.texel_words);
+  buffers[kScene_srgb_lut] = cl.shared_buffer_of(mats.srgb_lut);
   upload_lights(cl, build_light_table(scene, emission, SceneLights{}));
 }
 
