@@ -29,8 +29,8 @@ class ContentHash {
     std::memcpy(&tail, p + i, n - i);
     word(tail ^ (uint64_t(n) << 56));
   }
-  template <class T>
-  void vec(const std::vector<T>& v) {
+  template <class T, class A>
+  void vec(const std::vector<T, A>& v) {
     word(v.size());
     bytes(v.data(), v.size() * sizeof(T));
   }

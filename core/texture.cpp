@@ -90,6 +90,16 @@ const SrgbEncodeTable& srgb_encode_table() {
   return table;
 }
 
+// encode_srgb_byte with the table passed in, so loops look it up once.
+inline uint8_t encode_srgb_with(const SrgbEncodeTable& table, float linear) {
+  if (!(linear > 0.0f)) return 0;  // also NaN
+  if (linear >= 1.0f) return 255;
+  uint32_t bits;
+  std::memcpy(&bits, &linear, sizeof(bits));
+  const uint32_t bucket = bits >> SrgbEncodeTable::kShift;
+  return uint8_t(table.base[bucket] + (linear >= table.next[bucket] ? 1 : 0));
+}
+
 size_t mip_chain_texels(int w, int h) {
   size_t n = 0;
   for (;;) {
@@ -124,6 +134,8 @@ void downsample(const uint8_t* src, int w, int h, bool srgb, uint8_t* dst) {
     return t;
   }();
   const float* colour_lut = srgb ? srgb_lut.data() : unorm_lut.data();
+  const float* alpha_lut = unorm_lut.data();
+  const SrgbEncodeTable& encode = srgb_encode_table();
   const int nw = std::max(1, w >> 1), nh = std::max(1, h >> 1);
   for (int y = 0; y < nh; ++y) {
     const uint8_t* row0 = src + size_t(std::min(h - 1, 2 * y)) * w * 4;
@@ -131,15 +143,18 @@ void downsample(const uint8_t* src, int w, int h, bool srgb, uint8_t* dst) {
     uint8_t* out = dst + size_t(y) * nw * 4;
     for (int x = 0; x < nw; ++x) {
       const size_t x0 = size_t(std::min(w - 1, 2 * x)) * 4, x1 = size_t(std::min(w - 1, 2 * x + 1)) * 4;
-      for (int c = 0; c < 4; ++c) {
-        const float* lut = c < 3 ? colour_lut : unorm_lut.data();
+      auto average = [&](const float* lut, int c) {
         float sum = lut[row0[x0 + c]];
         sum += lut[row0[x1 + c]];
         sum += lut[row1[x0 + c]];
         sum += lut[row1[x1 + c]];
-        const float avg = sum * 0.25f;
-        out[size_t(x) * 4 + c] = (srgb && c < 3) ? encode_srgb_byte(avg) : to_byte(avg);
+        return sum * 0.25f;
+      };
+      for (int c = 0; c < 3; ++c) {
+        const float avg = average(colour_lut, c);
+        out[size_t(x) * 4 + c] = srgb ? encode_srgb_with(encode, avg) : to_byte(avg);
       }
+      out[size_t(x) * 4 + 3] = to_byte(average(alpha_lut, 3));
     }
   }
 }
@@ -164,15 +179,7 @@ std::vector<float> srgb_decode_table() {
   return lut;
 }
 
-uint8_t encode_srgb_byte(float linear) {
-  if (!(linear > 0.0f)) return 0;  // also NaN
-  if (linear >= 1.0f) return 255;
-  const SrgbEncodeTable& table = srgb_encode_table();
-  uint32_t bits;
-  std::memcpy(&bits, &linear, sizeof(bits));
-  const uint32_t bucket = bits >> SrgbEncodeTable::kShift;
-  return uint8_t(table.base[bucket] + (linear >= table.next[bucket] ? 1 : 0));
-}
+uint8_t encode_srgb_byte(float linear) { return encode_srgb_with(srgb_encode_table(), linear); }
 
 // A texture whose header has been read and whose pixels are not decoded yet.
 struct TexturePool::Pending {
@@ -196,7 +203,7 @@ TexturePool& TexturePool::operator=(const TexturePool& other) {
   other.resolve();
   textures_ = other.textures_;
   names_ = other.names_;
-  texels_ = other.texels_;
+  words_ = other.words_;
   by_key_ = other.by_key_;
   pending_.clear();
   return *this;
@@ -205,15 +212,17 @@ TexturePool& TexturePool::operator=(const TexturePool& other) {
 int TexturePool::add(const std::string& name, int width, int height, std::vector<uint8_t> rgba, bool srgb) {
   PMC_CHECK(width > 0 && height > 0 && rgba.size() == size_t(width) * height * 4, name);
   PmcTexture t{};
-  t.offset = static_cast<pmc_u32>(texels_.size() / 4);
+  TexelWords& words = own_words();
+  t.offset = static_cast<pmc_u32>(words.size());
   t.width = width;
   t.height = height;
   t.levels = mip_levels(width, height);
   t.flags = srgb ? PMC_TEX_SRGB : 0u;
-  const size_t at = texels_.size();
-  texels_.resize(at + mip_chain_texels(width, height) * 4);
-  std::memcpy(texels_.data() + at, rgba.data(), rgba.size());
-  build_mips(texels_.data() + at, width, height, srgb);
+  const size_t at = words.size();
+  words.resize(at + mip_chain_texels(width, height));
+  uint8_t* base = reinterpret_cast<uint8_t*>(words.data() + at);
+  std::memcpy(base, rgba.data(), rgba.size());
+  build_mips(base, width, height, srgb);
   textures_.push_back(t);
   names_.push_back(name);
   return static_cast<int>(textures_.size()) - 1;
@@ -265,6 +274,16 @@ std::string decode_rgba8(OIIO::ImageInput& in, const std::string& path, const st
   auto channel_of = [nch](int k) {
     return k < 3 ? (nch >= 3 ? k : 0) : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
   };
+  if (spec.format == OIIO::TypeDesc::UINT8 && nch >= 3) {
+    // RGB(A) 8-bit: straight into the pool (4 bytes apart), opaque alpha added
+    // for RGB; the channels past the fourth are not read.
+    const int read = std::min(nch, 4);
+    if (!in.read_image(0, 0, 0, read, OIIO::TypeDesc::UINT8, dst, 4, OIIO::stride_t(w) * 4))
+      fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+    if (read == 3)
+      for (size_t i = 0; i < n; ++i) dst[i * 4 + 3] = 255;
+    return {};
+  }
   if (spec.format == OIIO::TypeDesc::UINT8) {
     // 8-bit sources are stored as they are (sRGB-encoded colour stays encoded).
     std::vector<uint8_t> px(n * size_t(nch));
@@ -310,23 +329,25 @@ void TexturePool::resolve() const {
   if (pending_.empty()) return;
   // Offsets first (sizes are known from the headers), then every texture
   // decodes into its own part of the pool on its own thread.
-  size_t at = texels_.size();
+  TexelWords& words = own_words();
+  size_t at = words.size();
   for (const auto& p : pending_) {
     PmcTexture& t = textures_[size_t(p->index)];
-    t.offset = static_cast<pmc_u32>(at / 4);
-    at += mip_chain_texels(t.width, t.height) * 4;
+    t.offset = static_cast<pmc_u32>(at);
+    at += mip_chain_texels(t.width, t.height);
   }
-  texels_.resize(at);
+  words.resize(at);  // not zero-filled: each decode writes all of its chain
   parallel_for_each_index(pending_.size(), [&](size_t i) {
     Pending& p = *pending_[i];
     const PmcTexture& t = textures_[size_t(p.index)];
-    uint8_t* base = texels_.data() + size_t(t.offset) * 4;
+    uint8_t* base = reinterpret_cast<uint8_t*>(words.data() + t.offset);
     try {
       p.warning = decode_rgba8(*p.in, p.path, p.used_by, p.srgb, base);
       p.in->close();
       build_mips(base, t.width, t.height, p.srgb);
     } catch (const Error& e) {
       p.error = e.what();
+      std::memset(base, 0, mip_chain_texels(t.width, t.height) * 4);  // no uninitialised texels remain
     }
   });
   std::vector<std::unique_ptr<Pending>> done;
@@ -335,6 +356,14 @@ void TexturePool::resolve() const {
     if (!p->error.empty()) fail(p->error);
     if (!p->warning.empty()) warn(p->warning);
   }
+}
+
+TexelWords& TexturePool::own_words() const {
+  if (!words_)
+    words_ = std::make_shared<TexelWords>();  // moved from
+  else if (words_.use_count() > 1)
+    words_ = std::make_shared<TexelWords>(*words_);
+  return *words_;
 }
 
 }  // namespace pmc

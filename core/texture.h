@@ -7,18 +7,66 @@
 // loaded. load() opens the file and checks its header at once (a missing or
 // unreadable file is an error naming who uses it) and hands out the texture's
 // index; the pixels are decoded later, all pending textures in parallel, when
-// the pool is first read (textures(), texels()) or by resolve().
+// the pool is first read (textures(), texels()) or by resolve(). 8-bit RGB
+// and RGBA files are read straight into the pool (OIIO strides), others
+// through a conversion buffer.
+//
+// The pool is kept as 32-bit words whose bytes in memory are R, G, B, A
+// (TexelWords, allocated without zero-filling: every texel is written by its
+// decode), held by a shared pointer: words() hands it to the material set
+// without a copy, and a pool whose words are shared copies them before it
+// changes them (add() or a decode after words()), so what was handed out
+// never changes.
 #pragma once
 
 #include <cstdint>
 #include <map>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/abi/pmc_types.h"
 
 namespace pmc {
+
+// An allocator that leaves value-initialised elements uninitialised (resize
+// without a memset); otherwise std::allocator.
+template <typename T>
+struct NoInitAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = NoInitAllocator<U>;
+  };
+  NoInitAllocator() = default;
+  template <typename U>
+  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+using TexelWords = std::vector<uint32_t, NoInitAllocator<uint32_t>>;
+
+// The pool's bytes (RGBA8, 4 per texel), valid while the pool is unchanged.
+class TexelBytes {
+ public:
+  TexelBytes(const uint8_t* data, size_t size) : data_(data), size_(size) {}
+  const uint8_t* data() const { return data_; }
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  const uint8_t& operator[](size_t i) const { return data_[i]; }
+  const uint8_t* begin() const { return data_; }
+  const uint8_t* end() const { return data_ + size_; }
+
+ private:
+  const uint8_t* data_;
+  size_t size_;
+};
 
 class TexturePool {
  public:
@@ -43,9 +91,15 @@ class TexturePool {
     resolve();
     return textures_;
   }
-  const std::vector<uint8_t>& texels() const {  // RGBA8
+  TexelBytes texels() const {  // RGBA8
     resolve();
-    return texels_;
+    if (!words_) return TexelBytes(nullptr, 0);  // moved from
+    return TexelBytes(reinterpret_cast<const uint8_t*>(words_->data()), words_->size() * 4);
+  }
+  // The decoded pool as words, shared (no copy); it never changes afterwards.
+  std::shared_ptr<const TexelWords> words() const {
+    resolve();
+    return words_ ? words_ : std::make_shared<TexelWords>();
   }
   const std::vector<std::string>& names() const { return names_; }
   size_t size() const { return textures_.size(); }
@@ -54,7 +108,8 @@ class TexturePool {
   struct Pending;
   mutable std::vector<PmcTexture> textures_;
   std::vector<std::string> names_;
-  mutable std::vector<uint8_t> texels_;
+  TexelWords& own_words() const;  // words_, copied first if shared
+  mutable std::shared_ptr<TexelWords> words_ = std::make_shared<TexelWords>();
   std::map<std::string, int> by_key_;
   mutable std::vector<std::unique_ptr<Pending>> pending_;
 };

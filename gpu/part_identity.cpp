@@ -20,7 +20,7 @@ std::string scene_hash(const RenderSession& session) {
   h.vec(s.triangles);
   h.vec(m.program.code);
   h.vec(m.infos);
-  h.vec(m.texel_words);
+  h.vec(*m.texel_words);
   const EnvironmentSpec& env = session.settings().lights.environment;
   if (env.map) h.vec(env.map->rgb);
   return h.hex();

@@ -17,7 +17,7 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   buffers[kScene_code] = cl.shared_buffer_of(mats.program.code);
   buffers[kScene_materials] = cl.shared_buffer_of(mats.infos);
   buffers[kScene_textures] = cl.shared_buffer_of(scene.textures.textures());
-  buffers[kScene_texels] = cl.shared_buffer_of(mats.texel_words);
+  buffers[kScene_texels] = cl.shared_buffer_of(*mats.texel_words);
   buffers[kScene_srgb_lut] = cl.shared_buffer_of(mats.srgb_lut);
   upload_lights(cl, build_light_table(scene, emission, SceneLights{}));
 }

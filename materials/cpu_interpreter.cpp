@@ -6,7 +6,7 @@ namespace pmc {
 PmcTextureSet host_texture_set(const Scene& scene, const MaterialSet& materials) {
   PmcTextureSet ts{};
   ts.textures = scene.textures.textures().data();
-  ts.texels = materials.texel_words.data();
+  ts.texels = materials.texel_words->data();
   ts.srgb_lut = materials.srgb_lut.data();
   ts.count = uint32_t(scene.textures.size());
   return ts;

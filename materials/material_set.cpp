@@ -122,15 +122,16 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
          ": usemtl names that match no MTL or MaterialX material (rendered with the default "
          "material): " +
          unmatched);
-  const std::vector<uint8_t>& bytes = scene.textures.texels();
-  set.texel_words.resize(bytes.size() / 4);
-#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
-  // R in the low byte: on a little-endian host the words are the bytes as they are.
-  if (!bytes.empty()) std::memcpy(set.texel_words.data(), bytes.data(), set.texel_words.size() * 4);
-#else
-  for (size_t i = 0; i < set.texel_words.size(); ++i)
-    set.texel_words[i] = uint32_t(bytes[4 * i]) | uint32_t(bytes[4 * i + 1]) << 8 |
-                         uint32_t(bytes[4 * i + 2]) << 16 | uint32_t(bytes[4 * i + 3]) << 24;
+  // R in the low byte: on a little-endian host the words are the pool's bytes
+  // as they are, shared with it (no copy).
+  set.texel_words = scene.textures.words();
+#if !(defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__)
+  auto words = std::make_shared<TexelWords>(*set.texel_words);
+  for (uint32_t& w : *words) {
+    const uint8_t* b = reinterpret_cast<const uint8_t*>(&w);
+    w = uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24;
+  }
+  set.texel_words = std::move(words);
 #endif
   set.srgb_lut = srgb_decode_table();
   return set;

@@ -18,6 +18,7 @@
 
 #include "core/abi/pmc_types.h"
 #include "core/scene.h"
+#include "core/texture.h"
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
 
@@ -35,7 +36,8 @@ struct MaterialSet {
   std::vector<PmcMaterialInfo> infos;  // per scene material
   std::vector<int> compiled;           // per scene material: index into program.materials, -1 if unused
   std::vector<Graph> graphs;           // optimised graphs, parallel to program.materials
-  std::vector<uint32_t> texel_words;   // the scene's texel pool as 32-bit RGBA words
+  // The scene's texel pool as 32-bit RGBA words, shared with the pool (no copy; never changes).
+  std::shared_ptr<const TexelWords> texel_words = std::make_shared<const TexelWords>();
   std::vector<float> srgb_lut;
 };
 

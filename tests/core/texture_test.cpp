@@ -184,5 +184,63 @@ TEST(Texture, CorruptFileFailsNamingItAndItsUserWhenResolved) {
   }
 }
 
+// Every channel count of 8-bit files lands as RGBA: 3 and 4 channels are read
+// straight into the pool (4 bytes apart), 1 and 2 through the conversion
+// loop; the expected texels come from the written pixels, not from the code.
+TEST(Texture, EightBitFilesOfEveryChannelCountDecodeToRgba) {
+  const std::string dir = test::temp_dir();
+  const int w = 7, h = 3;
+  TexturePool pool;
+  std::vector<int> index;
+  for (int nch = 1; nch <= 4; ++nch) {
+    const std::string path = dir + "/c" + std::to_string(nch) + ".png";
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // the bytes as given, alpha not divided out
+    ASSERT_TRUE(out->open(path, spec));
+    std::vector<uint8_t> px(size_t(w) * h * size_t(nch));
+    for (size_t i = 0; i < size_t(w) * h; ++i)
+      for (int c = 0; c < nch; ++c) px[i * size_t(nch) + size_t(c)] = uint8_t(40 * c + 3 * i + 1);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, px.data()));
+    out->close();
+    index.push_back(pool.load(path, true, "test"));
+  }
+  for (int nch = 1; nch <= 4; ++nch) {
+    const PmcTexture& t = pool.textures()[size_t(index[size_t(nch - 1)])];
+    for (size_t i = 0; i < size_t(w) * h; ++i) {
+      auto value = [&](int c) { return uint8_t(40 * c + 3 * i + 1); };
+      const uint8_t* texel = &pool.texels()[(size_t(t.offset) + i) * 4];
+      const int colour[3] = {0, nch >= 3 ? 1 : 0, nch >= 3 ? 2 : 0};
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(texel[k], value(colour[k])) << nch << " channels, texel " << i;
+      const uint8_t alpha = nch == 2 ? value(1) : nch == 4 ? value(3) : uint8_t(255);
+      EXPECT_EQ(texel[3], alpha) << nch << " channels, texel " << i;
+    }
+  }
+}
+
+// words() shares the pool (bytes R, G, B, A in memory) without a copy, and
+// what it handed out never changes: the pool copies its words before adding
+// to them; the pool stays whole (build_material_set may run twice on a scene).
+TEST(Texture, SharedWordsAreNotCopiedAndNeverChange) {
+  TexturePool pool;
+  std::vector<uint8_t> px = {1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16};
+  pool.add("memory", 2, 2, px, false);
+  std::vector<uint8_t> before(pool.texels().begin(), pool.texels().end());
+  std::shared_ptr<const TexelWords> words = pool.words();
+  ASSERT_EQ(words->size() * 4, before.size());
+  EXPECT_EQ(static_cast<const void*>(words->data()), static_cast<const void*>(pool.texels().data()));
+  EXPECT_EQ(0, std::memcmp(words->data(), before.data(), before.size()));
+  EXPECT_EQ(pool.words(), words) << "the same words twice";
+  pool.add("more", 1, 1, {9, 9, 9, 9}, false);
+  EXPECT_EQ(words->size() * 4, before.size()) << "handed-out words changed";
+  EXPECT_EQ(0, std::memcmp(words->data(), before.data(), before.size()));
+  EXPECT_EQ(pool.texels().size(), before.size() + 4);
+  EXPECT_EQ(0, std::memcmp(pool.texels().data(), before.data(), before.size()));
+  EXPECT_EQ(pool.texels()[before.size()], 9);
+  TexturePool moved = std::move(pool);
+  EXPECT_EQ(moved.size(), 2u);
+}
+
 }  // namespace
 }  // namespace pmc

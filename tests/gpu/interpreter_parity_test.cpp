@@ -563,7 +563,7 @@ struct TinyTextures {
     };
     pool.add("tiny_srgb", 8, 4, random_rgba(8, 4), true);
     pool.add("tiny_linear", 5, 3, random_rgba(5, 3), false);
-    const std::vector<uint8_t>& b = pool.texels();
+    const TexelBytes b = pool.texels();
     for (size_t i = 0; i + 3 < b.size(); i += 4)
       words.push_back(uint32_t(b[i]) | uint32_t(b[i + 1]) << 8 | uint32_t(b[i + 2]) << 16 |
                       uint32_t(b[i + 3]) << 24);

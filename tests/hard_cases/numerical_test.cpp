@@ -389,7 +389,7 @@ TEST(Numerical, NanAndInfTexelsInAFloatExrTexture) {
   // colour; alpha is 1 for RGB). Texel 0 starts with NaN.
   Scene scene = load_obj(dir + "/exr.obj");
   ASSERT_EQ(scene.textures.size(), 1u);
-  const std::vector<uint8_t>& t = scene.textures.texels();
+  const TexelBytes t = scene.textures.texels();
   ASSERT_GE(t.size(), 16u * 4u);
   // Texel i, channel c holds special[(i + 3c) % 8]: red of texel 0 is NaN,
   // of texel 1 +Inf, of texel 2 -Inf.
