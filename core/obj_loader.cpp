@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "core/background.h"
 #include "core/error.h"
 
 namespace pmc {
@@ -50,18 +51,27 @@ std::string warning_line(const std::string& warnings, const std::string& prefix)
 // letters and store NaN/inf where strtod sees one, so those triangles are
 // skipped like any other non-finite position. `vn`/`vt` components spelled
 // nan/inf are 0 already (the value the loader repairs them to); they are
-// returned as a count, for the warning.
-size_t restore_non_finite_positions(const std::string& path, std::vector<float>& positions) {
+// returned as a count, for the warning. The scan reads the file by itself,
+// so it runs beside tinyobj's parse (scan_non_finite on a Background job,
+// then apply_non_finite).
+struct NonFiniteScan {
+  std::vector<std::pair<size_t, float>> fixes;  // (component, value)
+  size_t vertices = 0, spelled_attributes = 0;
+};
+
+NonFiniteScan scan_non_finite(const std::string& path) {
+  NonFiniteScan scan;
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return 0;  // tinyobj read no vertices either
+  if (!std::filesystem::is_regular_file(path, ec)) return scan;  // tinyobj read no vertices either
   const uintmax_t size = std::filesystem::file_size(path, ec);
   std::ifstream in(path, std::ios::binary);
-  if (ec || !in) return 0;
+  if (ec || !in) return scan;
   std::string text(size_t(size), '\0');
   in.read(text.data(), std::streamsize(text.size()));
   text.resize(size_t(in.gcount()));
-  std::vector<std::pair<size_t, float>> fixes;  // (component, value)
-  size_t vertex = 0, spelled_attributes = 0;
+  std::vector<std::pair<size_t, float>>& fixes = scan.fixes;
+  size_t& vertex = scan.vertices;
+  size_t& spelled_attributes = scan.spelled_attributes;
   for (size_t begin = 0; begin < text.size();) {
     // tinyobj splits lines at \r, \n and \r\n.
     const char* line_start = text.data() + begin;
@@ -105,9 +115,14 @@ size_t restore_non_finite_positions(const std::string& path, std::vector<float>&
     }
     begin = end + 1;
   }
-  if (3 * vertex != positions.size()) return spelled_attributes;  // counted differently from tinyobj
-  for (const auto& [component, value] : fixes) positions[component] = value;
-  return spelled_attributes;
+  return scan;
+}
+
+// Stores the scan's NaN/inf positions; returns the spelled-out attribute count.
+size_t apply_non_finite(const NonFiniteScan& scan, std::vector<float>& positions) {
+  if (3 * scan.vertices != positions.size()) return scan.spelled_attributes;  // counted differently
+  for (const auto& [component, value] : scan.fixes) positions[component] = value;
+  return scan.spelled_attributes;
 }
 
 // The first whitespace-separated word after `keyword` on each line that
@@ -216,6 +231,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   config.triangulate = true;
   config.vertex_color = false;
   config.mtl_search_path = dirname_of(path);
+  Background<NonFiniteScan> non_finite([path] { return scan_non_finite(path); });
   tinyobj::ObjReader reader;
   if (!reader.ParseFromFile(path, config)) {
     std::string why = reader.Error();
@@ -241,7 +257,7 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   Scene scene;
   scene.obj_path = path;
   scene.positions.assign(attrib.vertices.begin(), attrib.vertices.end());
-  const size_t spelled_non_finite = restore_non_finite_positions(path, scene.positions);
+  const size_t spelled_non_finite = apply_non_finite(non_finite.get(), scene.positions);
   scene.normals.assign(attrib.normals.begin(), attrib.normals.end());
   scene.uvs.assign(attrib.texcoords.begin(), attrib.texcoords.end());
   const long nv = long(attrib.vertices.size() / 3);
@@ -295,6 +311,10 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   }
 
   std::vector<bool> material_used(scene.materials.size(), false);
+  size_t corners = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) corners += shape.mesh.indices.size();
+  scene.triangles.reserve(corners / 3);
+  scene.triangle_shapes.reserve(corners / 3);
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     const tinyobj::mesh_t& mesh = shape.mesh;
     const uint32_t shape_index = uint32_t(scene.shape_names.size());

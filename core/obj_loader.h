@@ -8,7 +8,9 @@
 // texture paths are resolved relative to the OBJ's folder with backslashes
 // mapped to slashes, and only textures of materials that faces use are loaded.
 // Errors (unreadable OBJ, missing MTL, missing texture, no faces, indices out
-// of range) throw pmc::Error naming the file.
+// of range) throw pmc::Error naming the file. The file's second read (the
+// NaN/inf positions tinyobj reads as 0) runs beside tinyobj's parse, on a
+// Background job (core/background.h).
 #pragma once
 
 #include <string>
