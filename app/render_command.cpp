@@ -4,7 +4,6 @@
 // outputs; every output path is checked before the scene is loaded, then a
 // RenderSession renders and the outputs are written atomically, removed
 // again (OutputGuard) if a later one fails.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -60,11 +59,7 @@ int run_render(const RenderArgs& a) {
   }
   check_distinct_outputs(outputs);
 
-  const auto device_start = std::chrono::steady_clock::now();
-  std::unique_ptr<ClContext> cl = open_device(config);
-  const double device_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - device_start).count();
-  RenderSession session(config, *cl);
+  RenderSession session(config);  // opens the device beside the scene's loading
   const RenderSettings& settings = session.settings();
   if (!a.quiet) print_cache_choice(settings);
   ProgressBar bar("render", !a.quiet);
@@ -89,7 +84,7 @@ int run_render(const RenderArgs& a) {
   if (!a.stats.empty()) {
     guard.track(a.stats);
     nlohmann::json j = render_json(settings, out.stats, obj);
-    j["setup_seconds"] = setup_json(session.setup_seconds(), device_seconds);
+    j["setup_seconds"] = setup_json(session.setup_seconds());
     write_text_file(a.stats, j.dump(2) + "\n");
   }
   guard.commit();

@@ -37,14 +37,15 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   return c;
 }
 
-nlohmann::json setup_json(const SetupSeconds& setup, double device_seconds) {
-  return {{"opencl_device", device_seconds},
+nlohmann::json setup_json(const SetupSeconds& setup) {
+  return {{"opencl_device", setup.opencl_device},
           {"scene", setup.scene},
           {"materials", setup.materials},
           {"lights", setup.lights},
           {"bvh", setup.bvh},
           {"renderer", setup.renderer},
-          {"total", device_seconds + setup.total()}};
+          {"total", setup.total()},
+          {"background", {{"opencl_device", setup.background_opencl_device}}}};
 }
 
 nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {

@@ -17,9 +17,11 @@ namespace pmc {
 // replaced, camera_lookups, camera_hits, camera_hit_rate, position_lookups,
 // position_hits, position_hit_rate, uv_hit_rate, occupancy.
 nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats);
-// Where a session's setup went: opencl_device (opening the device, timed by
-// the caller), scene, materials, lights, bvh, renderer, total (wall seconds).
-nlohmann::json setup_json(const SetupSeconds& setup, double device_seconds);
+// Where a session's setup went (gpu/render_session.h): opencl_device (the
+// wait for the device), scene, materials, lights, bvh, renderer, total (their
+// sum: wall seconds), and background: {opencl_device: seconds opening it
+// took on its own thread, overlapping the steps}.
+nlohmann::json setup_json(const SetupSeconds& setup);
 // A render's settings and statistics (`pmc render --stats`).
 nlohmann::json render_json(const RenderSettings& settings, const RenderStats& stats,
                            const std::string& scene);

@@ -7,8 +7,11 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
+#include <optional>
 #include <sstream>
 
+#include "core/background.h"
 #include "core/cache_sizing.h"
 #include "core/camera.h"
 #include "core/error.h"
@@ -108,7 +111,11 @@ SceneLights resolve_lights(const RenderConfig& c) {
   return lights;
 }
 
-RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : config_(config) {
+RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : RenderSession(config, &cl) {}
+
+RenderSession::RenderSession(const RenderConfig& config) : RenderSession(config, nullptr) {}
+
+RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : config_(config), cl_(cl) {
   config_.validate();
   using Clock = std::chrono::steady_clock;
   Clock::time_point mark = Clock::now();
@@ -117,6 +124,29 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
     seconds = std::chrono::duration<double>(now - mark).count();
     mark = now;
   };
+  // No device given: open it beside the scene's loading (the thread limit first, on this thread).
+  std::optional<Background<std::unique_ptr<ClContext>>> opening;
+  if (!cl_) {
+    limit_threads(config_);
+    opening.emplace([device = config_.device] { return std::make_unique<ClContext>(device); });
+  }
+  try {
+    prepare_scene(lap);
+  } catch (...) {
+    if (opening) opening->get();  // the device's error first, as when it was opened first
+    throw;
+  }
+  if (opening) {
+    own_cl_ = opening->get();
+    cl_ = own_cl_.get();
+    setup_.background_opencl_device = opening->seconds();
+    lap(setup_.opencl_device);
+  }
+  renderer_ = std::make_unique<WavefrontRenderer>(*cl_, scene_, materials_, *tracer_, config_.shade_lanes);
+  lap(setup_.renderer);
+}
+
+void RenderSession::prepare_scene(const std::function<void(double&)>& lap) {
   ObjLoadOptions load;
   load.load_textures = false;  // the material compiler loads what live nodes read
   scene_ = load_obj(config_.scene, load);
@@ -143,8 +173,6 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext& cl) : 
   tracer_ =
       std::make_unique<EmbreeTracer>(scene_, config_.trace_mode, cutout_->any() ? cutout_.get() : nullptr);
   lap(setup_.bvh);
-  renderer_ = std::make_unique<WavefrontRenderer>(cl, scene_, materials_, *tracer_, config_.shade_lanes);
-  lap(setup_.renderer);
 }
 
 RenderSession::~RenderSession() = default;
@@ -160,6 +188,11 @@ RenderOutput RenderSession::render(const RenderSettings& settings, const Progres
 }
 
 std::unique_ptr<ClContext> open_device(const RenderConfig& config) {
+  limit_threads(config);
+  return std::make_unique<ClContext>(config.device);
+}
+
+void limit_threads(const RenderConfig& config) {
   if (config.threads) {
     if (*config.threads <= 0) fail_config(setting("threads"), ": must be at least 1, got ", *config.threads);
     static std::unique_ptr<tbb::global_control> control;
@@ -170,7 +203,6 @@ std::unique_ptr<ClContext> open_device(const RenderConfig& config) {
     setenv("POCL_MAX_PTHREAD_COUNT", t.c_str(), 1);
     setenv("POCL_CPU_MAX_CU_NUM", t.c_str(), 1);
   }
-  return std::make_unique<ClContext>(config.device);
 }
 
 }  // namespace pmc

@@ -16,10 +16,17 @@
 //
 // setup_seconds() says where the session's construction went (wall clock).
 //
+// A session given no device opens it itself (open_device(config)) on a
+// Background job (core/background.h) while the OBJ is parsed and the
+// materials compiled, and waits for it before the renderer needs it. An
+// error opening the device surfaces unchanged, and before any error of the
+// scene or its materials, as when the device was opened first.
+//
 // Errors: ConfigError for settings (see core/error.h), pmc::Error naming the
 // file for bad scenes and materials.
 #pragma once
 
+#include <functional>
 #include <memory>
 
 #include "core/embree_tracer.h"
@@ -32,24 +39,34 @@
 
 namespace pmc {
 
-// Wall-clock seconds of each step of a session's setup, in order.
+// Wall-clock seconds of each step of a session's setup, on the thread that
+// constructs it: the steps follow each other, so they add up to the setup's
+// wall time (total()). Work that runs on a background job beside a step is
+// in that step only as far as the step waits for it; its own duration is
+// reported apart (background_*), overlapping the steps.
 struct SetupSeconds {
-  double scene = 0;      // OBJ + MTL parsing
-  double materials = 0;  // binding, MaterialX reading, compiling, texture decoding and mip chains
-  double lights = 0;     // camera, lights file and environment map, cache sizing
-  double bvh = 0;        // cut-out tester and Embree's BVH build
-  double renderer = 0;   // OpenCL program build (kernel_build_seconds) and scene buffer uploads
-  double total() const { return scene + materials + lights + bvh + renderer; }
+  double opencl_device = 0;  // a session that opens its device: the wait for it, after bvh (0 when given one)
+  double scene = 0;          // OBJ + MTL parsing
+  double materials = 0;      // binding, MaterialX reading, compiling, texture decoding and mip chains
+  double lights = 0;         // camera, lights file and environment map, cache sizing
+  double bvh = 0;            // cut-out tester and Embree's BVH build
+  double renderer = 0;       // OpenCL program build (kernel_build_seconds) and scene buffer uploads
+  double total() const { return opencl_device + scene + materials + lights + bvh + renderer; }
+  double background_opencl_device = 0;  // opening the device on its job (not part of total())
 };
 
 class RenderSession {
  public:
+  // Renders on `cl`, which must outlive the session.
   RenderSession(const RenderConfig& config, const ClContext& cl);
+  // Opens its own device: open_device(config), overlapped with the scene's loading.
+  explicit RenderSession(const RenderConfig& config);
   ~RenderSession();
   RenderSession(const RenderSession&) = delete;
   RenderSession& operator=(const RenderSession&) = delete;
 
   const RenderConfig& config() const { return config_; }
+  const ClContext& device() const { return *cl_; }
   const Scene& scene() const { return scene_; }
   const MaterialSet& materials() const { return materials_; }
   // The resolved settings: camera, cache table size and why.
@@ -63,7 +80,12 @@ class RenderSession {
   RenderOutput render(const RenderSettings& settings, const ProgressFn& progress = {});
 
  private:
+  RenderSession(const RenderConfig& config, const ClContext* cl);
+  // Scene, materials, lights and BVH: the steps before the renderer; `lap` ends each.
+  void prepare_scene(const std::function<void(double&)>& lap);
   RenderConfig config_;
+  std::unique_ptr<ClContext> own_cl_;  // before everything that uses it, so destroyed after them
+  const ClContext* cl_ = nullptr;
   Scene scene_;
   MaterialSet materials_;
   RenderSettings settings_;
@@ -76,8 +98,10 @@ class RenderSession {
 // Limits the host (TBB) and PoCL worker threads to config.threads when set,
 // then opens the OpenCL device config.device names (ClContext's default
 // choice when empty). The thread limit must precede any OpenCL use, so
-// programs open their device through this.
+// programs open their device through this (or a session opens it).
 std::unique_ptr<ClContext> open_device(const RenderConfig& config);
+// The thread limit alone (open_device's first half).
+void limit_threads(const RenderConfig& config);
 
 // The camera of `config` for `scene` (see RenderConfig).
 Camera resolve_camera(const RenderConfig& config, const Scene& scene);
