@@ -99,7 +99,10 @@ def main(argv=None):
     def run_pmc(name, **kw):
         s, done = common.run_pmc(pmc_cmd(name, **kw), f"{OUT}/{name}.json", f"{OUT}/{name}.log")
         st = s["stage_seconds"]
-        return {"wall": done.wall, "cpu": done.cpu, "render": s["render_seconds"], "rays": s["rays"],
+        setup = {f"setup_{k}": v for k, v in s.get("setup_seconds", {}).items() if isinstance(v, (int, float))}
+        for k, v in s.get("setup_seconds", {}).get("background", {}).items():
+            setup[f"setup_background_{k}"] = v
+        return {"wall": done.wall, "cpu": done.cpu, "render": s["render_seconds"], "rays": s["rays"], **setup,
                 "shadow_rays": s["shadow_rays"], "paths": s["paths"], "device": s["device"],
                 **{k: st[k] for k in ("camera", "trace", "shadow", "shade", "transfer", "film")}}
 
@@ -239,6 +242,19 @@ def main(argv=None):
         stage_header += [f"{label} (s)", "of render"]
     stage_table = common.md_table(stage_header, stage_rows)
 
+    # pmc's setup by step (`setup_seconds`, main-thread steps that add up to
+    # `total`), the device opening that overlapped them, and the rest of the
+    # run outside setup and render (process start, kernel warm-up, outputs, exit).
+    setup_steps = ["scene", "materials", "lights", "bvh", "opencl_device", "renderer", "total"]
+    setup_rows = [[f"`{k}`", fmt(med(pm, f"setup_{k}"))] for k in setup_steps if f"setup_{k}" in results[pm][0]]
+    if "setup_background_opencl_device" in results[pm][0]:
+        setup_rows.append(["`background.opencl_device` (overlapped, not in total)",
+                           fmt(med(pm, "setup_background_opencl_device"))])
+    if "setup_total" in results[pm][0]:
+        setup_rows.append(["outside setup and render: process start, kernel warm-up, outputs, exit",
+                           fmt(med_of(pm, lambda x: x["wall"] - x["render"] - x["setup_total"]))])
+    setup_table = common.md_table(["pmc `setup_seconds`", "median (s)"], setup_rows)
+
     # ---- machine
     nproc = os.cpu_count()
     version = results[em][0]["version"]
@@ -256,7 +272,8 @@ def main(argv=None):
     print(f"Sponza {W}x{H}, {SPP} spp, path length {DEPTH}, env 1,1,1; medians of {RUNS} runs; {machine}")
     for title, t in [("pmc vs Embree's pathtracer", cmp_table),
                      ("pmc: Embree query styles x streaming", grid_table),
-                     ("where pmc's render time goes (stage_seconds)", stage_table)]:
+                     ("where pmc's render time goes (stage_seconds)", stage_table),
+                     ("where pmc's setup goes (setup_seconds)", setup_table)]:
         print(f"\n{title}\n{t}")
     print(f"\n{loads.note()}")
     if overloaded:
@@ -317,6 +334,13 @@ device time of the hit and occlusion uploads. With chunk 65536 the stages
 overlap, so they add up to more than `render_seconds`.
 
 {stage_table}
+
+Where pmc's setup goes (`setup_seconds` from `--stats`, medians): the steps run
+one after another on the main thread and add up to `total`; the OpenCL device
+is opened on a background thread while the scene loads, so `opencl_device` is
+only the wait for it. The last row is the rest of "full run minus render".
+
+{setup_table}
 
 Notes:
 
