@@ -1,10 +1,12 @@
 // cache_plan.cpp — choosing cache points from the dependency bits.
 #include "materials/cache_plan.h"
 
+#include <algorithm>
 #include <functional>
 #include <set>
 
 #include "core/device/pmc_cache.h"
+#include "materials/bandwidth.h"
 #include "materials/graph_analysis.h"
 #include "materials/node_table.h"
 
@@ -60,9 +62,19 @@ std::vector<int> subgraph_order(const Graph& g, int node) {
 
 const char* cache_key_name(CacheKey k) { return k == CacheKey::Position ? "position" : "uv"; }
 
-CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys) {
+int material_level_floor(const CachePlan& plan, CacheKey key) {
+  int floor_level = PMC_LEVEL_NO_FLOOR;
+  for (const CachePoint& p : plan.points)
+    if (p.key == key) floor_level = std::max(floor_level, p.level_floor);
+  return floor_level;
+}
+
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double feature_texels) {
+  const bool bandwidth = feature_texels > 0;
   CachePlan plan;
   std::vector<uint32_t> deps = dependencies(g);
+  std::vector<NodeBandwidth> bw;
+  if (bandwidth) bw = node_bandwidths(g);
   std::vector<int> order = topological_order(g);
   // Does any consumer of a node depend on the same single key input? Then the
   // node is not the highest of its kind.
@@ -89,8 +101,18 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys) {
       why = is_position(node) ? "a bare position" : "a bare texcoord";
     } else {
       chosen.insert(n);
-      plan.points.push_back(
-          {n, size, enc, deps[size_t(n)] == kDepPosition ? CacheKey::Position : CacheKey::Uv});
+      CachePoint p;
+      p.node = n;
+      p.subgraph_nodes = size;
+      p.encoding = enc;
+      p.key = deps[size_t(n)] == kDepPosition ? CacheKey::Position : CacheKey::Uv;
+      if (bandwidth) {
+        p.feature = bw[size_t(n)].feature();
+        p.level_floor =
+            level_floor_for_feature(p.feature, feature_texels, PMC_LEVEL_NO_FLOOR, PMC_LAMBDA_MAX);
+        p.bandwidth_note = bw[size_t(n)].unbounded;
+      }
+      plan.points.push_back(p);
       return;
     }
     plan.not_cached.push_back({n, why});

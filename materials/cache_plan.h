@@ -14,7 +14,8 @@
 // normal or tangent frame, are not cached: their value is not a function of
 // one key (a uv seam or a normal map would alias across the key's cell).
 // A material can have several cache points. Every other node gets a reason
-// for the plan dump.
+// for the plan dump. Each point carries the level floor its pattern's
+// bandwidth asks for (materials/bandwidth.h).
 #pragma once
 
 #include <cstdint>
@@ -32,6 +33,12 @@ struct CachePoint {
   int subgraph_nodes = 0;  // nodes a hit skips
   uint32_t encoding = 0;   // PMC_ENC_*
   CacheKey key = CacheKey::Uv;
+  // Bandwidth (materials/bandwidth.h): the sub-graph's smallest feature in
+  // key units, the level floor it asks for (PMC_LEVEL_NO_FLOOR: none), and
+  // why it has none when a pattern's coordinate has no bound.
+  double feature = 1e300;
+  int level_floor = -16;
+  std::string bandwidth_note;
 };
 
 const char* cache_key_name(CacheKey k);
@@ -49,7 +56,14 @@ struct CachePlan {
 constexpr int kDefaultCacheMinNodes = 8;
 
 // `position_keys`: position-only sub-graphs may become (position-keyed) points.
-CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true);
+// `feature_texels` > 0: points get level floors from their patterns' feature
+// sizes, this many texels across the smallest (materials/bandwidth.h); 0: none.
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 2.0);
+
+// A material's level floor for one key kind: the highest of its points' (the
+// points of one evaluation share one texel or cell, so their sub-graphs run
+// once, at its centre in --cache-eval center); PMC_LEVEL_NO_FLOOR if none.
+int material_level_floor(const CachePlan& plan, CacheKey key);
 // Nodes of the sub-graph under `node` (itself included), inputs first.
 std::vector<int> subgraph_order(const Graph& g, int node);
 

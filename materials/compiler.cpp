@@ -24,7 +24,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   std::vector<uint32_t> deps = dependencies(g);
   std::vector<char> is_point(g.nodes.size(), 0);
   if (options.cache) {
-    cm.cache_plan = plan_cache(g, options.cache_min_nodes, options.cache_position_keys);
+    cm.cache_plan = plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels);
     std::vector<CachePoint> kept;
     for (const CachePoint& p : cm.cache_plan.points)
       // The node id travels in 14 bits of the instruction; the interpreter

@@ -101,6 +101,8 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     info.cache_position_mask = 0u;
     for (size_t p = 0; p < cm.cache_plan.points.size() && p < 32; ++p)
       if (cm.cache_plan.points[p].key == CacheKey::Position) info.cache_position_mask |= 1u << p;
+    info.cache_level_floor_uv = material_level_floor(cm.cache_plan, CacheKey::Uv);
+    info.cache_level_floor_position = material_level_floor(cm.cache_plan, CacheKey::Position);
   }
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     if (used[i]) continue;

@@ -64,6 +64,8 @@
   X(PmcMaterialInfo, emission)     \
   X(PmcMaterialInfo, cache_points) \
   X(PmcMaterialInfo, cache_position_mask) \
+  X(PmcMaterialInfo, cache_level_floor_uv) \
+  X(PmcMaterialInfo, cache_level_floor_position) \
   X(PmcFrame, cam_eye)             \
   X(PmcFrame, cam_spread)          \
   X(PmcFrame, cam_forward)         \
@@ -113,6 +115,7 @@
   X(PmcFrame, mip_bias)            \
   X(PmcFrame, cache_bilinear)      \
   X(PmcFrame, cache_policy)        \
+  X(PmcFrame, cache_max_refine)    \
   X(PmcCounters, next_rays)
 // clang-format on
 

@@ -100,8 +100,10 @@ typedef struct PmcMaterialInfo {
   pmc_u32 flags;
   float emission[3];
   pmc_u32 cache_points;
-  pmc_u32 cache_position_mask; /* bit p: its p-th cache point is keyed on position */
-  pmc_u32 pad[1];
+  pmc_u32 cache_position_mask;        /* bit p: its p-th cache point is keyed on position */
+  pmc_i32 cache_level_floor_uv;       /* lowest virtual level of its uv points (pmc_cache_floored_level) */
+  pmc_i32 cache_level_floor_position; /* ... of its position points; PMC_LAMBDA_MIN: no floor */
+  pmc_u32 pad[3];
 } PmcMaterialInfo;
 
 /* Light types (PmcLight.type); core/device/pmc_lights.h samples and
@@ -177,8 +179,9 @@ typedef struct PmcFrame {
   pmc_u32 cache_ways;   /* entries per cell */
   pmc_u32 cache_cells_lo, cache_cells_hi;
   float mip_bias;
-  pmc_u32 cache_bilinear; /* --cache-filter bilinear: jittered texel selection */
-  pmc_u32 cache_policy;   /* --cache-policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
+  pmc_u32 cache_bilinear;   /* --cache-filter bilinear: jittered texel selection */
+  pmc_u32 cache_policy;     /* --cache-policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
+  pmc_i32 cache_max_refine; /* --cache-max-refine: level floors above the footprint's before bypass */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

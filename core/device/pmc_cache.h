@@ -23,6 +23,11 @@
  * policies; a material's group mixes them freely (the lookup's skip word
  * carries the kind in bit 31).
  *
+ * Level floors (beyond the paper): a material whose patterns are finer than
+ * the footprint raises the level to a floor from their bandwidth
+ * (materials/bandwidth.h), or evaluates those points uncached when the floor
+ * is too far above the footprint's level (pmc_cache_floored_level).
+ *
  * Replacement policy (PmcCacheTable.policy, --cache-policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops
  *    the insert. The high word is the whole 32-bit fingerprint.
@@ -76,10 +81,13 @@
 #define PMC_CSTAT_CAMERA_HITS 9       /* ... that hit */
 #define PMC_CSTAT_POSITION_LOOKUPS 10 /* lookups of position-keyed points */
 #define PMC_CSTAT_POSITION_HITS 11    /* ... that hit */
-#define PMC_CSTAT_COUNT 12
+#define PMC_CSTAT_BYPASSED                                    \
+  12 /* points evaluated without the cache: their level floor \
+      * was more than the refinement limit above the footprint's */
+#define PMC_CSTAT_COUNT 13
 /* Every lookup is a hit or a miss, and every miss ends in exactly one of
  * insert (into an empty entry), replaced, already present, dropped (cell
- * full) or not encodable. */
+ * full) or not encodable. Bypassed points are no lookups. */
 
 /* Replacement policies (PmcCacheTable.policy). */
 #define PMC_CACHE_KEEP_FIRST 0u
@@ -163,7 +171,8 @@ PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
 }
 
 /* Texture footprint (uv diameter) for a --cache-eval center miss: what the
- * ray cone gives at this level without the mip bias, 2 * 2^-(lambda - bias).
+ * ray cone gives at this level without the mip bias, 2 * 2^-(lambda - bias)
+ * (callers pass the footprint's level, not one raised to a level floor).
  * It depends on the level alone, so the stored value does not depend on the
  * inserting hit, and a positive bias refines the texel grid (position error)
  * without sharpening textures beyond what the cacheless render filters. */
@@ -232,20 +241,40 @@ PMC_FN PmcCacheKey pmc_cache_key(pmc_u32 material, pmc_u32 node, pmc_u32 rank, i
 
 /* Everything about one shading point's texel that its cache points share. */
 typedef struct PmcCacheTexel {
-  pmc_u64 hash;  /* pmc_cache_texel_hash */
-  pmc_u64 base;  /* pmc_cache_group_base */
-  long tx, ty;   /* texel indices */
-  long tz;       /* position cells: the third index (0 for uv texels) */
-  int lambda;    /* virtual mip level */
-  pmc_u32 ready; /* the fields above are filled */
+  pmc_u64 hash;         /* pmc_cache_texel_hash */
+  pmc_u64 base;         /* pmc_cache_group_base */
+  long tx, ty;          /* texel indices */
+  long tz;              /* position cells: the third index (0 for uv texels) */
+  int lambda;           /* virtual mip level (the footprint's, raised to the level floor) */
+  int footprint_lambda; /* the footprint's level alone (texture filtering in center mode) */
+  pmc_u32 bypass;       /* the floor is too far above the footprint's level: evaluate uncached */
+  pmc_u32 ready;        /* the fields above are filled */
 } PmcCacheTexel;
+
+/* Level floors (beyond the paper; materials/bandwidth.h computes them): a
+ * cache point whose pattern has features of size w (in key units) needs
+ * texels of at most w / 2, level >= ceil(log2(2 / w)), or its texel's one
+ * value stands for a footprint the pattern changes inside, and the cached
+ * image aliases where the cacheless one averages. The level is then
+ * max(footprint level, floor). Raising it by d levels splits a footprint into
+ * 4^d texels (8^d cells) and divides the hits accordingly; beyond
+ * `max_refine` levels the point is evaluated without the cache (bypass).
+ * PMC_LEVEL_NO_FLOOR: no floor. */
+#define PMC_LEVEL_NO_FLOOR PMC_LAMBDA_MIN
+PMC_FN int pmc_cache_floored_level(int lambda, int level_floor, int max_refine, pmc_u32* bypass) {
+  *bypass = 0u;
+  if (level_floor <= lambda) return lambda;
+  if (level_floor - lambda > max_refine) *bypass = 1u;
+  return level_floor > PMC_LAMBDA_MAX ? PMC_LAMBDA_MAX : level_floor;
+}
 
 /* The texel of a shading point: level from the ray-cone gradients and the
  * mip bias, indices of uv * 2^lambda + jitter (see pmc_cache_texel_jittered). */
-PMC_FN PmcCacheTexel pmc_cache_texel_of(float2 uv, float2 g1, float2 g2, float bias, float2 jitter,
-                                        pmc_u32 material) {
+PMC_FN PmcCacheTexel pmc_cache_texel_floored(float2 uv, float2 g1, float2 g2, float bias, float2 jitter,
+                                             pmc_u32 material, int level_floor, int max_refine) {
   PmcCacheTexel t;
-  t.lambda = pmc_cache_lambda(g1, g2, bias);
+  t.footprint_lambda = pmc_cache_lambda(g1, g2, bias);
+  t.lambda = pmc_cache_floored_level(t.footprint_lambda, level_floor, max_refine, &t.bypass);
   t.tx = pmc_cache_texel_jittered(uv.x, t.lambda, jitter.x);
   t.ty = pmc_cache_texel_jittered(uv.y, t.lambda, jitter.y);
   t.tz = 0L;
@@ -253,6 +282,11 @@ PMC_FN PmcCacheTexel pmc_cache_texel_of(float2 uv, float2 g1, float2 g2, float b
   t.base = pmc_cache_group_base(t.hash, material);
   t.ready = 1u;
   return t;
+}
+
+PMC_FN PmcCacheTexel pmc_cache_texel_of(float2 uv, float2 g1, float2 g2, float bias, float2 jitter,
+                                        pmc_u32 material) {
+  return pmc_cache_texel_floored(uv, g1, g2, bias, jitter, material, PMC_LEVEL_NO_FLOOR, 0);
 }
 
 /* The hash of a position cell (level and three indices): a domain constant
@@ -268,9 +302,11 @@ PMC_FN pmc_u64 pmc_cache_cell3_hash(int lambda, long tx, long ty, long tz) {
  * the hit (scene units) and the mip bias, indices of p * 2^lambda + jitter
  * per axis (uniform offsets in [-0.5, 0.5) give stochastic trilinear
  * selection, as they give bilinear selection for uv). */
-PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float4 jitter, pmc_u32 material) {
+PMC_FN PmcCacheTexel pmc_cache_cell_floored(float3 p, float radius, float bias, float4 jitter,
+                                            pmc_u32 material, int level_floor, int max_refine) {
   PmcCacheTexel t;
-  t.lambda = pmc_cache_level(radius, bias);
+  t.footprint_lambda = pmc_cache_level(radius, bias);
+  t.lambda = pmc_cache_floored_level(t.footprint_lambda, level_floor, max_refine, &t.bypass);
   t.tx = pmc_cache_texel_jittered(p.x, t.lambda, jitter.x);
   t.ty = pmc_cache_texel_jittered(p.y, t.lambda, jitter.y);
   t.tz = pmc_cache_texel_jittered(p.z, t.lambda, jitter.z);
@@ -278,6 +314,10 @@ PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float
   t.base = pmc_cache_group_base(t.hash, material);
   t.ready = 1u;
   return t;
+}
+
+PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float4 jitter, pmc_u32 material) {
+  return pmc_cache_cell_floored(p, radius, bias, jitter, material, PMC_LEVEL_NO_FLOOR, 0);
 }
 
 /* The CACHE_LOOKUP skip word: bit 31 marks a position-keyed point. */

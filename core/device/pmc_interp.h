@@ -62,13 +62,17 @@ typedef struct PmcShadingInputs {
  * makes every lookup a miss. */
 typedef struct PmcCacheContext {
   PmcCacheTable table;
-  float2 g1, g2; /* ray-cone uv gradients at the hit */
-  float bias;    /* --mip-bias */
-  float4 jitter; /* added to uv * 2^lambda (x, y) and to the position *
-                  * 2^lambda (x, y, z) before flooring, in [-0.5, 0.5): 0 is
-                  * the nearest texel; uniform random offsets pick a neighbour
-                  * with its bilinear (trilinear) weight (--cache-filter) */
-  float radius;  /* ray-cone radius at the hit, scene units (position keys) */
+  float2 g1, g2;            /* ray-cone uv gradients at the hit */
+  float bias;               /* --mip-bias */
+  float4 jitter;            /* added to uv * 2^lambda (x, y) and to the position *
+                             * 2^lambda (x, y, z) before flooring, in [-0.5, 0.5): 0 is
+                             * the nearest texel; uniform random offsets pick a neighbour
+                             * with its bilinear (trilinear) weight (--cache-filter) */
+  float radius;             /* ray-cone radius at the hit, scene units (position keys) */
+  pmc_u32 floors;           /* 0: no level floors (the three fields below are ignored) */
+  int level_floor_uv;       /* the material's level floors (pmc_cache_floored_level; */
+  int level_floor_position; /* PMC_LEVEL_NO_FLOOR: none) for uv and position points */
+  int max_refine;           /* levels a floor may lie above the footprint's before bypass */
   pmc_u32 material;
   pmc_u32 center;      /* --cache-eval center: evaluate misses at the texel centre */
   pmc_u32 depth;       /* surface hits before this one (0: a camera-ray hit); the
@@ -376,11 +380,19 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             PmcCacheContext* cx = &cache[k];
             /* once per point: every cache point of a kind shares its texel or cell */
             if (positional && !cell[k].ready)
-              cell[k] = pmc_cache_cell_of(in[k].position, cx->radius, cx->bias, cx->jitter, cx->material);
+              cell[k] = pmc_cache_cell_floored(in[k].position, cx->radius, cx->bias, cx->jitter, cx->material,
+                                               cx->floors ? cx->level_floor_position : PMC_LEVEL_NO_FLOOR,
+                                               cx->max_refine);
             if (!positional && !texel[k].ready)
-              texel[k] = pmc_cache_texel_of(in[k].uv, cx->g1, cx->g2, cx->bias,
-                                            make_float2(cx->jitter.x, cx->jitter.y), cx->material);
+              texel[k] = pmc_cache_texel_floored(
+                  in[k].uv, cx->g1, cx->g2, cx->bias, make_float2(cx->jitter.x, cx->jitter.y), cx->material,
+                  cx->floors ? cx->level_floor_uv : PMC_LEVEL_NO_FLOOR, cx->max_refine);
             const PmcCacheTexel* t = positional ? &cell[k] : &texel[k];
+            if (t->bypass) { /* too fine a texel to pay: evaluate, never insert */
+              cx->counts[PMC_CSTAT_BYPASSED] += 1u;
+              missed[k] |= bit;
+              continue;
+            }
             PmcCacheKey key = pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_lookups - 1u);
             pmc_u32 bits;
             const pmc_u32 camera = cx->depth == 0u ? 1u : 0u;
@@ -414,12 +426,12 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               uv_now[nn] = in[k].uv;
               footprint_now[nn] = in[k].footprint;
               pos_now[nn] = in[k].position;
-              if (cache && cache[k].center && texel[k].ready) {
+              if (cache && cache[k].center && texel[k].ready && !texel[k].bypass) {
                 uv_now[nn] = make_float2(pmc_cache_texel_center(texel[k].tx, texel[k].lambda),
                                          pmc_cache_texel_center(texel[k].ty, texel[k].lambda));
-                footprint_now[nn] = pmc_cache_texel_footprint(texel[k].lambda, cache[k].bias);
+                footprint_now[nn] = pmc_cache_texel_footprint(texel[k].footprint_lambda, cache[k].bias);
               }
-              if (cache && cache[k].center && cell[k].ready)
+              if (cache && cache[k].center && cell[k].ready && !cell[k].bypass)
                 pos_now[nn] = make_float3(pmc_cache_texel_center(cell[k].tx, cell[k].lambda),
                                           pmc_cache_texel_center(cell[k].ty, cell[k].lambda),
                                           pmc_cache_texel_center(cell[k].tz, cell[k].lambda));
@@ -450,9 +462,11 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
           if (cache) {
             PmcCacheContext* cx = &cache[k];
             pmc_u32 bits;
-            if (pmc_cache_encode(v, imm >> 14, &bits)) {
+            const PmcCacheTexel* t = (by_position & bit) ? &cell[k] : &texel[k];
+            if (t->bypass) {
+              /* evaluated without the cache: nothing to insert */
+            } else if (pmc_cache_encode(v, imm >> 14, &bits)) {
               if (cx->center) v = pmc_cache_decode(bits, imm >> 14);
-              const PmcCacheTexel* t = (by_position & bit) ? &cell[k] : &texel[k];
               PmcCacheKey key =
                   pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_stores - 1u);
               int result = pmc_cache_insert(&cx->table, key, bits, cx->depth);

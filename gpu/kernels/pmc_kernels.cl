@@ -230,12 +230,15 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
                                      pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_W) - 0.5f, 0.0f);
     }
     const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
+    __global const PmcMaterialInfo* info = &scene->materials[tri.material];
     if ((all & ~hp->cache_position_mask) != 0u)
-      hp->texel = pmc_cache_texel_of(uv, g1, g2, frame->mip_bias,
-                                     make_float2(hp->cache_jitter.x, hp->cache_jitter.y), (uint)tri.material);
+      hp->texel = pmc_cache_texel_floored(
+          uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
+          (uint)tri.material, info->cache_level_floor_uv, frame->cache_max_refine);
     if (hp->cache_position_mask != 0u)
-      hp->cell =
-          pmc_cache_cell_of(pos, 0.5f * cone_width, frame->mip_bias, hp->cache_jitter, (uint)tri.material);
+      hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias, hp->cache_jitter,
+                                        (uint)tri.material, info->cache_level_floor_position,
+                                        frame->cache_max_refine);
   }
 }
 
@@ -260,6 +263,10 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->depth = hp->depth;
     cache->jitter = hp->cache_jitter;
     cache->radius = 0.5f * hp->cone_width;
+    cache->floors = 0u; /* hp's texel and cell are ready, the floors applied */
+    cache->level_floor_uv = PMC_LEVEL_NO_FLOOR;
+    cache->level_floor_position = PMC_LEVEL_NO_FLOOR;
+    cache->max_refine = frame->cache_max_refine;
     cache->texel = hp->texel;
     cache->cell = hp->cell;
     cache->hits = 0u;
@@ -506,8 +513,8 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
       if (hp[k].surface && hp[k].cache_points > 0u) {
         uint points = min(hp[k].cache_points, 8u);
         for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at); volatile: loaded */
-          ulong base = ((hp[k].cache_position_mask >> p) & 1u) ? hp[k].cell.base : hp[k].texel.base;
-          (void)cache_entries[pmc_cache_cell(&table, base + (ulong)p) * (ulong)table.ways];
+          const PmcCacheTexel* t = ((hp[k].cache_position_mask >> p) & 1u) ? &hp[k].cell : &hp[k].texel;
+          if (!t->bypass) (void)cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways];
         }
       }
   }
