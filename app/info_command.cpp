@@ -1,9 +1,11 @@
 // info_command.cpp — `pmc info`: OpenCL devices, scene summaries, compiled materials.
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "core/device/pmc_cache.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
 #include "gpu/cl_context.h"
@@ -25,10 +27,19 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
   if (!g) return;
   static const char* enc[] = {"float", "rgb9e5", "half2"};
   std::printf("  cache points: %zu\n", m.cache_plan.points.size());
-  for (const CachePoint& cp : m.cache_plan.points)
+  for (const CachePoint& cp : m.cache_plan.points) {
     std::printf("    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s\n",
                 node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key),
                 enc[cp.encoding % 3]);
+    const char* unit = cp.key == CacheKey::Position ? "scene units" : "uv";
+    if (cp.level_floor > PMC_LEVEL_NO_FLOOR)
+      std::printf("      smallest feature %.3g %s: texels of at most %.3g %s (level >= %d)\n", cp.feature,
+                  unit, std::ldexp(1.0, -cp.level_floor), unit, cp.level_floor);
+    else if (!cp.bandwidth_note.empty())
+      std::printf("      no level floor: %s\n", cp.bandwidth_note.c_str());
+    else
+      std::printf("      no level floor: no periodic feature below it\n");
+  }
   for (const auto& [n, why] : m.cache_plan.not_cached)
     std::printf("    - %s: %s\n", node_label(*g, n).c_str(), why.c_str());
 }
@@ -40,6 +51,8 @@ struct InfoArgs {
   std::vector<std::string> mtlx, mtlx_search_paths;
   int cache_min_nodes = kDefaultCacheMinNodes;
   bool cache_position_keys = true;
+  bool cache_bandwidth = true;
+  double cache_feature_texels = 2.0;
 };
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
@@ -70,6 +83,7 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
     mo.compile.cache = true;
     mo.compile.cache_min_nodes = a.cache_min_nodes;
     mo.compile.cache_position_keys = a.cache_position_keys;
+    mo.compile.cache_feature_texels = a.cache_bandwidth ? a.cache_feature_texels : 0.0;
     MaterialSet set = build_material_set(scene, mo);
     std::printf("bytecode: %zu words for %zu materials\n", set.program.code.size(),
                 set.program.materials.size());
@@ -145,6 +159,17 @@ CommandRun add_info_command(CLI::App& pmc) {
       ->type_name("uv|uv+position")
       ->check(cli::one_of({"uv", "uv+position"}))
       ->default_str("uv+position");
+  app->add_option_function<std::string>(
+         "--cache-bandwidth", [a](const std::string& v) { a->cache_bandwidth = v == "on"; },
+         "level floors from the patterns' feature sizes (see pmc render --help)")
+      ->type_name("on|off")
+      ->check(cli::one_of({"on", "off"}))
+      ->default_str("on");
+  app->add_option("--cache-feature-texels", a->cache_feature_texels,
+                  "texels across a pattern's smallest feature (see pmc render --help)")
+      ->type_name("N")
+      ->check(CLI::Range(0.125, 64.0))
+      ->capture_default_str();
   return [a, app] { return run_info(*a, *app); };
 }
 

@@ -165,6 +165,22 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
     field(app, "--cache-min-nodes", "cache_min_nodes", c.cache_min_nodes, "N",
           "smallest sub-graph (in nodes) worth a cache point")
         ->capture_default_str();
+    setter<std::string>(
+        app, "--cache-bandwidth", "cache_bandwidth",
+        [&c](const std::string& v) { c.cache_bandwidth = v == "on"; }, "on|off",
+        "on: a cache point's texels are at most half its pattern's smallest feature (grid lines, tile gaps, "
+        "a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the footprint where needed; "
+        "off: texels follow the footprint alone (the paper)")
+        ->check(cli::one_of({"on", "off"}))
+        ->default_str("on");
+    field(app, "--cache-feature-texels", "cache_feature_texels", c.cache_feature_texels, "N",
+          "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "
+          "aliasing, fewer hits)")
+        ->capture_default_str();
+    field(app, "--cache-max-refine", "cache_max_refine", c.cache_max_refine, "LEVELS",
+          "how many levels finer than the footprint a pattern may make its texels (each level splits a "
+          "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")
+        ->capture_default_str();
   }
 
   app.option_defaults()->group("machine");

@@ -12,6 +12,9 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["eval"] = s.center ? "center" : "hit";
   c["filter"] = s.bilinear ? "bilinear" : "nearest";
   c["policy"] = s.priority ? "priority" : "keep-first";
+  c["bandwidth"] = s.bandwidth;
+  c["max_refine"] = s.max_refine;
+  c["feature_texels"] = s.feature_texels;
   c["mip_bias"] = s.mip_bias;
   c["cells"] = st.cells;
   c["entries"] = st.ways;
@@ -33,6 +36,7 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["position_hits"] = st.position_hits;
   c["position_hit_rate"] = position_hit_rate(st);
   c["uv_hit_rate"] = uv_hit_rate(st);
+  c["bypassed"] = st.bypassed;
   c["occupancy"] = st.occupancy();
   return c;
 }

@@ -68,6 +68,11 @@ std::string settings_hash(const RenderSettings& s) {
     h.word(c.center ? 1 : 0);
     h.word(c.bilinear ? 1 : 0);
     if (c.priority) h.word(0x7072696f72697479ull);  // "priority"; keep-first parts keep their old hashes
+    if (c.bandwidth) {                              // level floors change the image
+      h.word(0x62616e6477696474ull);                // "bandwidt(h)"
+      h.word(uint64_t(c.max_refine));
+      add_floats(h, &c.feature_texels, 1);
+    }
   }
   return h.hex();
 }

@@ -68,6 +68,10 @@ void RenderConfig::validate() const {
   check_finite(camera_up, "camera_up");
 
   if (cache_min_nodes < 1) fail_config(setting("cache_min_nodes"), ": must be at least 1");
+  if (!(cache_feature_texels >= 0.125 && cache_feature_texels <= 64))
+    fail_config(setting("cache_feature_texels"), ": must be 0.125..64, got ", cache_feature_texels);
+  if (cache_max_refine < 0 || cache_max_refine > 16)
+    fail_config(setting("cache_max_refine"), ": must be 0..16, got ", cache_max_refine);
   if (!material.empty() && mtlx.empty())
     fail_config(setting("material"), " needs at least one ", setting("mtlx"), " document");
   if (!(std::fabs(mip_bias) <= 32.0f))
@@ -110,6 +114,9 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.cache.center = c.cache_eval == CacheEval::Center;
   s.cache.bilinear = c.effective_cache_filter() == CacheFilter::Bilinear;
   s.cache.priority = c.cache_policy == CachePolicy::Priority;
+  s.cache.bandwidth = c.cache_bandwidth;
+  s.cache.max_refine = c.cache_max_refine;
+  s.cache.feature_texels = float(c.cache_feature_texels);
   return s;
 }
 

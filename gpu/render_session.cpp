@@ -159,6 +159,7 @@ void RenderSession::prepare_scene(const std::function<void(double&)>& lap) {
   mo.compile.cache = config_.cache;
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   mo.compile.cache_position_keys = config_.cache_position_keys;
+  mo.compile.cache_feature_texels = config_.cache_bandwidth ? config_.cache_feature_texels : 0.0;
   materials_ = build_material_set(scene_, mo);
   for (CompiledMaterial& m : materials_.program.materials)
     m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);

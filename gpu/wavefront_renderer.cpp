@@ -200,6 +200,7 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.mip_bias = cs.mip_bias;
   frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
   frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
+  frame.cache_max_refine = cs.max_refine;
   return frame;
 }
 
@@ -237,6 +238,7 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
   c.camera_hits = counts[PMC_CSTAT_CAMERA_HITS];
   c.position_lookups = counts[PMC_CSTAT_POSITION_LOOKUPS];
   c.position_hits = counts[PMC_CSTAT_POSITION_HITS];
+  c.bypassed = counts[PMC_CSTAT_BYPASSED];
   const size_t words = size_t(cs.cells) * cs.ways;
   std::vector<uint64_t> table(words);
   cl.read(wave.cache_entries, 0, words * sizeof(uint64_t), table.data());

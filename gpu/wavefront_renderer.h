@@ -36,10 +36,13 @@ struct CacheSettings {
   uint64_t cells = 0;
   uint32_t ways = 0;  // entries per cell
   float mip_bias = 0.0f;
-  bool center = false;    // --cache-eval center
-  bool bilinear = false;  // --cache-filter bilinear (center mode)
-  bool priority = false;  // --cache-policy priority: camera inserts may replace deeper entries
-  std::string reason;     // why this size (printed, and written to stats)
+  bool center = false;          // --cache-eval center
+  bool bilinear = false;        // --cache-filter bilinear (center mode)
+  bool priority = false;        // --cache-policy priority: camera inserts may replace deeper entries
+  bool bandwidth = true;        // --cache-bandwidth on: materials carry level floors (bandwidth.h)
+  float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
+  int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
+  std::string reason;           // why this size (printed, and written to stats)
 };
 
 // Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one
@@ -52,7 +55,9 @@ struct CacheStats {
   uint64_t replaced = 0;  // --cache-policy priority: camera inserts that replaced a deeper entry
   uint64_t camera_lookups = 0, camera_hits = 0;
   uint64_t position_lookups = 0, position_hits = 0;  // of position-keyed points (the rest are uv-keyed)
-  uint64_t occupied = 0;                             // non-empty entries after the render
+  uint64_t bypassed =
+      0;  // cache points evaluated without the cache: level floor too far above the footprint's
+  uint64_t occupied = 0;  // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }
 };
