@@ -21,9 +21,7 @@ Method (default scene, data/default):
      the full-size speedup a smaller table keeps.
 """
 import argparse
-import json
 import os
-import sys
 import time
 
 from bench import common
@@ -60,8 +58,7 @@ def parse(argv=None):
                         "a shared machine disturb them less")
     common.add_out_dir(p, "out/bench-cache-policy")
     common.add_doc(p)
-    p.add_argument("--report-only", action="store_true",
-                   help="render nothing: rewrite the table and the section from OUT_DIR/results.json of the last run")
+    common.add_report_only(p)
     return common.parse_args(p, "cache_policy", None, argv)
 
 
@@ -255,25 +252,7 @@ often an entry is read), which needs more state per entry than a 2-bit depth tag
 
 def main(argv=None):
     args = parse(argv)
-    common.chdir_root()
-    saved = os.path.join(args.out_dir, "results.json")
-    if args.report_only:
-        try:
-            data = common.read_json(saved)
-        except (OSError, ValueError) as e:
-            sys.exit(f"{PROG}: --report-only needs {saved} from an earlier run: {e}")
-    else:
-        args.pmc = common.find_pmc(args.pmc, PROG)
-        if not os.path.isfile(DEFAULT_ARGS[0]):
-            sys.exit(f"{PROG}: scene {DEFAULT_ARGS[0]} not found")
-        os.makedirs(args.out_dir, exist_ok=True)
-        data = Measure(args).all()
-        with open(saved, "w") as f:
-            json.dump(data, f, indent=1)
-        data = json.loads(json.dumps(data))  # the same shape as a saved run (string keys)
-    section, printed = report(data)
-    print(printed)
-    common.write_section(args.doc, SECTION, section, PROG)
+    common.measure_and_report(args, PROG, SECTION, lambda a: Measure(a).all(), report, inputs=(DEFAULT_ARGS[0],))
 
 
 if __name__ == "__main__":

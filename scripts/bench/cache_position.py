@@ -27,9 +27,7 @@ Method, per scene:
      render_seconds, off / on over the medians, and the range of the
      per-round ratios.
 """
-import json
 import os
-import sys
 import time
 
 from bench import common
@@ -62,8 +60,7 @@ def parse(argv=None):
                    help=f"scenes to measure (default {','.join(SCENES)})")
     common.add_out_dir(p, "out/bench-cache-position")
     common.add_doc(p)
-    p.add_argument("--report-only", action="store_true",
-                   help="render nothing: rewrite the table and the section from OUT_DIR/results.json of the last run")
+    common.add_report_only(p)
     a = common.parse_args(p, "cache_position", None, argv)
     a.scenes = [s for s in a.scenes.split(",") if s]
     bad = [s for s in a.scenes if s not in SCENES]
@@ -214,34 +211,16 @@ more distinct keys, and misses more, than a uv point. Light sub-graphs (a noise 
 nodes) cost little more than a lookup on PoCL; the gain comes from the heavy ones (fractal3d's octaves).
 Thin, high-contrast solid patterns (the marble's veins) are smoothed by the cell-sized trilinear
 filter: their worst tiles are below the whole image by 10 dB or more; finer cells (--mip-bias 1) buy
-accuracy back at the price of hits, which is what a per-point level offset from the pattern's bandwidth
-(issue 14, item 3) would do automatically.
+accuracy back at the price of hits, which the level floors from each pattern's bandwidth now do
+automatically (section "Cache texels that follow the pattern"; these numbers predate them).
 """
     return section, "\n" + table + "\n\n" + "\n".join(lines) + "\n"
 
 
 def main(argv=None):
     args = parse(argv)
-    common.chdir_root()
-    saved = os.path.join(args.out_dir, "results.json")
-    if args.report_only:
-        try:
-            data = common.read_json(saved)
-        except (OSError, ValueError) as e:
-            sys.exit(f"{PROG}: --report-only needs {saved} from an earlier run: {e}")
-    else:
-        args.pmc = common.find_pmc(args.pmc, PROG)
-        for s in args.scenes:
-            if not os.path.isfile(SCENES[s][0]):
-                sys.exit(f"{PROG}: scene {SCENES[s][0]} not found (../shared beside the repository?)")
-        os.makedirs(args.out_dir, exist_ok=True)
-        data = Measure(args).all()
-        with open(saved, "w") as f:
-            json.dump(data, f, indent=1)
-        data = json.loads(json.dumps(data))
-    section, printed = report(data)
-    print(printed)
-    common.write_section(args.doc, SECTION, section, PROG)
+    common.measure_and_report(args, PROG, SECTION, lambda a: Measure(a).all(), report,
+                              inputs=[SCENES[s][0] for s in args.scenes])
 
 
 if __name__ == "__main__":

@@ -349,3 +349,36 @@ def run_pmc(cmd, stats, log, what=None, append=False):
 def size_args(w, h, spp):
     """pmc's image size, samples and --quiet, in the order the recorded commands show them."""
     return ["--width", str(w), "--height", str(h), "--spp", str(spp), "--quiet"]
+
+
+def add_report_only(p):
+    p.add_argument("--report-only", action="store_true",
+                   help="render nothing: rewrite the table and the section from OUT_DIR/results.json of the last run")
+
+
+def measure_and_report(args, prog, section_title, measure, report, inputs=()):
+    """The main of a benchmark that measures once and reports: with
+    --report-only the saved OUT_DIR/results.json of the last run, else
+    measure(args) after finding pmc and checking the input files exist (the
+    results saved, and read back so both paths report the same JSON shapes);
+    then prints report(data)'s text and writes its section to --doc."""
+    chdir_root()
+    saved = os.path.join(args.out_dir, "results.json")
+    if args.report_only:
+        try:
+            data = read_json(saved)
+        except (OSError, ValueError) as e:
+            sys.exit(f"{prog}: --report-only needs {saved} from an earlier run: {e}")
+    else:
+        args.pmc = find_pmc(args.pmc, prog)
+        for path in inputs:
+            if not os.path.isfile(path):
+                sys.exit(f"{prog}: {path} not found (../shared beside the repository?)")
+        os.makedirs(args.out_dir, exist_ok=True)
+        data = measure(args)
+        with open(saved, "w") as f:
+            json.dump(data, f, indent=1)
+        data = json.loads(json.dumps(data))  # string keys, as a saved run has
+    section, printed = report(data)
+    print(printed)
+    write_section(args.doc, section_title, section, prog)

@@ -9,9 +9,9 @@ import unittest
 from contextlib import redirect_stdout
 from unittest import mock
 
-from bench import cache, cache_policy, cache_position, common, mtlx_conformance
+from bench import cache, cache_bandwidth, cache_policy, cache_position, common, mtlx_conformance
 
-MODULES = ["cache", "cache_policy", "cache_position", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
+MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cacheless", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -63,7 +63,8 @@ class CommandLines(unittest.TestCase):
                              ("trace", ["--runs", "-1"]), ("sweep", ["--repeat", "x"]),
                              ("materials", ["--no-such-flag"]), ("speed", ["--only", "cold,fast"]),
                              ("speed", ["--only", "before"]), ("speed", ["--only", ""]),
-                             ("cache_position", ["--scenes", "nosuch"]), ("cache_position", ["--scenes", ","])):
+                             ("cache_position", ["--scenes", "nosuch"]), ("cache_position", ["--scenes", ","]),
+                             ("cache_bandwidth", ["--configs", "nosuch"]), ("cache_bandwidth", ["--ref-spp", "0"])):
             with self.subTest(argv=argv), self.assertRaises(SystemExit) as e, mock.patch("sys.stderr"):
                 parse(module, argv)
             self.assertEqual(e.exception.code, 2)
@@ -205,3 +206,28 @@ class CachePositionReport(unittest.TestCase):
         self.assertIn("goal 1.3x at 40 dB **met**", section)  # 2.1 / 1.5 = 1.4x, 45 dB
         section, _ = cache_position.report(self.data(0.75))
         self.assertIn("goal 80% **not met**", section)
+
+
+class CacheBandwidthReport(unittest.TestCase):
+    def data(self, worst_doc_tile):
+        def b(tile, cached=True):
+            return dict(psnr=50.0, worst_tile_psnr=tile, hit_rate=0.8, bypassed=0.1, cached=cached)
+        bias = {"default scene": {"paper": b(34.9), "floors": b(45.0)},
+                "linepattern.mtlx test_grid": {"paper": b(15.0), "floors": b(worst_doc_tile)},
+                "tiledshape.mtlx nothing": {"paper": b(0, False), "floors": b(0, False)}}
+        return dict(command="scripts/python -m bench.cache_bandwidth", now="now", rev="abc", machine="m", load="l",
+                    elapsed=60, runs=3, ref_spp=256, configs=["paper", "floors"], bias=bias,
+                    times={"off": [2.0, 2.2, 2.1], "paper": [1.4, 1.5, 1.4], "floors": [2.0, 2.0, 2.1]},
+                    hits={"paper": dict(hit_rate=0.9, bypassed=0.0), "floors": dict(hit_rate=0.8, bypassed=0.5)})
+
+    def test_goals_follow_the_numbers(self):
+        section, _ = cache_bandwidth.report(self.data(41.0))
+        self.assertTrue(section.startswith(cache_bandwidth.SECTION))
+        self.assertIn("`paper`: default scene worst tile 34.9 dB, speedup 1.50x", section)
+        self.assertIn("worst tile over all materials 15.0 dB (linepattern.mtlx test_grid): goal 40 dB **not met**",
+                      section)
+        self.assertIn("`floors`: default scene worst tile 45.0 dB, speedup 1.05x; worst tile over all materials "
+                      "41.0 dB (linepattern.mtlx test_grid): goal 40 dB **met**", section)
+        self.assertIn("no cache points", section)
+        section, _ = cache_bandwidth.report(self.data(39.0))
+        self.assertIn("39.0 dB (linepattern.mtlx test_grid): goal 40 dB **not met**", section)
