@@ -20,7 +20,7 @@ std::string node_label(const Graph& g, int n) {
          node.category + " " + type_name(node.type);
 }
 
-void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
+void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m, bool bandwidth) {
   const Graph* g = nullptr;
   for (size_t i = 0; i < set.program.materials.size(); ++i)
     if (&set.program.materials[i] == &m) g = &set.graphs[i];
@@ -31,6 +31,7 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m) {
     std::printf("    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s\n",
                 node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key),
                 enc[cp.encoding % 3]);
+    if (!bandwidth) continue;  // no floors computed: --cache-bandwidth on shows them
     const char* unit = cp.key == CacheKey::Position ? "scene units" : "uv";
     if (cp.level_floor > PMC_LEVEL_NO_FLOOR)
       std::printf("      smallest feature %.3g %s: texels of at most %.3g %s (level >= %d)\n", cp.feature,
@@ -51,7 +52,7 @@ struct InfoArgs {
   std::vector<std::string> mtlx, mtlx_search_paths;
   int cache_min_nodes = kDefaultCacheMinNodes;
   bool cache_position_keys = true;
-  bool cache_bandwidth = true;
+  bool cache_bandwidth = false;
   double cache_feature_texels = 2.0;
 };
 
@@ -96,7 +97,7 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
       for (const auto& [input, bits] : m.param_dependencies)
         if (bits) std::printf(" %s=%s", input.c_str(), dependency_names(bits).c_str());
       std::printf("\n");
-      if (a.dump_cache_plan) print_cache_plan(set, m);
+      if (a.dump_cache_plan) print_cache_plan(set, m, a.cache_bandwidth);
       if (a.dump_bytecode) std::printf("%s", disassemble(set.program, m).c_str());
     }
     return 0;
@@ -164,7 +165,7 @@ CommandRun add_info_command(CLI::App& pmc) {
          "level floors from the patterns' feature sizes (see pmc render --help)")
       ->type_name("on|off")
       ->check(cli::one_of({"on", "off"}))
-      ->default_str("on");
+      ->default_str("off");
   app->add_option("--cache-feature-texels", a->cache_feature_texels,
                   "texels across a pattern's smallest feature (see pmc render --help)")
       ->type_name("N")

@@ -168,11 +168,13 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
     setter<std::string>(
         app, "--cache-bandwidth", "cache_bandwidth",
         [&c](const std::string& v) { c.cache_bandwidth = v == "on"; }, "on|off",
-        "on: a cache point's texels are at most half its pattern's smallest feature (grid lines, tile gaps, "
+        "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "
+        "lines, tile gaps, "
         "a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the footprint where needed; "
-        "off: texels follow the footprint alone (the paper)")
+        "off: texels follow the footprint alone (the paper; faster: on the default scene the floors cost "
+        "most of the cache's speedup, docs/BENCHMARKS.md)")
         ->check(cli::one_of({"on", "off"}))
-        ->default_str("on");
+        ->default_str("off");
     field(app, "--cache-feature-texels", "cache_feature_texels", c.cache_feature_texels, "N",
           "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "
           "aliasing, fewer hits)")

@@ -87,7 +87,7 @@ struct RenderConfig {
   CachePolicy cache_policy = CachePolicy::KeepFirst;
   int cache_min_nodes = kDefaultCacheMinNodes;  // smallest sub-graph worth a cache point
   bool cache_position_keys = true;              // --cache-keys uv+position (false: uv)
-  bool cache_bandwidth = true;                  // --cache-bandwidth on: level floors from the patterns
+  bool cache_bandwidth = false;                 // --cache-bandwidth on: level floors from the patterns
   double cache_feature_texels = 2.0;            // --cache-feature-texels: texels across the smallest feature
   int cache_max_refine = 2;                     // --cache-max-refine: levels of refinement before bypass
 

@@ -39,7 +39,7 @@ struct CacheSettings {
   bool center = false;          // --cache-eval center
   bool bilinear = false;        // --cache-filter bilinear (center mode)
   bool priority = false;        // --cache-policy priority: camera inserts may replace deeper entries
-  bool bandwidth = true;        // --cache-bandwidth on: materials carry level floors (bandwidth.h)
+  bool bandwidth = false;       // --cache-bandwidth on: materials carry level floors (bandwidth.h)
   float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
   int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
   std::string reason;           // why this size (printed, and written to stats)

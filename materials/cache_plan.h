@@ -58,7 +58,7 @@ constexpr int kDefaultCacheMinNodes = 8;
 // `position_keys`: position-only sub-graphs may become (position-keyed) points.
 // `feature_texels` > 0: points get level floors from their patterns' feature
 // sizes, this many texels across the smallest (materials/bandwidth.h); 0: none.
-CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 2.0);
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 0.0);
 
 // A material's level floor for one key kind: the highest of its points' (the
 // points of one evaluation share one texel or cell, so their sub-graphs run

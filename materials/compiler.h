@@ -37,8 +37,9 @@ struct CompileOptions {
   bool cache = false;  // emit the cache group (CACHE_LOOKUP/CACHE_STORE) for cache points
   int cache_min_nodes = kDefaultCacheMinNodes;
   bool cache_position_keys = true;  // position-only sub-graphs become position-keyed points
-  double cache_feature_texels =
-      2;  // level floors: texels across a pattern's smallest feature (0: none; bandwidth.h)
+  // Level floors: texels across a pattern's smallest feature (bandwidth.h);
+  // 0: none (the default, as --cache-bandwidth off).
+  double cache_feature_texels = 0;
 };
 
 struct CompiledMaterial {

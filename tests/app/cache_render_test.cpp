@@ -36,10 +36,7 @@
 //  * --cache-eval center with --threads 1 and 2 is bit-identical (README),
 //    with uv keys (brick) and with position keys (marble).
 //  * Level floors: a thin grid forced into the cache aliases with footprint
-//    texels (--cache-bandwidth off) and does not with the floors.
-// The numbers quoted for the brick and the marble were measured with
-// footprint texels; their level floors (if any) lie below these views'
-// footprints, so the defaults give the same images.
+//    texels (the default) and does not with --cache-bandwidth on.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -248,17 +245,17 @@ TEST(CacheRender, PositionDrivenMarbleIsCachedOnPositionKeys) {
 // Level floors (materials/bandwidth.h): the MaterialX grid of
 // linepattern.mtlx (uvtiling 58, lines 0.1 / 58 uv wide) forced into the
 // cache (--cache-min-nodes 1). With texels that follow the footprint alone
-// (--cache-bandwidth off) each texel's one value stands for lines and gaps
-// alike: 15.9 dB against the cacheless render (PoCL, this view, 16 spp).
-// With the floors (the default) texels are at most half a line wide, or the
+// (--cache-bandwidth off, the default) each texel's one value stands for
+// lines and gaps alike: 15.9 dB against the cacheless render (PoCL, this
+// view, 16 spp). With the floors (--cache-bandwidth on) texels are at most half a line wide, or the
 // point is evaluated uncached where that is more than 2 levels finer than
 // the footprint: 31.3 dB, and both lookups and bypassed points happen.
 TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
   const std::string grid =
       " --mtlx " + mtlx("linepattern.mtlx") + " --material test_grid --cache-min-nodes 1";
   const Render& off = render("grid_off", grid + kView + kFull + " --cache off");
-  const Render& floors = render("grid_floors", grid + kView + kFull + " --cache on");
-  const Render& paper = render("grid_paper", grid + kView + kFull + " --cache on --cache-bandwidth off");
+  const Render& floors = render("grid_floors", grid + kView + kFull + " --cache on --cache-bandwidth on");
+  const Render& paper = render("grid_paper", grid + kView + kFull + " --cache on");
   ASSERT_FALSE(off.image.pixels.empty());
   ASSERT_FALSE(floors.image.pixels.empty());
   ASSERT_FALSE(paper.image.pixels.empty());
@@ -266,6 +263,7 @@ TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
   EXPECT_GT(c["lookups"].get<uint64_t>(), 0u) << c.dump();
   EXPECT_GT(c["bypassed"].get<uint64_t>(), 0u) << c.dump();
   EXPECT_TRUE(c["bandwidth"].get<bool>());
+  EXPECT_FALSE(paper.stats["cache"]["bandwidth"].get<bool>()) << "footprint texels are the default";
   EXPECT_EQ(paper.stats["cache"]["bypassed"].get<uint64_t>(), 0u);
   const double p_floors = clamped_psnr(floors.image, off.image),
                p_paper = clamped_psnr(paper.image, off.image);

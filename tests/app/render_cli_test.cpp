@@ -131,5 +131,22 @@ TEST(InfoCli, ListsDevices) {
   EXPECT_NE(log.find("*"), std::string::npos) << log;
 }
 
+// The default scene's cylinder (tiledhexagons, uvtiling 24 x 10, size 0.92):
+// its smallest feature is the gap (1 - 0.92) / 24 = 0.00333 uv, two texels
+// across it need level ceil(log2(2 / 0.00333)) = 10. The plan shows floors
+// with --cache-bandwidth on only.
+TEST(InfoCli, CachePlanShowsLevelFloorsWithBandwidthOn) {
+  const std::string scene = "info --scene " + test::source_path("data/default/room.obj") + " --mtlx " +
+                            test::source_path("data/default/materials.mtlx") + " --dump-cache-plan";
+  std::string on, off;
+  ASSERT_EQ(test::run_pmc(scene + " --cache-bandwidth on", &on), 0) << on;
+  EXPECT_NE(on.find("smallest feature 0.00333 uv: texels of at most 0.000977 uv (level >= 10)"),
+            std::string::npos)
+      << on;
+  ASSERT_EQ(test::run_pmc(scene, &off), 0) << off;
+  EXPECT_EQ(off.find("smallest feature"), std::string::npos) << off;
+  EXPECT_EQ(off.find("level floor"), std::string::npos) << off;
+}
+
 }  // namespace
 }  // namespace pmc

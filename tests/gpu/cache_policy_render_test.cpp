@@ -53,9 +53,9 @@ TEST(CachePolicy, PriorityHitsMoreOftenOnCameraRaysInSmallTables) {
   config.spp = 4;
   config.max_depth = 4;
   config.seed = 11;
-  // The paper's texels (no level floors): at 96x54 the floors would send
-  // most points past the refinement limit, uncached, and leave the table
-  // too empty to need a policy.
+  // The paper's texels (the default; said here because at 96x54 level
+  // floors would send most points past the refinement limit, uncached, and
+  // leave the table too empty to need a policy).
   config.cache_bandwidth = false;
   RenderSession session(config, test::cl());
   ASSERT_TRUE(session.settings().cache.on);
