@@ -867,7 +867,13 @@ class Reader {
             fail(conv.origin, ": output type '", type,
                  "' cannot be shown (pmc previews numeric, matrix and surfaceshader outputs)");
           connect(scope, output, in, conv.origin);
-          if (in.linked) in.type = graph_.nodes[size_t(in.node)].type;
+          if (in.linked) {
+            const Node& src = graph_.nodes[size_t(in.node)];
+            if (!is_numeric(src.type) || is_matrix(src.type))  // a matrix has no lanes to convert
+              fail(conv.origin, ": output type '", type, "' but node '", src.name, "' outputs ",
+                   type_name(src.type), " (type mismatch)");
+            in.type = src.type;
+          }
         }
         conv.inputs.push_back(in);
         int c = graph_.add(conv);

@@ -345,6 +345,15 @@ TEST(MtlxMatrix, MatrixOutputsPreviewTheirFirstRow) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(n.inputs[0].value.f[size_t(c)], ab[0][c], 1e-6);
     }
   EXPECT_TRUE(found);
+
+  // An output that declares a vector but names a matrix node is a type
+  // mismatch (found by fuzz_mtlx: it compiled to a MOVE without operand).
+  const std::string mismatch = "<?xml version=\"1.0\"?><materialx version=\"1.39\">" + constant_m3("A", kA) +
+                               "<output name=\"o\" type=\"vector2\" nodename=\"A\"/></materialx>";
+  const std::string e = read_error(mismatch);
+  EXPECT_MENTIONS(e, "output 'o'");
+  EXPECT_MENTIONS(e, "node 'A' outputs matrix33");
+  EXPECT_MENTIONS(e, "type mismatch");
 }
 
 TEST(MtlxMatrix, MatricesThatVaryOrCannotBeBuiltFailNamingTheNode) {
