@@ -349,7 +349,8 @@ std::vector<T> run_per_item(const char* source, const char* name, const std::vec
 }
 
 // The descriptor on the device: level, texel indices, texel hash and group
-// base computed by an OpenCL kernel equal the host's bit for bit, on ordinary
+// base (and, with level floors, the footprint's level and the bypass flag)
+// computed by an OpenCL kernel equal the host's bit for bit, on ordinary
 // and hard inputs (grazing and degenerate gradients, negative, huge, infinite
 // and NaN uvs, fractional and non-finite biases, jitter). A device whose
 // log2/length or float-to-long conversion differed from the host's would
@@ -359,15 +360,18 @@ const char* kDescriptorKernel = R"CL(
 __kernel void descriptors(__global const float* in, __global long* out, uint n) {
   uint i = get_global_id(0);
   if (i >= n) return;
-  __global const float* p = in + 10 * i;
-  PmcCacheTexel t = pmc_cache_texel_of(make_float2(p[0], p[1]), make_float2(p[2], p[3]),
-                                       make_float2(p[4], p[5]), p[6], make_float2(p[7], p[8]), (uint)p[9]);
-  __global long* o = out + 5 * i;
+  __global const float* p = in + 12 * i;
+  PmcCacheTexel t = pmc_cache_texel_floored(make_float2(p[0], p[1]), make_float2(p[2], p[3]),
+                                            make_float2(p[4], p[5]), p[6], make_float2(p[7], p[8]), (uint)p[9],
+                                            (int)p[10], (int)p[11]);
+  __global long* o = out + 7 * i;
   o[0] = t.lambda;
   o[1] = t.tx;
   o[2] = t.ty;
   o[3] = (long)t.hash;
   o[4] = (long)t.base;
+  o[5] = t.footprint_lambda;
+  o[6] = t.bypass;
 }
 )CL";
 
@@ -376,6 +380,8 @@ TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
   std::vector<float> uvs = {0.0f, 0.25f, -0.3f, 0.999999f, 1.0f, -1.0f, 1e7f, -1e7f, 3e38f, inf, -inf, nan};
   std::vector<float> grads = {1e-3f, 0.01f, 0.37f, 1.0f, 3e-7f, 0.0f, 1e18f, 1e30f, inf, nan};
   std::vector<float> biases = {0.0f, 1.0f, -2.0f, 0.5f, -1.25f, 64.0f, 1e30f, nan};
+  const std::vector<int> floors = {PMC_LEVEL_NO_FLOOR, -3, 5, 12, PMC_LAMBDA_MAX, PMC_LAMBDA_MAX + 20};
+  const std::vector<int> refine = {0, 2, 5};
   std::mt19937 rng(71);
   std::uniform_real_distribution<float> jit(-0.5f, 0.5f);
   std::vector<float> in;
@@ -384,17 +390,28 @@ TEST(CacheTable, DeviceDescriptorsEqualTheHostsOnHardInputs) {
       for (float bias : biases) {
         const float v = uvs[(in.size() / 10) % uvs.size()];
         const float g2 = grads[(in.size() / 10 + 3) % grads.size()];
-        in.insert(in.end(),
-                  {u, v, g, 0.5f * g, -0.2f * g2, g2, bias, jit(rng), jit(rng), float(in.size() % 7)});
+        const size_t k = in.size() / 12;
+        in.insert(in.end(), {u, v, g, 0.5f * g, -0.2f * g2, g2, bias, jit(rng), jit(rng), float(k % 7),
+                             float(floors[k % floors.size()]), float(refine[(k / 3) % refine.size()])});
       }
-  const uint32_t n = uint32_t(in.size() / 10);
-  const std::vector<int64_t> out = run_per_item<int64_t>(kDescriptorKernel, "descriptors", in, n, 5);
+  const uint32_t n = uint32_t(in.size() / 12);
+  const std::vector<int64_t> out = run_per_item<int64_t>(kDescriptorKernel, "descriptors", in, n, 7);
   for (uint32_t i = 0; i < n; ++i) {
-    const float* p = &in[size_t(i) * 10];
+    const float* p = &in[size_t(i) * 12];
     PmcCacheTexel t =
-        pmc_cache_texel_of(make_float2(p[0], p[1]), make_float2(p[2], p[3]), make_float2(p[4], p[5]), p[6],
-                           make_float2(p[7], p[8]), uint32_t(p[9]));
-    const int64_t* o = &out[size_t(i) * 5];
+        pmc_cache_texel_floored(make_float2(p[0], p[1]), make_float2(p[2], p[3]), make_float2(p[4], p[5]),
+                                p[6], make_float2(p[7], p[8]), uint32_t(p[9]), int(p[10]), int(p[11]));
+    if (int(p[10]) == PMC_LEVEL_NO_FLOOR) {  // without a floor: the paper's texel
+      PmcCacheTexel plain =
+          pmc_cache_texel_of(make_float2(p[0], p[1]), make_float2(p[2], p[3]), make_float2(p[4], p[5]), p[6],
+                             make_float2(p[7], p[8]), uint32_t(p[9]));
+      ASSERT_EQ(t.lambda, plain.lambda);
+      ASSERT_EQ(t.hash, plain.hash);
+      ASSERT_EQ(t.bypass, 0u);
+    }
+    const int64_t* o = &out[size_t(i) * 7];
+    ASSERT_EQ(o[5], t.footprint_lambda);
+    ASSERT_EQ(uint64_t(o[6]), uint64_t(t.bypass)) << "floor " << p[10] << " refine " << p[11];
     ASSERT_EQ(o[0], t.lambda) << "uv " << p[0] << "," << p[1] << " g " << p[2] << "," << p[3] << " / " << p[4]
                               << "," << p[5] << " bias " << p[6];
     ASSERT_EQ(o[1], t.tx) << "u " << p[0] << " level " << t.lambda << " jitter " << p[7];
