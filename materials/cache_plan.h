@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "core/device/pmc_cache.h"
 #include "materials/node_graph.h"
 
 namespace pmc {
@@ -37,7 +38,7 @@ struct CachePoint {
   // key units, the level floor it asks for (PMC_LEVEL_NO_FLOOR: none), and
   // why it has none when a pattern's coordinate has no bound.
   double feature = 1e300;
-  int level_floor = -16;
+  int level_floor = PMC_LEVEL_NO_FLOOR;
   std::string bandwidth_note;
 };
 

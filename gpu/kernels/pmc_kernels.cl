@@ -221,8 +221,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cache_points = 0u;
   hp->cache_position_mask = 0u;
   if (frame->cache_on) {
-    hp->cache_points = scene->materials[tri.material].cache_points;
-    hp->cache_position_mask = scene->materials[tri.material].cache_position_mask;
+    __global const PmcMaterialInfo* info = &scene->materials[tri.material];
+    hp->cache_points = info->cache_points;
+    hp->cache_position_mask = info->cache_position_mask;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
       uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
       hp->cache_jitter = make_float4(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
@@ -230,7 +231,6 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
                                      pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_W) - 0.5f, 0.0f);
     }
     const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
-    __global const PmcMaterialInfo* info = &scene->materials[tri.material];
     if ((all & ~hp->cache_position_mask) != 0u)
       hp->texel = pmc_cache_texel_floored(
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
