@@ -1,28 +1,25 @@
-// heatmap.cpp — the map and its bar through ImageBufAlgo, the bar's digit labels.
+// heatmap.cpp — the map and its bar (viridis from the image backend), the bar's digit labels.
 //
 // The labels are drawn from 3x5 pixel digits of our own rather than with
-// ImageBufAlgo::render_text: they must stay legible at 5 pixels high on a
+// OpenImageIO's render_text: they must stay legible at 5 pixels high on a
 // 64-pixel map, and render_text needs a TrueType font found on the machine
 // at run time (Debian's OpenImageIO ships none: "Could not set default font
 // face"), which would make the image depend on the machine's fonts.
 #include "core/heatmap.h"
 
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <string>
 
-#include "core/image_buf.h"
+#include "core/image_backend.h"
 
 namespace pmc {
 namespace {
 
-namespace IBA = OIIO::ImageBufAlgo;
-
-// Viridis as display values: OpenImageIO's colour maps hold linear values
-// (for linear images), sRGB-encoded here to give matplotlib's colours.
-OIIO::ImageBuf viridis(const OIIO::ImageBuf& t) {
-  return IBA::colorconvert(IBA::color_map(t, 0, "viridis"), "linear", "sRGB");
+// Copies the 3-channel `src` into `dst` with its top-left corner at (x, y).
+void paste(Image& dst, int x, int y, const Image& src) {
+  for (int row = 0; row < src.height; ++row)
+    std::copy_n(&src.pixels[3 * size_t(row) * size_t(src.width)], 3 * size_t(src.width),
+                &dst.pixels[3 * ((size_t(y) + size_t(row)) * size_t(dst.width) + size_t(x))]);
 }
 
 // 3x5 digit glyphs, rows top to bottom, 3 bits per row.
@@ -53,9 +50,15 @@ void draw_digits(Image& img, int x, int y, const std::string& text, int scale) {
 Image heatmap_with_colorbar(const Image& values, float max_value) {
   const int scale = std::max(1, values.height / 120);
   const int bar_w = 6 * scale + 14 * scale;
-  OIIO::ImageBuf out(OIIO::ImageSpec(values.width + bar_w, values.height, 3, OIIO::TypeDesc::FLOAT));
-  IBA::zero(out);
-  IBA::paste(out, 0, 0, 0, 0, viridis(IBA::div(to_image_buf(values), max_value)));
+  ImageBackend& backend = image_backend();
+  Image img;
+  img.width = values.width + bar_w;
+  img.height = values.height;
+  img.channels = 3;
+  img.pixels.assign(size_t(img.width) * size_t(img.height) * 3, 0.0f);
+  Image scaled = values;
+  for (float& v : scaled.pixels) v /= max_value;
+  paste(img, 0, 0, backend.viridis(scaled));
   // The bar: top = max_value, bottom = 0, with a margin for the labels.
   const int margin = 4 * scale, x0 = values.width + 2 * scale, x1 = x0 + 5 * scale;
   const int top = margin, bottom = values.height - margin;
@@ -67,9 +70,8 @@ Image heatmap_with_colorbar(const Image& values, float max_value) {
     for (int y = 0; y < ramp.height; ++y)
       ramp.pixels.insert(ramp.pixels.end(), size_t(ramp.width),
                          1.0f - float(y) / float(std::max(1, bottom - top - 1)));
-    IBA::paste(out, x0, top, 0, 0, viridis(to_image_buf(ramp)));
+    paste(img, x0, top, backend.viridis(ramp));
   }
-  Image img = from_image_buf(out);
   const int label_x = x1 + scale, m = int(max_value);
   draw_digits(img, label_x, top, std::to_string(m), scale);
   draw_digits(img, label_x, (top + bottom) / 2 - 2 * scale, std::to_string(m / 2), scale);

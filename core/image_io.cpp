@@ -1,33 +1,34 @@
-// image_io.cpp — OpenImageIO writes (atomic) and reads.
+// image_io.cpp — image writes (atomic) and reads through the image backend.
 #include "core/image_io.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cmath>
 
 #include "core/atomic_write.h"
 #include "core/error.h"
+#include "core/image_backend.h"
 
 namespace pmc {
 namespace {
 
-void write_image(const std::string& path, const Image& image, OIIO::TypeDesc format, const void* data) {
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) fail(path, ": cannot write this image format (", OIIO::geterror(), ")");
+void write_pixels(const std::string& path, const Image& image, PixelFormat format, const void* data) {
+  ImageWrite w;
+  w.header.width = image.width;
+  w.header.height = image.height;
+  w.header.channels = image.channels;
+  w.format = format;
+  w.pixels = data;
+  ImageBackend& backend = image_backend();
   write_atomically(path, [&](const std::string& tmp) {
-    OIIO::ImageSpec spec(image.width, image.height, image.channels, format);
-    if (!out->open(tmp, spec)) fail(path, ": cannot open for writing: ", out->geterror());
-    bool ok = out->write_image(format, data);
-    ok = out->close() && ok;
-    if (!ok) fail(path, ": writing the image failed");
+    std::string why;
+    if (!backend.write(tmp, path, w, why)) fail(path, ": ", why);
   });
 }
 
 }  // namespace
 
 void write_exr(const std::string& path, const Image& image) {
-  write_image(path, image, OIIO::TypeDesc::FLOAT, image.pixels.data());
+  write_pixels(path, image, PixelFormat::Float, image.pixels.data());
 }
 
 void write_png_display(const std::string& path, const Image& image) {
@@ -36,21 +37,36 @@ void write_png_display(const std::string& path, const Image& image) {
     float v = image.pixels[i];
     bytes[i] = (unsigned char)std::lround(255.0f * (std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f));
   }
-  write_image(path, image, OIIO::TypeDesc::UINT8, bytes.data());
+  write_pixels(path, image, PixelFormat::U8, bytes.data());
 }
 
 Image read_image(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) fail(path, ": cannot read image: ", OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
+  std::string why;
+  auto in = image_backend().open(path, false, why);
+  if (!in) fail(path, ": cannot read image: ", why);
+  const ImageHeader& h = in->header();
   Image img;
-  img.width = spec.width;
-  img.height = spec.height;
-  img.channels = spec.nchannels;
+  img.width = h.width;
+  img.height = h.height;
+  img.channels = h.channels;
   img.pixels.resize(size_t(img.width) * img.height * img.channels);
-  if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    fail(path, ": cannot decode image: ", in->geterror());
+  if (!in->read(0, img.channels, PixelFormat::Float, img.pixels.data()))
+    fail(path, ": cannot decode image: ", in->error());
   return img;
+}
+
+Image first_channels(const Image& image, int channels) {
+  PMC_CHECK(channels > 0 && channels <= image.channels, "first_channels");
+  Image out;
+  out.width = image.width;
+  out.height = image.height;
+  out.channels = channels;
+  const size_t n = size_t(image.width) * size_t(image.height);
+  out.pixels.resize(n * size_t(channels));
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < channels; ++c)
+      out.pixels[i * size_t(channels) + size_t(c)] = image.pixels[i * size_t(image.channels) + size_t(c)];
+  return out;
 }
 
 }  // namespace pmc

@@ -1,4 +1,4 @@
-// image_io.h — writing and reading images through OpenImageIO.
+// image_io.h — writing and reading images (through the image plugin, core/image_backend.h).
 //
 // Every write is atomic (core/atomic_write.h): a failed or interrupted
 // render never leaves a half-written image. PNGs hold display values: tone
@@ -19,5 +19,7 @@ void write_exr(const std::string& path, const Image& image);
 // 8-bit PNG of values already in display space [0,1] (tone-mapped renders, heat maps).
 void write_png_display(const std::string& path, const Image& image);
 Image read_image(const std::string& path);
+// The first `channels` channels of `image` (RGB of an RGBA image).
+Image first_channels(const Image& image, int channels);
 
 }  // namespace pmc

@@ -1,7 +1,5 @@
-// render_part.cpp — part EXRs through OpenImageIO, and the checks and sums of a merge.
+// render_part.cpp — part EXRs (through the image backend), and the checks and sums of a merge.
 #include "core/render_part.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <cstdio>
@@ -10,6 +8,7 @@
 
 #include "core/atomic_write.h"
 #include "core/error.h"
+#include "core/image_backend.h"
 
 namespace pmc {
 namespace {
@@ -50,36 +49,44 @@ void write_part_exr(const std::string& path, const Image& image, const PartInfo&
   PMC_CHECK(image.width == w && image.height == h && image.channels == kRgb, "part image size");
   PMC_CHECK(!film || (film->width == w && film->height == h), "part film size");
   const int nch = kRgb + (film ? kFilmChannels : 0);
-  OIIO::ImageSpec spec(w, h, nch, OIIO::TypeDesc::FLOAT);
+  ImageWrite out;
+  ImageHeader& spec = out.header;
+  spec.width = w;
+  spec.height = h;
+  spec.channels = nch;
   spec.x = info.crop[0];
   spec.y = info.crop[1];
   spec.full_x = 0;
   spec.full_y = 0;
   spec.full_width = info.frame_width;
   spec.full_height = info.frame_height;
-  spec.channelnames = {"R", "G", "B"};
+  spec.channel_names = {"R", "G", "B"};
+  out.format = PixelFormat::Float;
   if (film) {
-    spec.channelformats.assign(size_t(kRgb), OIIO::TypeDesc::FLOAT);
-    for (int k = 0; k < FilmSums::kWords; ++k) spec.channelnames.push_back(sum_channel(k));
-    for (const char* c : kCountChannels) spec.channelnames.push_back(c);
-    spec.channelformats.resize(size_t(nch), OIIO::TypeDesc::UINT);
+    out.channel_formats.assign(size_t(kRgb), PixelFormat::Float);
+    for (int k = 0; k < FilmSums::kWords; ++k) spec.channel_names.push_back(sum_channel(k));
+    for (const char* c : kCountChannels) spec.channel_names.push_back(c);
+    out.channel_formats.resize(size_t(nch), PixelFormat::U32);
   }
-  spec.attribute("compression", "zip");
-  spec.attribute("pmc:scene_hash", info.scene_hash);
-  spec.attribute("pmc:settings_hash", info.settings_hash);
-  spec.attribute("pmc:scene", info.scene);
-  spec.attribute("pmc:spp", info.spp);
-  spec.attribute("pmc:sample_begin", info.sample_begin);
-  spec.attribute("pmc:sample_end", info.sample_end);
-  spec.attribute("pmc:seed", u64s(info.seed));
-  spec.attribute("pmc:cache", info.cache ? 1 : 0);
-  spec.attribute("pmc:cache:lookups", u64s(info.cache_counters.lookups));
-  spec.attribute("pmc:cache:hits", u64s(info.cache_counters.hits));
-  spec.attribute("pmc:cache:misses", u64s(info.cache_counters.misses));
-  spec.attribute("pmc:cache:inserts", u64s(info.cache_counters.inserts));
-  spec.attribute("pmc:cache:dropped_full", u64s(info.cache_counters.dropped_full));
-  spec.attribute("pmc:render_seconds", float(info.render_seconds));
-  spec.attribute("pmc:partial", info.partial ? 1 : 0);
+  auto attribute = [&out](const char* name, auto value) {
+    out.attributes.push_back(ImageAttribute::of(name, value));
+  };
+  attribute("compression", std::string("zip"));
+  attribute("pmc:scene_hash", info.scene_hash);
+  attribute("pmc:settings_hash", info.settings_hash);
+  attribute("pmc:scene", info.scene);
+  attribute("pmc:spp", info.spp);
+  attribute("pmc:sample_begin", info.sample_begin);
+  attribute("pmc:sample_end", info.sample_end);
+  attribute("pmc:seed", u64s(info.seed));
+  attribute("pmc:cache", info.cache ? 1 : 0);
+  attribute("pmc:cache:lookups", u64s(info.cache_counters.lookups));
+  attribute("pmc:cache:hits", u64s(info.cache_counters.hits));
+  attribute("pmc:cache:misses", u64s(info.cache_counters.misses));
+  attribute("pmc:cache:inserts", u64s(info.cache_counters.inserts));
+  attribute("pmc:cache:dropped_full", u64s(info.cache_counters.dropped_full));
+  attribute("pmc:render_seconds", float(info.render_seconds));
+  attribute("pmc:partial", info.partial ? 1 : 0);
 
   // Interleaved native data: every channel is 4 bytes (float or uint32).
   std::vector<uint32_t> data(size_t(w) * size_t(h) * size_t(nch));
@@ -93,45 +100,42 @@ void write_part_exr(const std::string& path, const Image& image, const PartInfo&
     px[kRgb + FilmSums::kWords + 2] = film->hits[i];
   }
 
+  out.pixels = data.data();
+  ImageBackend& backend = image_backend();
   write_atomically(path, [&](const std::string& tmp) {
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out) fail(path, ": cannot write this image format (", OIIO::geterror(), ")");
-    if (!out->open(tmp, spec)) fail(path, ": cannot open for writing: ", out->geterror());
-    bool ok = out->write_image(film ? OIIO::TypeDesc::UNKNOWN : OIIO::TypeDesc::FLOAT, data.data());
-    ok = out->close() && ok;
-    if (!ok) fail(path, ": writing the image failed");
+    std::string why;
+    if (!backend.write(tmp, path, out, why)) fail(path, ": ", why);
   });
 }
 
 RenderPart read_part_exr(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) fail(path, ": cannot read image: ", OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
+  std::string why;
+  auto in = image_backend().open(path, false, why);
+  if (!in) fail(path, ": cannot read image: ", why);
+  const ImageHeader& spec = in->header();
   RenderPart part;
   part.path = path;
   PartInfo& info = part.info;
-  info.settings_hash = spec.get_string_attribute("pmc:settings_hash");
+  info.settings_hash = in->string_attribute("pmc:settings_hash");
   if (info.settings_hash.empty())
     fail(path,
          ": not a pmc render part (no pmc:settings_hash attribute; render parts with "
          "'pmc render --samples A:B' and/or '--crop')");
-  info.scene_hash = spec.get_string_attribute("pmc:scene_hash");
-  info.scene = spec.get_string_attribute("pmc:scene");
-  info.spp = spec.get_int_attribute("pmc:spp");
-  info.sample_begin = spec.get_int_attribute("pmc:sample_begin");
-  info.sample_end = spec.get_int_attribute("pmc:sample_end");
-  info.seed = uint32_t(parse_u64(path, "pmc:seed", spec.get_string_attribute("pmc:seed", "0")));
-  info.cache = spec.get_int_attribute("pmc:cache") != 0;
-  auto counter = [&](const char* name) {
-    return parse_u64(path, name, spec.get_string_attribute(name, "0"));
-  };
+  info.scene_hash = in->string_attribute("pmc:scene_hash");
+  info.scene = in->string_attribute("pmc:scene");
+  info.spp = in->int_attribute("pmc:spp");
+  info.sample_begin = in->int_attribute("pmc:sample_begin");
+  info.sample_end = in->int_attribute("pmc:sample_end");
+  info.seed = uint32_t(parse_u64(path, "pmc:seed", in->string_attribute("pmc:seed", "0")));
+  info.cache = in->int_attribute("pmc:cache") != 0;
+  auto counter = [&](const char* name) { return parse_u64(path, name, in->string_attribute(name, "0")); };
   info.cache_counters.lookups = counter("pmc:cache:lookups");
   info.cache_counters.hits = counter("pmc:cache:hits");
   info.cache_counters.misses = counter("pmc:cache:misses");
   info.cache_counters.inserts = counter("pmc:cache:inserts");
   info.cache_counters.dropped_full = counter("pmc:cache:dropped_full");
-  info.render_seconds = spec.get_float_attribute("pmc:render_seconds");
-  info.partial = spec.get_int_attribute("pmc:partial") != 0;
+  info.render_seconds = in->float_attribute("pmc:render_seconds");
+  info.partial = in->int_attribute("pmc:partial") != 0;
   info.frame_width = spec.full_width;
   info.frame_height = spec.full_height;
   info.crop = {spec.x, spec.y, spec.x + spec.width, spec.y + spec.height};
@@ -150,13 +154,13 @@ RenderPart read_part_exr(const std::string& path) {
   f = FilmSums::zero(spec.width, spec.height);
   std::vector<uint32_t> channel(f.pixels());
   auto read_channel = [&](const std::string& name) {
-    const int c = spec.channelindex(name);
+    const int c = spec.channel_index(name);
     if (c < 0)
       fail(path, ": no channel ", name,
            " (a part needs the film's sums: render it with 'pmc render --samples "
            "A:B')");
-    if (!in->read_image(0, 0, c, c + 1, OIIO::TypeDesc::UINT, channel.data()))
-      fail(path, ": cannot decode channel ", name, ": ", in->geterror());
+    if (!in->read(c, c + 1, PixelFormat::U32, channel.data()))
+      fail(path, ": cannot decode channel ", name, ": ", in->error());
   };
   for (int k = 0; k < FilmSums::kWords; ++k) {
     read_channel(sum_channel(k));

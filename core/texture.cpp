@@ -1,7 +1,5 @@
-// texture.cpp — OpenImageIO reading, 8-bit conversion and mip chains.
+// texture.cpp — reading (the image backend), 8-bit conversion and mip chains.
 #include "core/texture.h"
-
-#include <OpenImageIO/imageio.h>
 
 #include <algorithm>
 #include <array>
@@ -11,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/image_backend.h"
 #include "core/parallel.h"
 
 namespace pmc {
@@ -186,7 +185,7 @@ struct TexturePool::Pending {
   int index = 0;
   std::string path, used_by;
   bool srgb = false;
-  std::unique_ptr<OIIO::ImageInput> in;
+  std::unique_ptr<ImageReader> in;
   std::string warning;  // set by the decode (NaN/Inf texels)
   std::string error;    // set by a failed decode
 };
@@ -234,15 +233,11 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
   if (found != by_key_.end()) return found->second;
 
   // Keep colour and alpha separate: cut-out masks need the unpremultiplied colour.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  auto in = OIIO::ImageInput::open(path, &config);
-  if (!in) {
-    std::string why = OIIO::geterror();
-    fail(used_by, ": cannot read texture '", path, "': ", why.empty() ? "not an image" : why);
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  int w = spec.width, h = spec.height, nch = spec.nchannels;
+  std::string why;
+  auto in = image_backend().open(path, true, why);
+  if (!in) fail(used_by, ": cannot read texture '", path, "': ", why.empty() ? "not an image" : why);
+  const ImageHeader& spec = in->header();
+  int w = spec.width, h = spec.height, nch = spec.channels;
   if (w <= 0 || h <= 0 || nch <= 0 || size_t(w) * h > (size_t(1) << 28))
     fail(used_by, ": texture '", path, "' has an unusable size ", w, "x", h, "x", nch);
   PmcTexture t{};
@@ -266,29 +261,29 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
 namespace {
 
 // Decodes one image into its level 0 (RGBA8) at `dst`; returns a warning, if any.
-std::string decode_rgba8(OIIO::ImageInput& in, const std::string& path, const std::string& used_by, bool srgb,
+std::string decode_rgba8(ImageReader& in, const std::string& path, const std::string& used_by, bool srgb,
                          uint8_t* dst) {
-  const OIIO::ImageSpec& spec = in.spec();
-  const int w = spec.width, h = spec.height, nch = spec.nchannels;
+  const ImageHeader& spec = in.header();
+  const int w = spec.width, h = spec.height, nch = spec.channels;
   const size_t n = size_t(w) * h;
   auto channel_of = [nch](int k) {
     return k < 3 ? (nch >= 3 ? k : 0) : (nch == 2 ? 1 : (nch >= 4 ? 3 : -1));
   };
-  if (spec.format == OIIO::TypeDesc::UINT8 && nch >= 3) {
+  if (spec.format == PixelFormat::U8 && nch >= 3) {
     // RGB(A) 8-bit: straight into the pool (4 bytes apart), opaque alpha added
     // for RGB; the channels past the fourth are not read.
     const int read = std::min(nch, 4);
-    if (!in.read_image(0, 0, 0, read, OIIO::TypeDesc::UINT8, dst, 4, OIIO::stride_t(w) * 4))
-      fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+    if (!in.read(0, read, PixelFormat::U8, dst, 4, std::ptrdiff_t(w) * 4))
+      fail(used_by, ": cannot decode texture '", path, "': ", in.error());
     if (read == 3)
       for (size_t i = 0; i < n; ++i) dst[i * 4 + 3] = 255;
     return {};
   }
-  if (spec.format == OIIO::TypeDesc::UINT8) {
+  if (spec.format == PixelFormat::U8) {
     // 8-bit sources are stored as they are (sRGB-encoded colour stays encoded).
     std::vector<uint8_t> px(n * size_t(nch));
-    if (!in.read_image(0, 0, 0, nch, OIIO::TypeDesc::UINT8, px.data()))
-      fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+    if (!in.read(0, nch, PixelFormat::U8, px.data()))
+      fail(used_by, ": cannot decode texture '", path, "': ", in.error());
     for (size_t i = 0; i < n; ++i)
       for (int k = 0; k < 4; ++k) {
         int src = channel_of(k);
@@ -297,11 +292,10 @@ std::string decode_rgba8(OIIO::ImageInput& in, const std::string& path, const st
     return {};
   }
   std::vector<float> px(n * size_t(nch));
-  if (!in.read_image(0, 0, 0, nch, OIIO::TypeDesc::FLOAT, px.data()))
-    fail(used_by, ": cannot decode texture '", path, "': ", in.geterror());
+  if (!in.read(0, nch, PixelFormat::Float, px.data()))
+    fail(used_by, ": cannot decode texture '", path, "': ", in.error());
   // Float sources get sRGB-encoded; other integer formats are scaled to 0..1 by OIIO.
-  const bool float_source =
-      spec.format.basetype == OIIO::TypeDesc::FLOAT || spec.format.basetype == OIIO::TypeDesc::HALF;
+  const bool float_source = spec.format == PixelFormat::Float || spec.format == PixelFormat::Half;
   size_t non_finite = 0;
   for (size_t i = 0; i < n; ++i) {
     float c[4];

@@ -1,6 +1,6 @@
 // texture.h — images for the kernels: one RGBA8 texel pool with mip chains.
 //
-// Images are read through OpenImageIO, converted to 8-bit RGBA (sRGB-encoded
+// Images are read through OpenImageIO (the image plugin, core/image_backend.h), converted to 8-bit RGBA (sRGB-encoded
 // for colour textures, linear for data), and stored with a full box-filtered
 // mip chain in one texel pool that is uploaded as a single buffer. A texture
 // is loaded once however many materials use it; only used textures are
@@ -8,7 +8,7 @@
 // unreadable file is an error naming who uses it) and hands out the texture's
 // index; the pixels are decoded later, all pending textures in parallel, when
 // the pool is first read (textures(), texels()) or by resolve(). 8-bit RGB
-// and RGBA files are read straight into the pool (OIIO strides), others
+// and RGBA files are read straight into the pool (strided reads), others
 // through a conversion buffer.
 //
 // The pool is kept as 32-bit words whose bytes in memory are R, G, B, A

@@ -1,11 +1,10 @@
 // mtl_graph.cpp — MTL parameters into pmc_mtl_surface networks.
 #include "materials/mtl_graph.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <cmath>
 
 #include "core/error.h"
+#include "core/image_backend.h"
 #include "materials/node_table.h"
 
 namespace pmc {
@@ -59,8 +58,9 @@ int binary(Graph& g, const std::string& cat, ValueType t, Input a, Input b, cons
 }
 
 bool has_alpha_channel(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  return in && in->spec().nchannels == 4;
+  std::string why;
+  auto in = image_backend().open(path, false, why);
+  return in && in->header().channels == 4;
 }
 
 }  // namespace
