@@ -29,7 +29,6 @@
 #include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/heatmap.h"
-#include "core/image_backend.h"
 #include "core/image_metrics.h"
 #include "core/tone_map.h"
 #include "gpu/render_session.h"
@@ -259,10 +258,7 @@ CommandRun add_compare_command(CLI::App& pmc) {
   declare_render_options(*app, a->config, CacheFlags::AllButCache);
   declare_display_options(*app, a->tone_map);
   app->add_option("--cache", a->cache, "refused: compare always renders both")->group("");
-  return [a] {
-    preload_image_backend();  // its images are read and written through the plugin: load it beside the setup
-    return run_compare(*a);
-  };
+  return [a] { return run_compare(*a); };
 }
 
 }  // namespace pmc

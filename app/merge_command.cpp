@@ -22,7 +22,6 @@
 #include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/film_sum.h"
-#include "core/image_backend.h"
 #include "core/render_part.h"
 #include "core/tone_map.h"
 
@@ -140,10 +139,7 @@ CommandRun add_merge_command(CLI::App& pmc) {
       "--allow-partial", a->allow_partial,
       "merge even if samples are missing (each pixel: the mean of the samples it has; none: black)");
   declare_display_options(*app, a->tone_map);
-  return [a] {
-    preload_image_backend();  // its images are read and written through the plugin: load it beside the setup
-    return run_merge(*a);
-  };
+  return [a] { return run_merge(*a); };
 }
 
 }  // namespace pmc

@@ -18,7 +18,6 @@
 #include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/heatmap.h"
-#include "core/image_backend.h"
 #include "core/tone_map.h"
 #include "gpu/part_identity.h"
 #include "gpu/render_session.h"
@@ -151,10 +150,7 @@ CommandRun add_render_command(CLI::App& pmc) {
       ->default_str("the whole frame")
       ->group("image");
   declare_display_options(*app, a->tone_map);
-  return [a] {
-    preload_image_backend();  // its images are read and written through the plugin: load it beside the setup
-    return run_render(*a);
-  };
+  return [a] { return run_render(*a); };
 }
 
 }  // namespace pmc

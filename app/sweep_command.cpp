@@ -31,7 +31,6 @@
 #include "core/atomic_write.h"
 #include "core/cache_sizing.h"
 #include "core/error.h"
-#include "core/image_backend.h"
 #include "core/image_metrics.h"
 #include "gpu/render_session.h"
 
@@ -278,10 +277,7 @@ CommandRun add_sweep_command(CLI::App& pmc) {
       ->capture_default_str();
   add_quiet_flag(*app, a->quiet, "warnings still print");
   declare_render_options(*app, a->config, CacheFlags::None);
-  return [a] {
-    preload_image_backend();  // its images are read and written through the plugin: load it beside the setup
-    return run_sweep(*a);
-  };
+  return [a] { return run_sweep(*a); };
 }
 
 }  // namespace pmc

@@ -6,11 +6,10 @@
 
 #include <climits>
 #include <cstdlib>
-#include <future>
 #include <mutex>
-#include <thread>
 
 #include "core/error.h"
+#include "core/native_images.h"
 
 // Defined only where the backend is linked in (the fuzz targets).
 extern "C" pmc::ImageBackend* pmc_image_backend_v1() __attribute__((weak));
@@ -75,36 +74,37 @@ ImageBackend* load_plugin() {
        "pmc, or set PMC_IMAGE_PLUGIN to its path). Tried:", tried);
 }
 
-// The load runs on a thread of its own, not a TBB task: it is the dynamic
-// loader's work (not compute), and --threads 1 must not serialise it.
-struct Loader {
-  std::once_flag started;
-  std::shared_future<ImageBackend*> backend;
-  std::thread thread;
-  ~Loader() {
-    if (thread.joinable()) thread.join();
+// Native formats first (core/native_images.h); the plugin for the rest,
+// loaded the first time a file needs it.
+class Images final : public ImageBackend {
+ public:
+  std::unique_ptr<ImageReader> open(const std::string& path, bool unassociated_alpha,
+                                    std::string& why) override {
+    auto native = open_native_image(path, unassociated_alpha, why);
+    if (native || !why.empty()) return native;
+    return plugin().open(path, unassociated_alpha, why);
   }
-};
+  bool write(const std::string& file, const std::string& format_path, const ImageWrite& image,
+             std::string& why) override {
+    if (native_image_writes(format_path, image)) return write_native_image(file, format_path, image, why);
+    return plugin().write(file, format_path, image, why);
+  }
+  Image viridis(const Image& values) override { return native_viridis(values); }
 
-Loader& loader() {
-  static Loader l;
-  return l;
-}
+ private:
+  ImageBackend& plugin() {
+    std::call_once(loaded_, [this] { plugin_ = load_plugin(); });  // tried again after a throw
+    return *plugin_;
+  }
+  std::once_flag loaded_;
+  ImageBackend* plugin_ = nullptr;
+};
 
 }  // namespace
 
-void preload_image_backend() {
-  Loader& l = loader();
-  std::call_once(l.started, [&l] {
-    std::packaged_task<ImageBackend*()> task(load_plugin);
-    l.backend = task.get_future().share();
-    l.thread = std::thread(std::move(task));
-  });
-}
-
 ImageBackend& image_backend() {
-  preload_image_backend();
-  return *loader().backend.get();
+  static Images images;
+  return images;
 }
 
 }  // namespace pmc

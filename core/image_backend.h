@@ -1,21 +1,22 @@
-// image_backend.h — image files behind a plugin: the one door to OpenImageIO.
+// image_backend.h — image files through one door: native formats, else an OpenImageIO plugin.
 //
 // Debian's OpenImageIO pulls in about 250 shared libraries (OpenVDB, GDAL,
 // DCMTK, Poppler, ...); binding their symbols took 0.4-0.5 s of every pmc
-// process before main() ran, more than a third of Sponza's whole setup
-// (docs/BENCHMARKS.md, Tracing). So pmc does not link OpenImageIO: every
-// image read and write goes through this interface, implemented by
-// core/oiio_backend.cpp in the plugin libpmc_oiio.so, which pmc loads with
-// dlopen on a thread of its own as soon as a command starts
-// (preload_image_backend) while the scene loads beside it. Only what crosses
-// the door is pmc's own types: headers, channel ranges read in a pixel
-// format, and plain attributes.
+// process before main() ran, a third of Sponza's whole setup
+// (docs/BENCHMARKS.md, Tracing). So pmc does not link OpenImageIO. Every
+// image read and write goes through this interface: OpenEXR and 8-bit PNG
+// files, pmc's outputs and most textures, are handled directly
+// (core/native_images.h: libOpenEXR and libpng, a few milliseconds to load);
+// anything else (JPEG, Radiance HDR, TIFF, TGA, 16-bit PNG, ...) goes to
+// core/oiio_backend.cpp, built as the plugin libpmc_oiio.so and loaded with
+// dlopen the first time a file needs it. Only pmc's own types cross the
+// door: headers, channel ranges read in a pixel format, plain attributes.
 //
-// Where the plugin is looked for, in order: $PMC_IMAGE_PLUGIN (a file); the
-// executable's folder (the build tree); <exe>/../lib/pmc (an install); the
-// dynamic loader's own search. A missing or broken plugin is a pmc::Error
-// naming every place tried. A binary that links the backend in (the fuzz
-// targets) uses it directly.
+// Where the plugin is looked for, in order: $PMC_IMAGE_PLUGIN (a file, then
+// the only place tried); the executable's folder (the build tree);
+// <exe>/../lib/pmc (an install); the dynamic loader's own search. A missing
+// or broken plugin is a pmc::Error naming every place tried. A binary that
+// links the backend in (the fuzz targets) uses it directly.
 #pragma once
 
 #include <cstddef>
@@ -95,9 +96,8 @@ class ImageBackend {
   virtual Image viridis(const Image& values) = 0;
 };
 
-// Starts loading the plugin on a thread of its own (once; later calls do nothing).
-void preload_image_backend();
-// The backend, waiting for the load; throws pmc::Error when the plugin cannot be loaded.
+// The backend: native formats (core/native_images.h), else the plugin, loaded
+// the first time a file needs it; pmc::Error when it cannot be loaded.
 ImageBackend& image_backend();
 
 }  // namespace pmc

@@ -1,20 +1,29 @@
-// image_backend_test.cpp — the image plugin: pmc does not link OpenImageIO,
-// loads libpmc_oiio.so at run time, and fails clearly without it.
+// image_backend_test.cpp — images without linking OpenImageIO: native
+// OpenEXR and PNG, the plugin for the rest, and a clear error without it.
 //
 // * The pmc binary's dynamic dependencies (ldd) name no OpenImageIO library.
 // * Through the backend, an EXR with per-channel formats (float and uint32),
 //   a data window inside a display window and typed attributes reads back
 //   exactly as written, checked against OpenImageIO read directly.
-// * A render whose plugin cannot be loaded exits 2, names the paths tried and
-//   writes no image.
+// * PNGs of every colour type OpenImageIO writes (grey, grey + alpha, RGB,
+//   RGBA, 8-bit) and a palette PNG with transparency read natively to the
+//   same bytes as OpenImageIO reads them; what pmc writes, OpenImageIO reads
+//   back exactly.
+// * A JPEG goes to the plugin and reads as OpenImageIO reads it.
+// * A render that needs the plugin (a Radiance HDR environment map) when the
+//   plugin cannot be loaded exits 2, names the paths tried and writes no
+//   image; the same render without an image in another format needs no plugin.
 // * first_channels() keeps the leading channels of each pixel.
 #include "core/image_backend.h"
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <png.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -114,19 +123,136 @@ TEST(ImageBackend, OpeningAMissingFileSaysWhy) {
   EXPECT_FALSE(why.empty());
 }
 
-TEST(ImageBackend, WithoutThePluginARenderFailsNamingWhereItLookedAndWritesNothing) {
+std::string render_without_plugin(const std::string& dir, const std::string& extra, int* code) {
+  return shell_output("env PMC_IMAGE_PLUGIN=" + dir + "/nowhere/libpmc_oiio.so " + std::string(PMC_BINARY) +
+                          " render " + test::source_path("data/default/room.obj") +
+                          " --width 16 --height 8 --spp 1 -o " + dir + "/out.exr --quiet " + extra,
+                      code);
+}
+
+TEST(ImageBackend, WithoutThePluginARenderThatNeedsItFailsNamingWhereItLookedAndWritesNothing) {
   const std::string dir = test::temp_dir();
-  const std::string plugin = dir + "/nowhere/libpmc_oiio.so";
   int code = 0;
-  const std::string text = shell_output("env PMC_IMAGE_PLUGIN=" + plugin + " " + std::string(PMC_BINARY) +
-                                            " render " + test::source_path("data/default/room.obj") +
-                                            " --width 16 --height 8 --spp 1 -o " + dir + "/out.exr --quiet",
-                                        &code);
+  std::string text =
+      render_without_plugin(dir, "--env-map " + test::shared_scene("envmaps/table_mountain.hdr"), &code);
   EXPECT_EQ(code, 2) << text;
   EXPECT_NE(text.find("cannot load the image plugin"), std::string::npos) << text;
-  EXPECT_NE(text.find(plugin), std::string::npos) << text;
+  EXPECT_NE(text.find(dir + "/nowhere/libpmc_oiio.so"), std::string::npos) << text;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.exr"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.png"));
+  // PNG textures in, EXR and PNG out: no plugin needed.
+  text = render_without_plugin(dir, "", &code);
+  EXPECT_EQ(code, 0) << text;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out.exr"));
+  EXPECT_TRUE(std::filesystem::exists(dir + "/out.png"));
+}
+
+// Writes `bytes` (w x h x nch, 8-bit) with OpenImageIO.
+void oiio_write(const std::string& path, int w, int h, int nch, const std::vector<unsigned char>& bytes) {
+  auto out = OIIO::ImageOutput::create(path);
+  ASSERT_TRUE(out);
+  ASSERT_TRUE(out->open(path, OIIO::ImageSpec(w, h, nch, OIIO::TypeDesc::UINT8)));
+  ASSERT_TRUE(out->write_image(OIIO::TypeDesc::UINT8, bytes.data()));
+  ASSERT_TRUE(out->close());
+}
+
+std::vector<unsigned char> oiio_read_bytes(const std::string& path, int* nch) {
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  auto in = OIIO::ImageInput::open(path, &config);
+  EXPECT_TRUE(in);
+  if (!in) return {};
+  *nch = in->spec().nchannels;
+  std::vector<unsigned char> px(size_t(in->spec().image_pixels()) * size_t(*nch));
+  EXPECT_TRUE(in->read_image(0, 0, 0, *nch, OIIO::TypeDesc::UINT8, px.data()));
+  return px;
+}
+
+std::vector<unsigned char> backend_read_bytes(const std::string& path, int* nch) {
+  std::string why;
+  auto in = image_backend().open(path, true, why);
+  EXPECT_TRUE(in) << why;
+  if (!in) return {};
+  *nch = in->header().channels;
+  std::vector<unsigned char> px(size_t(in->header().width) * size_t(in->header().height) * size_t(*nch));
+  EXPECT_TRUE(in->read(0, *nch, PixelFormat::U8, px.data())) << in->error();
+  return px;
+}
+
+TEST(ImageBackend, PngsReadAsOpenImageIOReadsThem) {
+  const std::string dir = test::temp_dir();
+  const int w = 7, h = 5;
+  for (int nch = 1; nch <= 4; ++nch) {
+    std::vector<unsigned char> bytes(size_t(w) * h * size_t(nch));
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)((i * 37 + 11) % 256);
+    const std::string path = dir + "/c" + std::to_string(nch) + ".png";
+    oiio_write(path, w, h, nch, bytes);
+    int n_oiio = 0, n_native = 0;
+    const auto a = oiio_read_bytes(path, &n_oiio), b = backend_read_bytes(path, &n_native);
+    EXPECT_EQ(n_native, n_oiio) << nch;
+    EXPECT_EQ(a, b) << nch;
+    if (nch == 1 || nch == 3)
+      EXPECT_EQ(b, bytes) << nch;  // OpenImageIO un-premultiplies what it writes with alpha
+  }
+  // A palette image with transparency (tRNS): expanded to RGBA.
+  const unsigned char colormap[3 * 4] = {255, 0, 0, 255, 0, 255, 0, 128, 0, 0, 255, 0};
+  const unsigned char index[8] = {0, 1, 2, 0, 2, 1, 0, 1};
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  image.width = 4;
+  image.height = 2;
+  image.format = PNG_FORMAT_RGBA_COLORMAP;
+  image.colormap_entries = 3;
+  const std::string palette = dir + "/palette.png";
+  ASSERT_TRUE(png_image_write_to_file(&image, palette.c_str(), 0, index, 0, colormap)) << image.message;
+  int n_oiio = 0, n_native = 0;
+  const auto a = oiio_read_bytes(palette, &n_oiio), b = backend_read_bytes(palette, &n_native);
+  EXPECT_EQ(n_native, 4);
+  EXPECT_EQ(n_oiio, 4);
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(b[4 * 1 + 3], 128) << "the second pixel's alpha, from tRNS";
+  // Sponza's textures, as a third party exported them.
+  for (const auto& entry : std::filesystem::directory_iterator(test::shared_scene("sponza/textures"))) {
+    if (entry.path().extension() != ".png") continue;
+    const auto x = oiio_read_bytes(entry.path().string(), &n_oiio);
+    const auto y = backend_read_bytes(entry.path().string(), &n_native);
+    EXPECT_EQ(n_native, n_oiio) << entry.path();
+    EXPECT_TRUE(x == y) << entry.path();
+  }
+}
+
+TEST(ImageBackend, WrittenPngsAndExrsReadBackInOpenImageIO) {
+  const std::string dir = test::temp_dir();
+  Image img;
+  img.width = 4;
+  img.height = 3;
+  img.channels = 3;
+  for (int i = 0; i < 36; ++i) img.pixels.push_back(float(i) / 35.0f * 1.2f - 0.1f);
+  write_exr(dir + "/a.exr", img);
+  write_png_display(dir + "/a.png", img);
+  auto exr = OIIO::ImageInput::open(dir + "/a.exr");
+  ASSERT_TRUE(exr);
+  EXPECT_EQ(exr->spec().channelnames, (std::vector<std::string>{"R", "G", "B"}));
+  std::vector<float> f(36);
+  ASSERT_TRUE(exr->read_image(0, 0, 0, 3, OIIO::TypeDesc::FLOAT, f.data()));
+  EXPECT_EQ(f, img.pixels);
+  int nch = 0;
+  const auto png = oiio_read_bytes(dir + "/a.png", &nch);
+  ASSERT_EQ(nch, 3);
+  for (size_t i = 0; i < png.size(); ++i)
+    EXPECT_EQ(png[i], (unsigned char)std::lround(255.0f * std::clamp(img.pixels[i], 0.0f, 1.0f))) << i;
+}
+
+TEST(ImageBackend, OtherFormatsGoToThePlugin) {
+  const std::string dir = test::temp_dir();
+  const int w = 8, h = 8;
+  std::vector<unsigned char> bytes(size_t(w) * h * 3);
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)(i * 3);
+  oiio_write(dir + "/a.jpg", w, h, 3, bytes);
+  int n_oiio = 0, n_backend = 0;
+  const auto a = oiio_read_bytes(dir + "/a.jpg", &n_oiio), b = backend_read_bytes(dir + "/a.jpg", &n_backend);
+  EXPECT_EQ(n_backend, 3);
+  EXPECT_EQ(a, b);
 }
 
 TEST(FirstChannels, KeepsTheLeadingChannelsOfEveryPixel) {

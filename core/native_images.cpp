@@ -1,0 +1,476 @@
+// native_images.cpp — OpenEXR (libOpenEXR) and 8-bit PNG (libpng) files, read and written directly.
+#include "core/native_images.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFloatAttribute.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <png.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <csetjmp>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <vector>
+
+namespace pmc {
+namespace {
+
+std::string lower_extension(const std::string& path) {
+  const size_t dot = path.rfind('.');
+  if (dot == std::string::npos || path.find('/', dot) != std::string::npos) return {};
+  std::string ext = path.substr(dot);
+  for (char& c : ext) c = char(std::tolower((unsigned char)c));
+  return ext;
+}
+
+// The first bytes of a file (fewer when it is shorter or unreadable).
+std::vector<unsigned char> magic(const std::string& path, size_t n) {
+  std::vector<unsigned char> bytes(n);
+  FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return {};
+  bytes.resize(std::fread(bytes.data(), 1, n, f));
+  std::fclose(f);
+  return bytes;
+}
+
+size_t format_bytes(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::U8:
+      return 1;
+    case PixelFormat::U16:
+    case PixelFormat::Half:
+      return 2;
+    case PixelFormat::U32:
+    case PixelFormat::Float:
+      return 4;
+    case PixelFormat::Other:
+      break;
+  }
+  return 0;
+}
+
+// ---- PNG -----------------------------------------------------------------
+
+// libpng reports errors by longjmp: the handlers copy the message here, and
+// every libpng call sits in a function whose locals are plain data.
+struct PngState {
+  FILE* file = nullptr;
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  char error[256] = {};
+};
+
+void png_fail(png_structp png, png_const_charp message) {
+  auto* s = static_cast<PngState*>(png_get_error_ptr(png));
+  std::snprintf(s->error, sizeof(s->error), "%s", message);
+  longjmp(png_jmpbuf(png), 1);
+}
+
+void png_ignore_warning(png_structp, png_const_charp) {}
+
+// Reads the header and sets the expansions; false on a libpng error.
+// `unsupported` is set for what the plugin should read instead.
+bool png_read_header(PngState& s, bool unassociated_alpha, ImageHeader& h, bool& unsupported) {
+  s.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &s, png_fail, png_ignore_warning);
+  if (!s.png) return false;
+  s.info = png_create_info_struct(s.png);
+  if (!s.info) return false;
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  png_init_io(s.png, s.file);
+  png_read_info(s.png, s.info);
+  const int depth = png_get_bit_depth(s.png, s.info), type = png_get_color_type(s.png, s.info);
+  if (depth > 8) {
+    unsupported = true;
+    return true;
+  }
+  if (type == PNG_COLOR_TYPE_PALETTE) png_set_palette_to_rgb(s.png);
+  if (type == PNG_COLOR_TYPE_GRAY && depth < 8) png_set_expand_gray_1_2_4_to_8(s.png);
+  if (png_get_valid(s.png, s.info, PNG_INFO_tRNS)) png_set_tRNS_to_alpha(s.png);
+  png_set_interlace_handling(s.png);
+  png_read_update_info(s.png, s.info);
+  h.width = int(png_get_image_width(s.png, s.info));
+  h.height = int(png_get_image_height(s.png, s.info));
+  h.channels = png_get_channels(s.png, s.info);
+  h.full_width = h.width;
+  h.full_height = h.height;
+  h.format = PixelFormat::U8;
+  static const char* const kNames[4][4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+  if (h.channels < 1 || h.channels > 4) return false;
+  h.channel_names.assign(kNames[h.channels - 1], kNames[h.channels - 1] + h.channels);
+  // Associated alpha means premultiplying, which OpenImageIO does in its own way: its job.
+  unsupported = !unassociated_alpha && (h.channels == 2 || h.channels == 4);
+  return true;
+}
+
+bool png_read_rows(PngState& s, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  png_read_image(s.png, rows);
+  png_read_end(s.png, nullptr);
+  return true;
+}
+
+void png_release(PngState& s) {
+  if (s.png) png_destroy_read_struct(&s.png, s.info ? &s.info : nullptr, nullptr);
+  if (s.file) std::fclose(s.file);
+  s.png = nullptr;
+  s.info = nullptr;
+  s.file = nullptr;
+}
+
+class PngReader final : public ImageReader {
+ public:
+  PngReader(PngState s, ImageHeader h) : s_(s), h_(std::move(h)) {}
+  ~PngReader() override { png_release(s_); }
+  const ImageHeader& header() const override { return h_; }
+  bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
+    if (c0 < 0 || c1 > h_.channels || c0 >= c1 ||
+        (format != PixelFormat::U8 && format != PixelFormat::Float)) {
+      error_ = "unsupported channel range or pixel format";
+      return false;
+    }
+    if (!decoded()) return false;
+    const size_t nch = size_t(h_.channels), size = format_bytes(format);
+    if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * size);
+    if (!ys) ys = xs * h_.width;
+    auto* out = static_cast<unsigned char*>(data);
+    for (int y = 0; y < h_.height; ++y)
+      for (int x = 0; x < h_.width; ++x) {
+        const unsigned char* src = &pixels_[(size_t(y) * size_t(h_.width) + size_t(x)) * nch];
+        unsigned char* dst = out + y * ys + x * xs;
+        for (int c = c0; c < c1; ++c) {
+          if (format == PixelFormat::U8)
+            dst[c - c0] = src[c];
+          else
+            reinterpret_cast<float*>(dst)[c - c0] = float(src[c]) * (1.0f / 255.0f);
+        }
+      }
+    return true;
+  }
+  std::string error() override { return error_; }
+  void close() override { png_release(s_); }
+  std::string string_attribute(const std::string&, const std::string& fallback) const override {
+    return fallback;
+  }
+  int int_attribute(const std::string&, int fallback) const override { return fallback; }
+  float float_attribute(const std::string&, float fallback) const override { return fallback; }
+
+ private:
+  bool decoded() {
+    if (!pixels_.empty()) return true;
+    if (!s_.png) {
+      error_ = "the file was closed";
+      return false;
+    }
+    const size_t row = size_t(h_.width) * size_t(h_.channels);
+    pixels_.resize(row * size_t(h_.height));
+    std::vector<png_bytep> rows(size_t(h_.height));
+    for (size_t y = 0; y < rows.size(); ++y) rows[y] = &pixels_[y * row];
+    const bool ok = png_read_rows(s_, rows.data());
+    if (!ok) {
+      error_ = s_.error[0] ? s_.error : "corrupt PNG data";
+      pixels_.clear();
+    }
+    png_release(s_);
+    return ok;
+  }
+
+  PngState s_;
+  ImageHeader h_;
+  std::vector<unsigned char> pixels_;
+  std::string error_;
+};
+
+std::unique_ptr<ImageReader> open_png(const std::string& path, bool unassociated_alpha, std::string& why) {
+  PngState s;
+  s.file = std::fopen(path.c_str(), "rb");
+  if (!s.file) {
+    why = std::string("cannot open: ") + std::strerror(errno);
+    return nullptr;
+  }
+  ImageHeader h;
+  bool unsupported = false;
+  if (!png_read_header(s, unassociated_alpha, h, unsupported)) {
+    why = s.error[0] ? s.error : "not a readable PNG";
+    png_release(s);
+    return nullptr;
+  }
+  if (unsupported) {
+    png_release(s);
+    return nullptr;  // the plugin reads it
+  }
+  return std::make_unique<PngReader>(s, std::move(h));
+}
+
+bool png_write_rows(PngState& s, const ImageWrite& image, png_bytepp rows) {
+  s.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &s, png_fail, png_ignore_warning);
+  if (!s.png) return false;
+  s.info = png_create_info_struct(s.png);
+  if (!s.info) return false;
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  static const int kTypes[4] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                PNG_COLOR_TYPE_RGB_ALPHA};
+  png_init_io(s.png, s.file);
+  png_set_IHDR(s.png, s.info, png_uint_32(image.header.width), png_uint_32(image.header.height), 8,
+               kTypes[image.header.channels - 1], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(s.png, s.info);
+  png_write_image(s.png, rows);
+  png_write_end(s.png, nullptr);
+  return true;
+}
+
+bool write_png(const std::string& file, const ImageWrite& image, std::string& why) {
+  PngState s;
+  s.file = std::fopen(file.c_str(), "wb");
+  if (!s.file) {
+    why = std::string("cannot open for writing: ") + std::strerror(errno);
+    return false;
+  }
+  const size_t row = size_t(image.header.width) * size_t(image.header.channels);
+  std::vector<png_bytep> rows(size_t(image.header.height));
+  auto* pixels = static_cast<const unsigned char*>(image.pixels);
+  for (size_t y = 0; y < rows.size(); ++y) rows[y] = const_cast<png_bytep>(pixels + y * row);
+  bool ok = png_write_rows(s, image, rows.data());
+  if (!ok) why = s.error[0] ? s.error : "writing the PNG failed";
+  if (s.png) png_destroy_write_struct(&s.png, s.info ? &s.info : nullptr);
+  ok = std::fclose(s.file) == 0 && ok;
+  if (!ok && why.empty()) why = "writing the PNG failed";
+  return ok;
+}
+
+// ---- OpenEXR -------------------------------------------------------------
+
+Imf::PixelType exr_type(PixelFormat f) {
+  switch (f) {
+    case PixelFormat::U32:
+      return Imf::UINT;
+    case PixelFormat::Half:
+      return Imf::HALF;
+    default:
+      return Imf::FLOAT;
+  }
+}
+
+PixelFormat format_of(Imf::PixelType t) {
+  switch (t) {
+    case Imf::UINT:
+      return PixelFormat::U32;
+    case Imf::HALF:
+      return PixelFormat::Half;
+    case Imf::FLOAT:
+      return PixelFormat::Float;
+    default:
+      return PixelFormat::Other;
+  }
+}
+
+class ExrReader final : public ImageReader {
+ public:
+  explicit ExrReader(const std::string& path) : file_(std::make_unique<Imf::InputFile>(path.c_str())) {
+    const Imf::Header& hd = file_->header();
+    const Imath::Box2i data = hd.dataWindow(), display = hd.displayWindow();
+    h_.x = data.min.x;
+    h_.y = data.min.y;
+    h_.width = data.max.x - data.min.x + 1;
+    h_.height = data.max.y - data.min.y + 1;
+    h_.full_x = display.min.x;
+    h_.full_y = display.min.y;
+    h_.full_width = display.max.x - display.min.x + 1;
+    h_.full_height = display.max.y - display.min.y + 1;
+    std::vector<std::string> rgba, rest;
+    for (auto c = hd.channels().begin(); c != hd.channels().end(); ++c) {
+      const std::string name = c.name();
+      (name == "R" || name == "G" || name == "B" || name == "A" ? rgba : rest).push_back(name);
+    }
+    auto rank = [](const std::string& n) { return std::string("RGBA").find(n); };
+    std::sort(rgba.begin(), rgba.end(), [&](const auto& a, const auto& b) { return rank(a) < rank(b); });
+    h_.channel_names = rgba;
+    h_.channel_names.insert(h_.channel_names.end(), rest.begin(), rest.end());
+    h_.channels = int(h_.channel_names.size());
+    h_.format =
+        h_.channels ? format_of(hd.channels().findChannel(h_.channel_names[0])->type) : PixelFormat::Other;
+  }
+  const ImageHeader& header() const override { return h_; }
+  bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
+    if (c0 < 0 || c1 > h_.channels || c0 >= c1 ||
+        (format != PixelFormat::Float && format != PixelFormat::U32)) {
+      error_ = "unsupported channel range or pixel format";
+      return false;
+    }
+    try {
+      const std::ptrdiff_t size = 4;
+      if (!xs) xs = size * (c1 - c0);
+      if (!ys) ys = xs * h_.width;
+      // OpenEXR addresses slices by absolute pixel coordinates.
+      char* origin = static_cast<char*>(data) - h_.x * xs - h_.y * ys;
+      Imf::FrameBuffer fb;
+      for (int c = c0; c < c1; ++c)
+        fb.insert(h_.channel_names[size_t(c)],
+                  Imf::Slice(exr_type(format), origin + size * (c - c0), size_t(xs), size_t(ys)));
+      file_->setFrameBuffer(fb);
+      file_->readPixels(h_.y, h_.y + h_.height - 1);
+      return true;
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      return false;
+    }
+  }
+  std::string error() override { return error_; }
+  void close() override {}
+  std::string string_attribute(const std::string& name, const std::string& fallback) const override {
+    const auto* a = file_->header().findTypedAttribute<Imf::StringAttribute>(name);
+    return a ? a->value() : fallback;
+  }
+  int int_attribute(const std::string& name, int fallback) const override {
+    const auto* a = file_->header().findTypedAttribute<Imf::IntAttribute>(name);
+    return a ? a->value() : fallback;
+  }
+  float float_attribute(const std::string& name, float fallback) const override {
+    const auto* a = file_->header().findTypedAttribute<Imf::FloatAttribute>(name);
+    return a ? a->value() : fallback;
+  }
+
+ private:
+  std::unique_ptr<Imf::InputFile> file_;
+  ImageHeader h_;
+  std::string error_;
+};
+
+Imf::Compression exr_compression(const std::string& name) {
+  if (name == "none") return Imf::NO_COMPRESSION;
+  if (name == "rle") return Imf::RLE_COMPRESSION;
+  if (name == "zips") return Imf::ZIPS_COMPRESSION;
+  if (name == "piz") return Imf::PIZ_COMPRESSION;
+  return Imf::ZIP_COMPRESSION;
+}
+
+bool write_exr_file(const std::string& file, const ImageWrite& image, std::string& why) {
+  try {
+    const ImageHeader& h = image.header;
+    const Imath::Box2i data(Imath::V2i(h.x, h.y), Imath::V2i(h.x + h.width - 1, h.y + h.height - 1));
+    const Imath::Box2i display =
+        h.full_width > 0 ? Imath::Box2i(Imath::V2i(h.full_x, h.full_y),
+                                        Imath::V2i(h.full_x + h.full_width - 1, h.full_y + h.full_height - 1))
+                         : data;
+    Imf::Header hd(display, data);
+    hd.compression() = Imf::ZIP_COMPRESSION;
+    for (const ImageAttribute& a : image.attributes) {
+      if (a.name == "compression") {
+        hd.compression() = exr_compression(a.text);
+        continue;
+      }
+      switch (a.kind) {
+        case ImageAttribute::Kind::String:
+          hd.insert(a.name, Imf::StringAttribute(a.text));
+          break;
+        case ImageAttribute::Kind::Int:
+          hd.insert(a.name, Imf::IntAttribute(a.integer));
+          break;
+        case ImageAttribute::Kind::Float:
+          hd.insert(a.name, Imf::FloatAttribute(a.real));
+          break;
+      }
+    }
+    static const char* const kNames[4][4] = {{"Y"}, {"R", "G"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
+    std::vector<std::string> names = h.channel_names;
+    if (names.empty() && h.channels <= 4)
+      names.assign(kNames[h.channels - 1], kNames[h.channels - 1] + h.channels);
+    std::vector<PixelFormat> formats = image.channel_formats;
+    if (formats.empty()) formats.assign(size_t(h.channels), image.format);
+    std::ptrdiff_t pixel = 0;
+    for (PixelFormat f : formats) pixel += std::ptrdiff_t(format_bytes(f));
+    const std::ptrdiff_t row = pixel * h.width;
+    const char* origin = static_cast<const char*>(image.pixels) - h.x * pixel - h.y * row;
+    Imf::FrameBuffer fb;
+    std::ptrdiff_t at = 0;
+    for (size_t c = 0; c < names.size(); ++c) {
+      hd.channels().insert(names[c], Imf::Channel(exr_type(formats[c])));
+      fb.insert(names[c],
+                Imf::Slice(exr_type(formats[c]), const_cast<char*>(origin + at), size_t(pixel), size_t(row)));
+      at += std::ptrdiff_t(format_bytes(formats[c]));
+    }
+    Imf::OutputFile out(file.c_str(), hd);
+    out.setFrameBuffer(fb);
+    out.writePixels(h.height);
+    return true;
+  } catch (const std::exception& e) {
+    why = e.what();
+    return false;
+  }
+}
+
+// matplotlib's viridis at t = i / 16 (display values).
+const float kViridis[17][3] = {
+    {0.267004f, 0.004874f, 0.329415f}, {0.282327f, 0.094955f, 0.417331f}, {0.278826f, 0.175490f, 0.483397f},
+    {0.258965f, 0.251537f, 0.524736f}, {0.229739f, 0.322361f, 0.545706f}, {0.199430f, 0.387607f, 0.554642f},
+    {0.172719f, 0.448791f, 0.557885f}, {0.149039f, 0.508051f, 0.557250f}, {0.127568f, 0.566949f, 0.550556f},
+    {0.120638f, 0.625828f, 0.533488f}, {0.157851f, 0.683765f, 0.501686f}, {0.246070f, 0.738910f, 0.452024f},
+    {0.369214f, 0.788888f, 0.382914f}, {0.515992f, 0.831158f, 0.294279f}, {0.678489f, 0.863742f, 0.189503f},
+    {0.845561f, 0.887322f, 0.099702f}, {0.993248f, 0.906157f, 0.143936f}};
+
+}  // namespace
+
+std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool unassociated_alpha,
+                                               std::string& why) {
+  const std::vector<unsigned char> m = magic(path, 8);
+  if (m.size() == 8 && png_sig_cmp(m.data(), 0, 8) == 0) return open_png(path, unassociated_alpha, why);
+  if (m.size() >= 4 && m[0] == 0x76 && m[1] == 0x2f && m[2] == 0x31 && m[3] == 0x01) {
+    try {
+      return std::make_unique<ExrReader>(path);
+    } catch (const std::exception& e) {
+      why = e.what();
+      return nullptr;
+    }
+  }
+  return nullptr;
+}
+
+bool native_image_writes(const std::string& format_path, const ImageWrite& image) {
+  const std::string ext = lower_extension(format_path);
+  const int n = image.header.channels;
+  if (ext == ".png")
+    return image.format == PixelFormat::U8 && image.channel_formats.empty() && n >= 1 && n <= 4;
+  if (ext == ".exr") {
+    std::vector<PixelFormat> f = image.channel_formats;
+    if (f.empty()) f.assign(size_t(std::max(n, 0)), image.format);
+    const bool named = !image.header.channel_names.empty() || (n >= 1 && n <= 4);
+    return n >= 1 && named && std::all_of(f.begin(), f.end(), [](PixelFormat p) {
+             return p == PixelFormat::Float || p == PixelFormat::U32;
+           });
+  }
+  return false;
+}
+
+bool write_native_image(const std::string& file, const std::string& format_path, const ImageWrite& image,
+                        std::string& why) {
+  return lower_extension(format_path) == ".png" ? write_png(file, image, why)
+                                                : write_exr_file(file, image, why);
+}
+
+Image native_viridis(const Image& values) {
+  Image out;
+  out.width = values.width;
+  out.height = values.height;
+  out.channels = 3;
+  const size_t n = size_t(values.width) * size_t(values.height);
+  out.pixels.resize(n * 3);
+  for (size_t i = 0; i < n; ++i) {
+    float t = values.pixels[i * size_t(values.channels)];
+    t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) * 16.0f : 0.0f;
+    const int k = std::min(15, int(t));
+    const float f = t - float(k);
+    for (int c = 0; c < 3; ++c)
+      out.pixels[i * 3 + size_t(c)] = kViridis[k][c] + f * (kViridis[k + 1][c] - kViridis[k][c]);
+  }
+  return out;
+}
+
+}  // namespace pmc
