@@ -345,11 +345,11 @@ only the wait for it. The last row is the rest of "full run minus render".
 Notes:
 
 - The two renderers do not do the same work per path, so compare Mrays/s as
-  well as seconds. pmc reaches the constant environment only by BSDF sampling
-  (rays that escape), so in this scene, which has no emissive triangles, pmc
-  traces no shadow rays at all; Embree's pathtracer light-samples its ambient
-  light at every hit (one `rtcOccluded1` shadow ray per hit, through an
-  occlusion filter callback for transparency). Embree's pathtracer ends a
+  well as seconds. Both sample the constant environment at every hit: pmc
+  traces one shadow ray per hit whose light sample lies above the surface and
+  weights it against the BSDF sample by MIS; Embree's pathtracer traces one
+  `rtcOccluded1` shadow ray per hit, through an occlusion filter callback for
+  transparency. Embree's pathtracer ends a
   path only when its throughput drops below 0.01 (with untextured `Kd`
   colours, almost never within 4 hits); pmc plays Russian roulette after the
   third hit with survival probability = path throughput (at most 0.95), and
@@ -369,6 +369,12 @@ Notes:
   (381 geometries, one BVH8). The tutorial renders small pixel tiles and traces
   each pixel's samples one after another with `rtcIntersect1`; pmc traces
   one sample of the whole image per wave.
+- Process start: pmc does not link OpenImageIO (core/image_backend.h). It
+  reads and writes OpenEXR and 8-bit PNG itself (libOpenEXR, libpng) and
+  loads OpenImageIO as a plugin only for other formats; Debian's OpenImageIO
+  brings about 250 shared libraries whose symbol binding took 0.4-0.5 s of
+  every process before `main()`. Sponza's textures are PNGs, so this run
+  never loads it (the last setup row fell from 0.58 s to about 0.3 s).
 - Both use all cores (TBB for Embree, plus PoCL's threads for pmc). On a small,
   shared machine the times vary by tens of percent from run to run; the CPU
   times vary less than the wall clock.
