@@ -127,7 +127,9 @@ void png_release(PngState& s) {
 
 class PngReader final : public ImageReader {
  public:
-  PngReader(PngState s, ImageHeader h) : s_(s), h_(std::move(h)) {}
+  PngReader(PngState s, ImageHeader h) : s_(s), h_(std::move(h)) {
+    png_set_error_fn(s_.png, &s_, png_fail, png_ignore_warning);  // its messages now land in this copy
+  }
   ~PngReader() override { png_release(s_); }
   const ImageHeader& header() const override { return h_; }
   bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {

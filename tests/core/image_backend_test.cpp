@@ -27,6 +27,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "tests/support/test_support.h"
 
@@ -219,6 +220,37 @@ TEST(ImageBackend, PngsReadAsOpenImageIOReadsThem) {
     EXPECT_EQ(n_native, n_oiio) << entry.path();
     EXPECT_TRUE(x == y) << entry.path();
   }
+}
+
+TEST(ImageBackend, APngCutShortOpensAndThenFailsToDecodeSayingWhy) {
+  const std::string dir = test::temp_dir();
+  const int w = 64, h = 64;
+  std::vector<unsigned char> bytes(size_t(w) * h * 3);
+  uint32_t state = 2463534242u;  // xorshift noise: compresses poorly, so half the file is half the rows
+  for (unsigned char& b : bytes) {
+    state ^= state << 13;
+    state ^= state >> 17;
+    state ^= state << 5;
+    b = (unsigned char)(state >> 24);
+  }
+  oiio_write(dir + "/whole.png", w, h, 3, bytes);
+  std::string data;
+  {
+    std::ifstream in(dir + "/whole.png", std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(data.size(), 2000u);
+  {
+    std::ofstream out(dir + "/cut.png", std::ios::binary);
+    out.write(data.data(), std::streamsize(data.size() / 2));
+  }
+  std::string why;
+  auto in = image_backend().open(dir + "/cut.png", true, why);
+  ASSERT_TRUE(in) << why;  // the header is intact
+  std::vector<unsigned char> px(bytes.size());
+  EXPECT_FALSE(in->read(0, 3, PixelFormat::U8, px.data()));
+  EXPECT_FALSE(in->error().empty());
+  EXPECT_FALSE(in->read(0, 3, PixelFormat::U8, px.data())) << "a second read fails the same way";
 }
 
 TEST(ImageBackend, WrittenPngsAndExrsReadBackInOpenImageIO) {
