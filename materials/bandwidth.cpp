@@ -75,7 +75,8 @@ void add_feature(std::vector<Feature>& front, Feature f) {
 // of the coordinate becomes one of the pattern's full range.
 const char* pattern_coordinate(const std::string& c) {
   if (one_of(c, {"noise2d", "fractal2d", "cellnoise2d", "worleynoise2d", "tiledcircles", "tiledcloverleafs",
-                 "tiledhexagons", "grid", "crosshatch", "image", "tiledimage"}))
+                 "tiledhexagons", "grid", "crosshatch", "image", "tiledimage", "hextiledimage",
+                 "hextilednormalmap"}))
     return "texcoord";
   if (one_of(c, {"noise3d", "fractal3d", "cellnoise3d", "worleynoise3d"})) return "position";
   return nullptr;
@@ -235,9 +236,9 @@ std::vector<NodeBandwidth> node_bandwidths(const Graph& g) {
       out.magnitude = 1;
       if (tiling > 0)
         own_coord = coord, own_size = std::max(std::min(t, 1.0 - t), 1e-3) / tiling, own_range = 1;
-    } else if (c == "image" || c == "tiledimage") {
+    } else if (one_of(c, {"image", "tiledimage", "hextiledimage", "hextilednormalmap"})) {
       out.rate = kInf;
-      out.magnitude = 1;  // an LDR texture; HDR ones are not patterns anyway
+      out.magnitude = 1;  // an LDR texture (or a unit normal); HDR ones are not patterns anyway
     } else if (one_of(c, {"ramplr", "ramptb", "splitlr", "splittb"})) {
       out.rate = kInf;
       out.magnitude = std::max(mag_of("valuel"),

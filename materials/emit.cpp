@@ -137,22 +137,40 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
       return true;
     }
     case Emit::Image: {
+      // The operand inputs in table order, with the texture's mode
+      // (address modes and filter, footprint scale) right after `default`.
       if (!cx.textures) return false;
       const Input& file = *n.input("file");
       if (file.linked) fail(n.origin, ": 'file' must be a constant filename");
-      if (file.value.text.empty()) {  // no image: MaterialX returns the default
+      // No image: `image` is its default; the hex-tiled nodes read it as
+      // every texel (a flat normal for the normal map), from no texture.
+      const bool image = def->opcode == PMC_OP_IMAGE;
+      if (file.value.text.empty() && image) {
         cx.em.instr(PMC_OP_MOVE, w, 0, dst, {op("default")});
         return true;
       }
-      bool srgb = file.value.f[0] > 0.5f && (n.type == ValueType::Color3 || n.type == ValueType::Color4);
-      int tex = cx.textures->load(file.value.text, srgb, n.origin);
+      uint32_t tex = 0xffffu;  // beyond any texture pool: the texture's reads return `default`
+      if (!file.value.text.empty()) {
+        bool srgb = file.value.f[0] > 0.5f && (n.type == ValueType::Color3 || n.type == ValueType::Color4);
+        tex = uint32_t(cx.textures->load(file.value.text, srgb, n.origin));
+      }
+      auto text_of = [&](const char* name, const char* fallback) {
+        const Input* in = n.input(name);
+        return in ? in->value.text : std::string(fallback);
+      };
       uint32_t bits =
-          address_mode(n.input("uaddressmode")->value.text, n.origin) |
-          (address_mode(n.input("vaddressmode")->value.text, n.origin) << 2) |
-          ((n.input("filtertype")->value.text == "closest" ? PMC_FILTER_CLOSEST : PMC_FILTER_LINEAR) << 4);
+          address_mode(text_of("uaddressmode", "periodic"), n.origin) |
+          (address_mode(text_of("vaddressmode", "periodic"), n.origin) << 2) |
+          ((text_of("filtertype", "linear") == "closest" ? PMC_FILTER_CLOSEST : PMC_FILTER_LINEAR) << 4);
       Value mode = Value::number(ValueType::Vector2, float(bits), uv_scale(cx.g, *n.input("texcoord")));
-      cx.em.instr(PMC_OP_IMAGE, w, uint32_t(tex), dst,
-                  {op("texcoord"), op("default"), cx.em.constant(mode, 2)});
+      std::vector<uint32_t> operands;
+      for (const InputDef& d : def->inputs) {
+        const Input* in = n.input(d.name);
+        if (!d.operand || !in || !is_numeric(in->type)) continue;
+        operands.push_back(cx.operand(*in));
+        if (d.name == "default") operands.push_back(cx.em.constant(mode, 2));
+      }
+      cx.em.instr(def->opcode, w, tex, dst, operands);
       return true;
     }
     case Emit::WidthImm: {

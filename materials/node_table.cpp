@@ -85,8 +85,8 @@ std::map<std::string, NodeDef> build() {
                                         in_s("frameendaction", "constant")};
   std::vector<InputDef> image = {{"file", "filename", text(""), GeomDefault::None},
                                  in_s("layer", ""),
-                                 in_t("default", 0),
                                  in_geom("texcoord", "vector2", GeomDefault::UV0),
+                                 in_t("default", 0),
                                  in_s("uaddressmode", "periodic"),
                                  in_s("vaddressmode", "periodic"),
                                  in_s("filtertype", "linear")};
@@ -104,6 +104,36 @@ std::map<std::string, NodeDef> build() {
                                  in_s("filtertype", "linear")};
   tiled.insert(tiled.end(), frame_inputs.begin(), frame_inputs.end());
   def("tiledimage", kAllNumeric, tiled, -1).lower = Lower::TiledImage;  // place math + image
+  // Hex-tiled images (core/device/pmc_hextile.h): one opcode each, which
+  // reads the texture like `image` (Emit::Image adds the mode operand after
+  // `default`). The texture reads depend on the uv only, like image's.
+  std::vector<InputDef> hextile = {{"file", "filename", text(""), GeomDefault::None},
+                                   in_geom("texcoord", "vector2", GeomDefault::UV0),
+                                   in_v2("tiling", 1, 1),
+                                   in_f("rotation", 1),
+                                   in_v2("rotationrange", 0, 360),
+                                   in_f("scale", 1),
+                                   in_v2("scalerange", 0.5f, 2),
+                                   in_f("offset", 1),
+                                   in_v2("offsetrange", 0, 1),
+                                   in_f("falloff", 0.5f)};
+  std::vector<InputDef> heximage = hextile;
+  heximage.insert(heximage.end(), {in_t("default", 0),
+                                   in_f("falloffcontrast", 0.5f),
+                                   {"lumacoeffs", "color3", num(0.2722287f, 0.6740818f, 0.0536895f)}});
+  NodeDef& hex = def("hextiledimage", {"color3", "color4"}, heximage, PMC_OP_HEXIMAGE);
+  hex.emit = Emit::Image;
+  hex.folds = false;
+  std::vector<InputDef> hexnormal = hextile;
+  hexnormal.insert(hexnormal.end(), {{"default", "vector3", num(0.5f, 0.5f, 1.0f)},
+                                     in_f("strength", 1),
+                                     in_b("flip_g", false),
+                                     in_geom("normal", "vector3", GeomDefault::Nworld),
+                                     in_geom("tangent", "vector3", GeomDefault::Tworld),
+                                     not_operand(in_geom("bitangent", "vector3", GeomDefault::Bworld))});
+  NodeDef& hexn = def("hextilednormalmap", {"vector3"}, hexnormal, PMC_OP_HEXNORMALMAP);
+  hexn.emit = Emit::Image;
+  hexn.folds = false;
   def("place2d", {"vector2"},
       {in_v2("texcoord", 0, 0), in_v2("pivot", 0, 0), in_v2("scale", 1, 1), in_f("rotate", 0),
        in_v2("offset", 0, 0), in_i("operationorder", 0)},

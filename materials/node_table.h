@@ -13,7 +13,7 @@
 //  - algebra: the identities the folding pass applies (x*1, x+0, x*0, mix by
 //    0 or 1, pass-throughs), as data;
 //  - how it lowers: `emit` (an opcode with the inputs as operands, or one of
-//    the few emitters in emit.cpp: convert, extract, swizzle, combine2, image,
+//    the few emitters in emit.cpp: convert, extract, swizzle, combine2, images,
 //    operand-width opcodes), or `lower` (rewritten into other nodes before
 //    compiling, by lowering.cpp: invert, tiledimage, heighttonormal, bump,
 //    and the scene-constant nodes time, frame, geomcolor, geompropvalue).
@@ -73,7 +73,7 @@ enum class Emit {
   Extract,   // SWIZZLE of one lane
   Swizzle,   // SWIZZLE by the `channels` string
   Combine2,  // two MOVEs of any widths side by side
-  Image,     // a texture from the pool; IMAGE
+  Image,     // a texture from the pool; `opcode` (IMAGE, HEXIMAGE, HEXNORMALMAP), imm = its index
   WidthImm,  // `opcode` with imm = the first operand's width (dotproduct, magnitude)
   Lowered,   // rewritten by lowering.cpp before emission
 };

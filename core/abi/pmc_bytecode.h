@@ -106,6 +106,10 @@
   X(HAIR_ROUGHNESS, 4, 4) /* longitudinal, azimuthal, scale_TT, scale_TRT; imm = PMC_HAIR_* */ \
   X(HAIR_MELANIN, 4, 4)   /* concentration, redness, eumelanin and pheomelanin colours */      \
   X(HAIR_COLOR, 2, 2)     /* color, azimuthal_roughness (pmc_hair_data.h) */                   \
+  X(HEXIMAGE, 13, 13)     /* texcoord, tiling, rotation, rotationrange, scale, scalerange, */   \
+                          /* offset, offsetrange, falloff, default, mode (as IMAGE), */        \
+                          /* falloffcontrast, lumacoeffs; imm = texture index */               \
+  X(HEXNORMALMAP, 15, 15) /* the same 11 first, then strength, flip_g, normal, tangent */      \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
   X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on

@@ -42,6 +42,7 @@
 #include "pmc_compositing.h"
 #include "pmc_flake.h"
 #include "pmc_hair_data.h"
+#include "pmc_hextile.h"
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_pbr_data.h"
@@ -607,6 +608,50 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
                                         bits & 3u, (bits >> 2) & 3u, (bits >> 4) & 3u, pmc_lanes4(B, k));
           /* A float image reads the first channel. */
           pmc_set_lanes4(R, k, width == 1u ? pmc_broadcast(c.x) : c);
+        }
+        break;
+      }
+      case PMC_OP_HEXIMAGE:       /* see PMC_OPCODES for the operands; imm = texture index */
+      case PMC_OP_HEXNORMALMAP: { /* more operands than arrays: the tiles first, then the rest */
+        PmcHexTiles tiles[PMC_LANES];
+        float gain[PMC_LANES]; /* the tiling's footprint gain */
+        PMC_FETCH4(A, 0);
+        PMC_FETCH4(B, 1);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          A[0][k] *= B[0][k];
+          A[1][k] *= B[1][k];
+          gain[k] = fmax(fabs(B[0][k]), fabs(B[1][k]));
+        }
+        PMC_FETCH4(B, 2);
+        PMC_FETCH4(T, 3);
+        PMC_FETCH4(D, 4);
+        PMC_FETCH4(E, 5);
+        PMC_FETCH4(F, 6);
+        PMC_FETCH4(R, 7);
+        for (int k = 0; k < PMC_BATCH(nn); ++k)
+          tiles[k] = pmc_hextile_tiles(make_float2(A[0][k], A[1][k]), B[0][k], make_float2(T[0][k], T[1][k]),
+                                       D[0][k], make_float2(E[0][k], E[1][k]), F[0][k],
+                                       make_float2(R[0][k], R[1][k]));
+        PMC_FETCH4(A, 8);  /* falloff */
+        PMC_FETCH4(B, 9);  /* default */
+        PMC_FETCH4(T, 10); /* mode */
+        PMC_FETCH4(D, 11); /* falloffcontrast | strength */
+        PMC_FETCH4(E, 12); /* lumacoeffs | flip_g */
+        if (op == PMC_OP_HEXNORMALMAP) {
+          PMC_FETCH4(F, 13); /* normal */
+          PMC_FETCH4(R, 14); /* tangent, read before R is written */
+        }
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
+          float footprint = footprint_now[k] * T[1][k] * gain[k];
+          float4 r =
+              op == PMC_OP_HEXIMAGE
+                  ? pmc_hextile_image(ts, imm, &tiles[k], footprint, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
+                                      make_float3(E[0][k], E[1][k], E[2][k]))
+                  : pmc_hextile_normalmap(ts, imm, &tiles[k], footprint, bits, pmc_lanes4(B, k), A[0][k],
+                                          D[0][k], E[0][k] != 0.0f, make_float3(F[0][k], F[1][k], F[2][k]),
+                                          make_float3(R[0][k], R[1][k], R[2][k]));
+          pmc_set_lanes4(R, k, r);
         }
         break;
       }

@@ -42,10 +42,10 @@
 namespace pmc {
 namespace {
 
-constexpr int kPreload = 32;  // stack floats preloaded per work-item (8 operands x 4 lanes)
+constexpr int kPreload = 60;  // stack floats preloaded per work-item (15 operands x 4 lanes)
 constexpr int kShading = 16;  // uv(2) position(3) normal(3) tangent(3) bitangent(3) footprint(1) pad
 constexpr int kData = kPreload + kShading;
-constexpr uint32_t kDst = 40;  // result slot, outside the preloaded range
+constexpr uint32_t kDst = 64;  // result slot, outside the preloaded range
 constexpr float kSentinel = -1234.5f;
 constexpr int kItems = 128;                     // work-items per program
 constexpr double kEps = 1.1920928955078125e-7;  // FLT_EPSILON = 1 ulp at 1.0
@@ -177,6 +177,48 @@ std::vector<OpSpec> op_specs() {
        [](Rng& rng, std::array<float, 4>* v) {
          v[2][0] = float(std::uniform_int_distribution<int>(0, 31)(rng));
          v[2][1] = uniform(rng, 0.5f, 4.0f);
+       }});
+  // Hex tiling: texcoord, tiling, rotation, rotationrange, scale, scalerange,
+  // offset, offsetrange, falloff, default, mode (as IMAGE), then
+  // falloffcontrast, lumacoeffs (HEXIMAGE) or strength, flip_g, normal,
+  // tangent (HEXNORMALMAP). A tile's edge (the lattice triangle a point lies
+  // in) is a jump in which tiles are read, but their weights vanish there
+  // (bary^7). The per-tile angle (up to 360 degrees, an operand) rounds
+  // differently through sin/cos on the two sides and moves each read point;
+  // random texels make the image steep, and the normal map's gradient blend
+  // divides by dot(N, N_i), small for texels whose normal lies near the
+  // tangent plane (up to ~2e-5 seen). Both are held to Scaled, whose operand
+  // magnitude is the rotation range's (~3e-3), still far below the O(1) error
+  // of a wrong operand or lane.
+  const std::vector<ArgSpec> hextile = {{2, -2, 3},      {2, 0.5f, 3}, {1, 0, 1}, {2, -180, 360},
+                                        {1, 0, 1},       {2, 0.5f, 2}, {1, 0, 1}, {2, -1, 1},
+                                        {1, 0.1f, 0.9f}, {0, -1, 2},   {2, 0, 1}};
+  auto hextile_mode = [](Rng& rng, std::array<float, 4>* v) {
+    v[10][0] = float(std::uniform_int_distribution<int>(0, 31)(rng));
+    v[10][1] = uniform(rng, 0.5f, 4.0f);
+  };
+  std::vector<ArgSpec> heximage = hextile;
+  heximage.insert(heximage.end(), {{1, 0, 1}, {3, 0, 1}});
+  add({PMC_OP_HEXIMAGE,
+       {3, 4},
+       heximage,
+       Tol::Scaled,
+       true,
+       [](int, int index, Rng&) { return uint32_t(index % 3); },
+       hextile_mode});
+  std::vector<ArgSpec> hexnormal = hextile;
+  hexnormal.insert(hexnormal.end(), {{1, 0, 2}, {1, 0, 1, Dist::Integer}, {3, -1, 1}, {3, -1, 1}});
+  add({PMC_OP_HEXNORMALMAP,
+       {3},
+       hexnormal,
+       Tol::Scaled,
+       true,
+       [](int, int index, Rng&) { return uint32_t(index % 3); },
+       [hextile_mode](Rng& rng, std::array<float, 4>* v) {
+         hextile_mode(rng, v);
+         v[13] = {0, 0, 1, 0};  // a unit normal and a unit tangent across it, as shading frames are
+         float a = uniform(rng, 0, 6.2831853f);
+         v[14] = {std::cos(a), std::sin(a), 0, 0};
        }});
   add({PMC_OP_PLACE2D,
        {2},
@@ -680,8 +722,8 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
   }
   {
     // Chained program around a cache block, as the compiler emits it:
-    //   MOVE s44 <- s0; CACHE_LOOKUP s48 [skip]; ADD s52 <- s44, s4;
-    //   CACHE_STORE s48 <- s52; MUL s40 <- s48, s44; OUTPUT
+    //   MOVE s68 <- s0; CACHE_LOOKUP s72 [skip]; ADD s76 <- s68, s4;
+    //   CACHE_STORE s72 <- s76; MUL kDst <- s72, s68; OUTPUT
     // Without a cache context (host reference, cache off) every lookup is a
     // miss: the block runs into its own slot, the STORE delivers it to the
     // point's slot, and the result is (a + b) * a on both sides.
@@ -694,11 +736,11 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
     skip.raw = true;
     skip.word = block_words;
     std::vector<Instr> prog = {
-        {PMC_OP_MOVE, 4, 0, 44, {Operand{false, false, 0, 4, 0, {}}}},
-        {PMC_OP_CACHE_LOOKUP, 4, 0, 48, {skip}},
-        {PMC_OP_ADD, 4, 0, 52, {Operand{false, false, 0, 4, 44, {}}, Operand{false, false, 0, 4, 4, {}}}},
-        {PMC_OP_CACHE_STORE, 4, 0, 48, {Operand{false, false, 0, 4, 52, {}}}},
-        {PMC_OP_MUL, 4, 0, kDst, {Operand{false, false, 0, 4, 48, {}}, Operand{false, false, 0, 4, 44, {}}}},
+        {PMC_OP_MOVE, 4, 0, 68, {Operand{false, false, 0, 4, 0, {}}}},
+        {PMC_OP_CACHE_LOOKUP, 4, 0, 72, {skip}},
+        {PMC_OP_ADD, 4, 0, 76, {Operand{false, false, 0, 4, 68, {}}, Operand{false, false, 0, 4, 4, {}}}},
+        {PMC_OP_CACHE_STORE, 4, 0, 72, {Operand{false, false, 0, 4, 76, {}}}},
+        {PMC_OP_MUL, 4, 0, kDst, {Operand{false, false, 0, 4, 72, {}}, Operand{false, false, 0, 4, 68, {}}}},
         {PMC_OP_OUTPUT, 4, 0, 0, {Operand{false, false, 0, 4, kDst, {}}}},
     };
     c.entry = assemble(code, prog);
