@@ -144,6 +144,24 @@ using std::sqrt;
 #define PMC_PI 3.14159265358979323846f
 #define PMC_INV_PI 0.31830988618379067154f
 
+/* sin and cos of t turns (the angle 2 pi t) for moderate |t|: reduced exactly
+ * to within an eighth of a turn of a quarter, then Cephes' single-precision
+ * minimax polynomials on [-pi/4, pi/4] (error about 1e-7). Samplers draw
+ * angles as fractions of a turn; PoCL's sin and cos spend most of their time
+ * in a general argument reduction (`__pocl_argReductionS` in profiles of the
+ * shade kernel). */
+PMC_FN void pmc_sincos_turns(float t, float* s, float* c) {
+  float q = floor(t * 4.0f + 0.5f);
+  float x = (t - q * 0.25f) * (2.0f * 3.14159265358979323846f);
+  float z = x * x;
+  float sn = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
+  float cs = ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z -
+             0.5f * z + 1.0f;
+  int k = (int)q & 3;
+  *s = k == 0 ? sn : (k == 1 ? cs : (k == 2 ? -sn : -cs));
+  *c = k == 0 ? cs : (k == 1 ? -sn : (k == 2 ? -cs : sn));
+}
+
 /* Three floats from any address space (a macro, since OpenCL pointers carry one). */
 #define pmc_load3(p) make_float3((p)[0], (p)[1], (p)[2])
 PMC_FN float pmc_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }

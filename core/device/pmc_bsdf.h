@@ -54,9 +54,10 @@ PMC_FN float3 pmc_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
       lensq > 0.0f ? make_float3(-vh.y, vh.x, 0.0f) * (1.0f / sqrt(lensq)) : make_float3(1.0f, 0.0f, 0.0f);
   float3 t2 = cross(vh, t1);
   float r = sqrt(u1);
-  float phi = 2.0f * PMC_PI * u2;
-  float p1 = r * cos(phi);
-  float p2 = r * sin(phi);
+  float sin_phi, cos_phi;
+  pmc_sincos_turns(u2, &sin_phi, &cos_phi);
+  float p1 = r * cos_phi;
+  float p2 = r * sin_phi;
   float s = 0.5f * (1.0f + vh.z);
   p2 = (1.0f - s) * sqrt(fmax(0.0f, 1.0f - p1 * p1)) + s * p2;
   float3 nh = t1 * p1 + t2 * p2 + vh * sqrt(fmax(0.0f, 1.0f - p1 * p1 - p2 * p2));
@@ -116,16 +117,18 @@ PMC_FN float pmc_bsdf_pdf(const PmcBsdf* b, float3 wo, float3 wi) {
 PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
   float a = 2.0f * u1 - 1.0f;
   float c = 2.0f * u2 - 1.0f;
-  float r, phi;
+  float r, turns; /* the angle, in turns */
   if (a == 0.0f && c == 0.0f) return make_float3(0.0f, 0.0f, 1.0f);
   if (fabs(a) > fabs(c)) {
     r = a;
-    phi = (PMC_PI / 4.0f) * (c / a);
+    turns = 0.125f * (c / a);
   } else {
     r = c;
-    phi = (PMC_PI / 2.0f) - (PMC_PI / 4.0f) * (a / c);
+    turns = 0.25f - 0.125f * (a / c);
   }
-  float x = r * cos(phi), y = r * sin(phi);
+  float sin_phi, cos_phi;
+  pmc_sincos_turns(turns, &sin_phi, &cos_phi);
+  float x = r * cos_phi, y = r * sin_phi;
   return make_float3(x, y, sqrt(fmax(0.0f, 1.0f - x * x - y * y)));
 }
 

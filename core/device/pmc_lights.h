@@ -128,8 +128,9 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
   int w = h->env_width, hh = h->env_height;
   float3 m;
   if (h->env_uniform) {
-    float z = 1.0f - 2.0f * u1, r = sqrt(fmax(0.0f, 1.0f - z * z)), phi = 2.0f * PMC_PI * u2;
-    m = make_float3(r * cos(phi), z, r * sin(phi));
+    float z = 1.0f - 2.0f * u1, r = sqrt(fmax(0.0f, 1.0f - z * z)), sin_phi, cos_phi;
+    pmc_sincos_turns(u2, &sin_phi, &cos_phi);
+    m = make_float3(r * cos_phi, z, r * sin_phi);
   } else {
     PMC_GLOBAL const float* marginal = ls->env + 3 * w * hh;
     int row = pmc_cdf_search(marginal, hh, u1);

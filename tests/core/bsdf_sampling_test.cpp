@@ -340,6 +340,25 @@ TEST(BsdfStats, IncompleteGammaMatchesClosedForms) {
 // ---------------------------------------------------------------------------
 // 1. Cosine hemisphere.
 
+TEST(SinCosTurns, MatchesDoublePrecisionOverSeveralTurnsAndAtTheQuadrants) {
+  double worst = 0.0;
+  for (int i = -200000; i <= 400000; ++i) {  // t in [-1, 2] turns, every 5e-6
+    const float t = float(i) * 5e-6f;
+    float s, c;
+    pmc_sincos_turns(t, &s, &c);
+    const double angle = 2.0 * M_PI * double(t);
+    worst = std::max({worst, std::fabs(double(s) - std::sin(angle)), std::fabs(double(c) - std::cos(angle))});
+  }
+  EXPECT_LT(worst, 3e-7);
+  for (int q = -4; q <= 8; ++q) {  // exact at the quarter turns, as the reduction is exact
+    float s, c;
+    pmc_sincos_turns(0.25f * float(q), &s, &c);
+    const int k = ((q % 4) + 4) % 4;
+    EXPECT_EQ(s, k == 1 ? 1.0f : (k == 3 ? -1.0f : 0.0f)) << q;
+    EXPECT_EQ(c, k == 0 ? 1.0f : (k == 2 ? -1.0f : 0.0f)) << q;
+  }
+}
+
 TEST(BsdfSampling, CosinePdfIntegratesToOne) {
   // Diffuse-only BSDF: pmc_bsdf_pdf is the cosine pdf; integrate it (library
   // function, not our own cos/pi) over the whole sphere. Smooth integrand and
