@@ -89,7 +89,6 @@ class Images final : public ImageBackend {
     if (native_image_writes(format_path, image)) return write_native_image(file, format_path, image, why);
     return plugin().write(file, format_path, image, why);
   }
-  Image viridis(const Image& values) override { return native_viridis(values); }
 
  private:
   ImageBackend& plugin() {

@@ -24,8 +24,6 @@
 #include <string>
 #include <vector>
 
-#include "core/image_io.h"
-
 namespace pmc {
 
 enum class PixelFormat { U8, U16, U32, Half, Float, Other };
@@ -92,8 +90,6 @@ class ImageBackend {
   // (the final name when `file` is a temporary). False with `why` on failure.
   virtual bool write(const std::string& file, const std::string& format_path, const ImageWrite& image,
                      std::string& why) = 0;
-  // Viridis display colours (sRGB-encoded, 3 channels) of one-channel values in [0, 1].
-  virtual Image viridis(const Image& values) = 0;
 };
 
 // The backend: native formats (core/native_images.h), else the plugin, loaded

@@ -409,15 +409,6 @@ bool write_exr_file(const std::string& file, const ImageWrite& image, std::strin
   }
 }
 
-// matplotlib's viridis at t = i / 16 (display values).
-const float kViridis[17][3] = {
-    {0.267004f, 0.004874f, 0.329415f}, {0.282327f, 0.094955f, 0.417331f}, {0.278826f, 0.175490f, 0.483397f},
-    {0.258965f, 0.251537f, 0.524736f}, {0.229739f, 0.322361f, 0.545706f}, {0.199430f, 0.387607f, 0.554642f},
-    {0.172719f, 0.448791f, 0.557885f}, {0.149039f, 0.508051f, 0.557250f}, {0.127568f, 0.566949f, 0.550556f},
-    {0.120638f, 0.625828f, 0.533488f}, {0.157851f, 0.683765f, 0.501686f}, {0.246070f, 0.738910f, 0.452024f},
-    {0.369214f, 0.788888f, 0.382914f}, {0.515992f, 0.831158f, 0.294279f}, {0.678489f, 0.863742f, 0.189503f},
-    {0.845561f, 0.887322f, 0.099702f}, {0.993248f, 0.906157f, 0.143936f}};
-
 }  // namespace
 
 std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool unassociated_alpha,
@@ -455,24 +446,6 @@ bool write_native_image(const std::string& file, const std::string& format_path,
                         std::string& why) {
   return lower_extension(format_path) == ".png" ? write_png(file, image, why)
                                                 : write_exr_file(file, image, why);
-}
-
-Image native_viridis(const Image& values) {
-  Image out;
-  out.width = values.width;
-  out.height = values.height;
-  out.channels = 3;
-  const size_t n = size_t(values.width) * size_t(values.height);
-  out.pixels.resize(n * 3);
-  for (size_t i = 0; i < n; ++i) {
-    float t = values.pixels[i * size_t(values.channels)];
-    t = std::isfinite(t) ? std::clamp(t, 0.0f, 1.0f) * 16.0f : 0.0f;
-    const int k = std::min(15, int(t));
-    const float f = t - float(k);
-    for (int c = 0; c < 3; ++c)
-      out.pixels[i * 3 + size_t(c)] = kViridis[k][c] + f * (kViridis[k + 1][c] - kViridis[k][c]);
-  }
-  return out;
 }
 
 }  // namespace pmc

@@ -29,7 +29,5 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
 bool native_image_writes(const std::string& format_path, const ImageWrite& image);
 bool write_native_image(const std::string& file, const std::string& format_path, const ImageWrite& image,
                         std::string& why);
-// matplotlib's viridis in display values, interpolated between 17 knots.
-Image native_viridis(const Image& values);
 
 }  // namespace pmc

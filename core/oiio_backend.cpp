@@ -2,7 +2,6 @@
 // implemented with OpenImageIO. The only file that includes OpenImageIO; it
 // is built as its own shared library, not into pmc (see image_backend.h for
 // why), and reports failures as messages, never as exceptions.
-#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <exception>
@@ -157,22 +156,6 @@ class OiioBackend final : public ImageBackend {
       why = e.what();
       return false;
     }
-  }
-
-  // OpenImageIO's colour maps hold linear values (for linear images),
-  // sRGB-encoded here to give matplotlib's colours.
-  Image viridis(const Image& values) override {
-    OIIO::ImageBuf in(OIIO::ImageSpec(values.width, values.height, values.channels, OIIO::TypeDesc::FLOAT));
-    in.set_pixels(in.roi(), OIIO::TypeDesc::FLOAT, values.pixels.data());
-    namespace IBA = OIIO::ImageBufAlgo;
-    const OIIO::ImageBuf mapped = IBA::colorconvert(IBA::color_map(in, 0, "viridis"), "linear", "sRGB");
-    Image out;
-    out.width = values.width;
-    out.height = values.height;
-    out.channels = 3;
-    out.pixels.resize(size_t(out.width) * size_t(out.height) * 3);
-    mapped.get_pixels(mapped.roi(), OIIO::TypeDesc::FLOAT, out.pixels.data());
-    return out;
   }
 };
 
