@@ -4,8 +4,11 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <climits>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <mutex>
 
 #include "core/error.h"
@@ -82,18 +85,35 @@ class Images final : public ImageBackend {
                                     std::string& why) override {
     auto native = open_native_image(path, unassociated_alpha, why);
     if (native || !why.empty()) return native;
-    return plugin().open(path, unassociated_alpha, why);
+    if (std::FILE* f = std::fopen(path.c_str(), "rb")) {
+      std::fclose(f);
+    } else {  // a missing file is reported as missing, whether or not the plugin loads
+      why = std::strerror(errno);
+      return nullptr;
+    }
+    return plugin_for(path, "reading").open(path, unassociated_alpha, why);
   }
   bool write(const std::string& file, const std::string& format_path, const ImageWrite& image,
              std::string& why) override {
     if (native_image_writes(format_path, image)) return write_native_image(file, format_path, image, why);
-    return plugin().write(file, format_path, image, why);
+    return plugin_for(format_path, "writing").write(file, format_path, image, why);
   }
 
  private:
   ImageBackend& plugin() {
     std::call_once(loaded_, [this] { plugin_ = load_plugin(); });  // tried again after a throw
     return *plugin_;
+  }
+  // The plugin, or an error that names the file that needed it.
+  ImageBackend& plugin_for(const std::string& path, const char* action) {
+    try {
+      return plugin();
+    } catch (const Error& e) {
+      fail(path, ": ", action,
+           " this file needs the image plugin (pmc reads only OpenEXR, 8-bit PNG and JPEG "
+           "itself): ",
+           e.what());
+    }
   }
   std::once_flag loaded_;
   ImageBackend* plugin_ = nullptr;

@@ -20,6 +20,8 @@
 #include <exception>
 #include <vector>
 
+#include "core/native_jpeg.h"
+
 namespace pmc {
 namespace {
 
@@ -133,28 +135,7 @@ class PngReader final : public ImageReader {
   ~PngReader() override { png_release(s_); }
   const ImageHeader& header() const override { return h_; }
   bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
-    if (c0 < 0 || c1 > h_.channels || c0 >= c1 ||
-        (format != PixelFormat::U8 && format != PixelFormat::Float)) {
-      error_ = "unsupported channel range or pixel format";
-      return false;
-    }
-    if (!decoded()) return false;
-    const size_t nch = size_t(h_.channels), size = format_bytes(format);
-    if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * size);
-    if (!ys) ys = xs * h_.width;
-    auto* out = static_cast<unsigned char*>(data);
-    for (int y = 0; y < h_.height; ++y)
-      for (int x = 0; x < h_.width; ++x) {
-        const unsigned char* src = &pixels_[(size_t(y) * size_t(h_.width) + size_t(x)) * nch];
-        unsigned char* dst = out + y * ys + x * xs;
-        for (int c = c0; c < c1; ++c) {
-          if (format == PixelFormat::U8)
-            dst[c - c0] = src[c];
-          else
-            reinterpret_cast<float*>(dst)[c - c0] = float(src[c]) * (1.0f / 255.0f);
-        }
-      }
-    return true;
+    return decoded() && copy_u8_channels(pixels_.data(), h_, c0, c1, format, data, xs, ys, error_);
   }
   std::string error() override { return error_; }
   void close() override { png_release(s_); }
@@ -415,6 +396,7 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
                                                std::string& why) {
   const std::vector<unsigned char> m = magic(path, 8);
   if (m.size() == 8 && png_sig_cmp(m.data(), 0, 8) == 0) return open_png(path, unassociated_alpha, why);
+  if (is_jpeg(m.data(), m.size())) return open_jpeg(path, why);
   if (m.size() >= 4 && m[0] == 0x76 && m[1] == 0x2f && m[2] == 0x31 && m[3] == 0x01) {
     try {
       return std::make_unique<ExrReader>(path);
@@ -446,6 +428,30 @@ bool write_native_image(const std::string& file, const std::string& format_path,
                         std::string& why) {
   return lower_extension(format_path) == ".png" ? write_png(file, image, why)
                                                 : write_exr_file(file, image, why);
+}
+
+bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
+                      void* data, std::ptrdiff_t xs, std::ptrdiff_t ys, std::string& error) {
+  if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
+    error = "unsupported channel range or pixel format";
+    return false;
+  }
+  const size_t nch = size_t(h.channels), size = format_bytes(format);
+  if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * size);
+  if (!ys) ys = xs * h.width;
+  auto* out = static_cast<unsigned char*>(data);
+  for (int y = 0; y < h.height; ++y)
+    for (int x = 0; x < h.width; ++x) {
+      const unsigned char* src = &pixels[(size_t(y) * size_t(h.width) + size_t(x)) * nch];
+      unsigned char* dst = out + y * ys + x * xs;
+      for (int c = c0; c < c1; ++c) {
+        if (format == PixelFormat::U8)
+          dst[c - c0] = src[c];
+        else
+          reinterpret_cast<float*>(dst)[c - c0] = float(src[c]) * (1.0f / 255.0f);
+      }
+    }
+  return true;
 }
 
 }  // namespace pmc

@@ -3,7 +3,8 @@
 // OpenEXR files (libOpenEXR: any channels, half/float/uint, data and display
 // windows, string/int/float attributes) and 8-bit PNGs (libpng: grey, grey +
 // alpha, RGB, RGBA, palettes expanded, tRNS as alpha), the formats of pmc's
-// own outputs and of most textures. Loading these two libraries costs a few
+// own outputs and of most textures, and JPEGs (read only; core/native_jpeg.h).
+// Loading these libraries costs a few
 // milliseconds; everything else goes to the OpenImageIO plugin, loaded only
 // when a file needs it (core/image_backend.h).
 //
@@ -14,6 +15,7 @@
 // alpha, and 16-bit PNGs, are left to the plugin.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -21,7 +23,7 @@
 
 namespace pmc {
 
-// A reader when the file is an OpenEXR or PNG this code handles; null
+// A reader when the file is an OpenEXR, PNG or JPEG this code handles; null
 // otherwise (`why` set only when the file is one of those formats but broken).
 std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool unassociated_alpha,
                                                std::string& why);
@@ -29,5 +31,10 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
 bool native_image_writes(const std::string& format_path, const ImageWrite& image);
 bool write_native_image(const std::string& file, const std::string& format_path, const ImageWrite& image,
                         std::string& why);
+// Channels [c0, c1) of 8-bit interleaved `pixels` (h.width x h.height x
+// h.channels) into `data` as U8, or as Float (bytes / 255); strides in bytes,
+// 0 for packed. False with `error` set on a bad channel range or format.
+bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
+                      void* data, std::ptrdiff_t x_stride, std::ptrdiff_t y_stride, std::string& error);
 
 }  // namespace pmc

@@ -1,5 +1,5 @@
 // image_backend_test.cpp — images without linking OpenImageIO: native
-// OpenEXR and PNG, the plugin for the rest, and a clear error without it.
+// OpenEXR, PNG and JPEG, the plugin for the rest, and a clear error without it.
 //
 // * The pmc binary's dynamic dependencies (ldd) name no OpenImageIO library.
 // * Through the backend, an EXR with per-channel formats (float and uint32),
@@ -9,7 +9,10 @@
 //   RGBA, 8-bit) and a palette PNG with transparency read natively to the
 //   same bytes as OpenImageIO reads them; what pmc writes, OpenImageIO reads
 //   back exactly.
-// * A JPEG goes to the plugin and reads as OpenImageIO reads it.
+// * JPEGs (grey and colour, and the MaterialX examples' textures) read
+//   natively to the same bytes as OpenImageIO reads them; one cut short is
+//   refused with libjpeg's reason.
+// * TIFF and TGA go to the plugin and read as OpenImageIO reads them.
 // * A render that needs the plugin (a Radiance HDR environment map) when the
 //   plugin cannot be loaded exits 2, names the paths tried and writes no
 //   image; the same render without an image in another format needs no plugin.
@@ -275,16 +278,71 @@ TEST(ImageBackend, WrittenPngsAndExrsReadBackInOpenImageIO) {
     EXPECT_EQ(png[i], (unsigned char)std::lround(255.0f * std::clamp(img.pixels[i], 0.0f, 1.0f))) << i;
 }
 
+TEST(ImageBackend, JpegsReadAsOpenImageIOReadsThem) {
+  const std::string dir = test::temp_dir();
+  const int w = 19, h = 13;  // not a multiple of the 8x8 blocks or of chroma subsampling
+  for (int nch : {1, 3}) {
+    std::vector<unsigned char> bytes(size_t(w) * h * size_t(nch));
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)((i * 37 + 11) % 256);
+    const std::string path = dir + "/c" + std::to_string(nch) + ".jpg";
+    oiio_write(path, w, h, nch, bytes);
+    int n_oiio = 0, n_native = 0;
+    const auto a = oiio_read_bytes(path, &n_oiio), b = backend_read_bytes(path, &n_native);
+    EXPECT_EQ(n_native, nch);
+    EXPECT_EQ(n_oiio, nch);
+    EXPECT_EQ(a, b) << nch;
+  }
+  // The MaterialX project's example textures, as a third party made them.
+  int seen = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::shared_scene("materialx/images"))) {
+    if (entry.path().extension() != ".jpg") continue;
+    int n_oiio = 0, n_native = 0;
+    const auto x = oiio_read_bytes(entry.path().string(), &n_oiio);
+    const auto y = backend_read_bytes(entry.path().string(), &n_native);
+    EXPECT_EQ(n_native, n_oiio) << entry.path();
+    EXPECT_FALSE(y.empty()) << entry.path();
+    EXPECT_TRUE(x == y) << entry.path();
+    ++seen;
+  }
+  EXPECT_GE(seen, 8);
+}
+
+TEST(ImageBackend, AJpegCutShortIsRefusedSayingWhy) {
+  const std::string dir = test::temp_dir();
+  const int w = 64, h = 64;
+  std::vector<unsigned char> bytes(size_t(w) * h * 3);
+  for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)((i * i) >> 3);
+  oiio_write(dir + "/whole.jpg", w, h, 3, bytes);
+  std::string data;
+  {
+    std::ifstream in(dir + "/whole.jpg", std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(data.size(), 1000u);
+  {
+    std::ofstream out(dir + "/cut.jpg", std::ios::binary);
+    out.write(data.data(), std::streamsize(data.size() / 2));
+  }
+  std::string why;
+  EXPECT_FALSE(image_backend().open(dir + "/cut.jpg", true, why));
+  EXPECT_NE(why.find("corrupt JPEG"), std::string::npos) << why;
+  EXPECT_NE(why.find("Premature end"), std::string::npos) << why;
+}
+
 TEST(ImageBackend, OtherFormatsGoToThePlugin) {
   const std::string dir = test::temp_dir();
   const int w = 8, h = 8;
   std::vector<unsigned char> bytes(size_t(w) * h * 3);
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)(i * 3);
-  oiio_write(dir + "/a.jpg", w, h, 3, bytes);
-  int n_oiio = 0, n_backend = 0;
-  const auto a = oiio_read_bytes(dir + "/a.jpg", &n_oiio), b = backend_read_bytes(dir + "/a.jpg", &n_backend);
-  EXPECT_EQ(n_backend, 3);
-  EXPECT_EQ(a, b);
+  for (const char* ext : {".tif", ".tga"}) {
+    const std::string path = dir + "/a" + ext;
+    oiio_write(path, w, h, 3, bytes);
+    int n_oiio = 0, n_backend = 0;
+    const auto a = oiio_read_bytes(path, &n_oiio), b = backend_read_bytes(path, &n_backend);
+    EXPECT_EQ(n_backend, 3) << ext;
+    EXPECT_EQ(a, b) << ext;
+    EXPECT_EQ(b, bytes) << ext;
+  }
 }
 
 TEST(FirstChannels, KeepsTheLeadingChannelsOfEveryPixel) {

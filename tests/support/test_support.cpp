@@ -13,13 +13,23 @@
 #include <memory>
 
 namespace pmc::test {
+namespace {
 
-std::string source_path(const std::string& rel) { return std::string(PMC_SOURCE_DIR) + "/" + rel; }
+std::string env_or(const char* name, const char* compiled_in) {
+  const char* env = std::getenv(name);
+  return env && *env ? env : compiled_in;
+}
+
+std::string source_dir() { return env_or("PMC_TEST_SOURCE_DIR", PMC_SOURCE_DIR); }
+
+}  // namespace
+
+std::string source_path(const std::string& rel) { return source_dir() + "/" + rel; }
 
 std::string scenes_dir() {
   const char* env = std::getenv("PMC_SCENES");
   if (env && *env) return env;
-  return (std::filesystem::path(PMC_SOURCE_DIR).parent_path() / "shared" / "scenes").string();
+  return (std::filesystem::path(source_dir()).parent_path() / "shared" / "scenes").string();
 }
 
 std::string shared_scene(const std::string& rel) {
@@ -37,7 +47,7 @@ std::string shared_scene(const std::string& rel) {
   return path;
 }
 
-std::string temp_root() { return std::string(PMC_BINARY_DIR) + "/test_tmp"; }
+std::string temp_root() { return env_or("PMC_TEST_BINARY_DIR", PMC_BINARY_DIR) + "/test_tmp"; }
 
 std::string temp_dir() {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
@@ -58,7 +68,7 @@ void write_file(const std::string& path, const std::string& text) {
 bool file_exists(const std::string& path) { return std::filesystem::exists(path); }
 
 int run_pmc(const std::string& args, std::string* output) {
-  std::string cmd = std::string(PMC_BINARY) + " " + args + " 2>&1";
+  std::string cmd = env_or("PMC_TEST_PMC", PMC_BINARY) + " " + args + " 2>&1";
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return -1;
   std::string text;

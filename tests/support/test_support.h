@@ -7,6 +7,11 @@
 // next to the repository. They are not part of the repository; when the
 // folder is missing, shared_scene() fails the test with a message that says
 // how to provide it.
+//
+// Where a test binary runs away from its build (scripts/gpu-bundle's
+// tarball on a GPU machine), PMC_TEST_SOURCE_DIR, PMC_TEST_BINARY_DIR and
+// PMC_TEST_PMC replace the source folder, build folder and pmc binary that
+// were compiled in.
 #pragma once
 
 #include <string>
@@ -21,6 +26,7 @@ std::string scenes_dir();
 // scenes_dir()/<rel>; fails the current test (saying how to get the scenes)
 // when the scenes' folder or `rel` in it does not exist.
 std::string shared_scene(const std::string& rel);
+// <source folder>/<rel>: $PMC_TEST_SOURCE_DIR, else the checkout built from.
 std::string source_path(const std::string& rel);
 // The build's folder for test files (build/test_tmp): per checkout, so the
 // test runs of several checkouts on one machine never share a folder.
@@ -29,7 +35,7 @@ std::string temp_root();
 std::string temp_dir();
 void write_file(const std::string& path, const std::string& text);
 bool file_exists(const std::string& path);
-// Runs build/pmc with `args`; returns the exit code, output in `output`.
+// Runs pmc ($PMC_TEST_PMC, else the build's) with `args`; returns the exit code, output in `output`.
 int run_pmc(const std::string& args, std::string* output = nullptr);
 // One OpenCL context (PoCL on CI) reused by all tests.
 const ClContext& cl();
