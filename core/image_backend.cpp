@@ -110,7 +110,7 @@ class Images final : public ImageBackend {
       return plugin();
     } catch (const Error& e) {
       fail(path, ": ", action,
-           " this file needs the image plugin (pmc reads only OpenEXR, 8-bit PNG and JPEG "
+           " this file needs the image plugin (pmc reads only OpenEXR, 8-bit PNG, JPEG and Radiance HDR "
            "itself): ",
            e.what());
     }

@@ -5,10 +5,10 @@
 // process before main() ran, a third of Sponza's whole setup
 // (docs/BENCHMARKS.md, Tracing). So pmc does not link OpenImageIO. Every
 // image read and write goes through this interface: OpenEXR and 8-bit PNG
-// files, pmc's outputs and most textures, and JPEG textures are handled
-// directly (core/native_images.h: libOpenEXR, libpng and libjpeg, a few
-// milliseconds to load); anything else (Radiance HDR, TIFF, TGA, 16-bit PNG,
-// ...) goes to
+// files, pmc's outputs and most textures, JPEG textures and Radiance HDR
+// environment maps are handled directly (core/native_images.h: libOpenEXR,
+// libpng, libjpeg and our own RGBE decoder, a few milliseconds to load);
+// anything else (TIFF, TGA, 16-bit PNG, ...) goes to
 // core/oiio_backend.cpp, built as the plugin libpmc_oiio.so and loaded with
 // dlopen the first time a file needs it. Only pmc's own types cross the
 // door: headers, channel ranges read in a pixel format, plain attributes.

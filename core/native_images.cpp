@@ -20,6 +20,7 @@
 #include <exception>
 #include <vector>
 
+#include "core/native_hdr.h"
 #include "core/native_jpeg.h"
 
 namespace pmc {
@@ -397,6 +398,7 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
   const std::vector<unsigned char> m = magic(path, 8);
   if (m.size() == 8 && png_sig_cmp(m.data(), 0, 8) == 0) return open_png(path, unassociated_alpha, why);
   if (is_jpeg(m.data(), m.size())) return open_jpeg(path, why);
+  if (is_radiance_hdr(m.data(), m.size())) return open_radiance_hdr(path, why);
   if (m.size() >= 4 && m[0] == 0x76 && m[1] == 0x2f && m[2] == 0x31 && m[3] == 0x01) {
     try {
       return std::make_unique<ExrReader>(path);

@@ -3,7 +3,8 @@
 // OpenEXR files (libOpenEXR: any channels, half/float/uint, data and display
 // windows, string/int/float attributes) and 8-bit PNGs (libpng: grey, grey +
 // alpha, RGB, RGBA, palettes expanded, tRNS as alpha), the formats of pmc's
-// own outputs and of most textures, and JPEGs (read only; core/native_jpeg.h).
+// own outputs and of most textures, JPEGs and Radiance HDRs (read only;
+// core/native_jpeg.h, core/native_hdr.h).
 // Loading these libraries costs a few
 // milliseconds; everything else goes to the OpenImageIO plugin, loaded only
 // when a file needs it (core/image_backend.h).
@@ -18,12 +19,14 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "core/image_backend.h"
 
 namespace pmc {
 
-// A reader when the file is an OpenEXR, PNG or JPEG this code handles; null
+// A reader when the file is an OpenEXR, PNG, JPEG or Radiance HDR this code handles; null
 // otherwise (`why` set only when the file is one of those formats but broken).
 std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool unassociated_alpha,
                                                std::string& why);
@@ -34,6 +37,32 @@ bool write_native_image(const std::string& file, const std::string& format_path,
 // Channels [c0, c1) of 8-bit interleaved `pixels` (h.width x h.height x
 // h.channels) into `data` as U8, or as Float (bytes / 255); strides in bytes,
 // 0 for packed. False with `error` set on a bad channel range or format.
+// A reader of an image decoded whole when opened (JPEG, Radiance HDR): its
+// header and pixels, no attributes; read() is the format's.
+template <typename Pixel>
+class DecodedImageReader : public ImageReader {
+ public:
+  DecodedImageReader(ImageHeader h, std::vector<Pixel> pixels)
+      : h_(std::move(h)), pixels_(std::move(pixels)) {}
+  const ImageHeader& header() const override { return h_; }
+  std::string error() override { return error_; }
+  void close() override { pixels_ = {}; }
+  std::string string_attribute(const std::string&, const std::string& fallback) const override {
+    return fallback;
+  }
+  int int_attribute(const std::string&, int fallback) const override { return fallback; }
+  float float_attribute(const std::string&, float fallback) const override { return fallback; }
+
+ protected:
+  bool open_pixels() {
+    if (pixels_.empty()) error_ = "the file was closed";
+    return !pixels_.empty();
+  }
+  ImageHeader h_;
+  std::vector<Pixel> pixels_;
+  std::string error_;
+};
+
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t x_stride, std::ptrdiff_t y_stride, std::string& error);
 

@@ -78,30 +78,12 @@ Decoded decode(std::FILE* file, ImageHeader& h, std::vector<unsigned char>& pixe
   return Decoded::Ok;
 }
 
-class JpegReader final : public ImageReader {
+class JpegReader final : public DecodedImageReader<unsigned char> {
  public:
-  JpegReader(ImageHeader h, std::vector<unsigned char> pixels)
-      : h_(std::move(h)), pixels_(std::move(pixels)) {}
-  const ImageHeader& header() const override { return h_; }
+  using DecodedImageReader::DecodedImageReader;
   bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
-    if (pixels_.empty()) {
-      error_ = "the file was closed";
-      return false;
-    }
-    return copy_u8_channels(pixels_.data(), h_, c0, c1, format, data, xs, ys, error_);
+    return open_pixels() && copy_u8_channels(pixels_.data(), h_, c0, c1, format, data, xs, ys, error_);
   }
-  std::string error() override { return error_; }
-  void close() override { pixels_ = {}; }
-  std::string string_attribute(const std::string&, const std::string& fallback) const override {
-    return fallback;
-  }
-  int int_attribute(const std::string&, int fallback) const override { return fallback; }
-  float float_attribute(const std::string&, float fallback) const override { return fallback; }
-
- private:
-  ImageHeader h_;
-  std::vector<unsigned char> pixels_;
-  std::string error_;
 };
 
 }  // namespace

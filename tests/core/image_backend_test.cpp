@@ -1,5 +1,5 @@
 // image_backend_test.cpp — images without linking OpenImageIO: native
-// OpenEXR, PNG and JPEG, the plugin for the rest, and a clear error without it.
+// OpenEXR, PNG, JPEG and Radiance HDR, the plugin for the rest, and a clear error without it.
 //
 // * The pmc binary's dynamic dependencies (ldd) name no OpenImageIO library.
 // * Through the backend, an EXR with per-channel formats (float and uint32),
@@ -12,10 +12,13 @@
 // * JPEGs (grey and colour, and the MaterialX examples' textures) read
 //   natively to the same bytes as OpenImageIO reads them; one cut short is
 //   refused with libjpeg's reason.
+// * Radiance HDRs (run-length encoded and flat, and the shared environment
+//   maps) read natively to the same floats as OpenImageIO reads them; one cut
+//   short, with a bad run or an impossible size is refused saying so.
 // * TIFF and TGA go to the plugin and read as OpenImageIO reads them.
-// * A render that needs the plugin (a Radiance HDR environment map) when the
+// * A render that needs the plugin (a TIFF environment map) when the
 //   plugin cannot be loaded exits 2, names the paths tried and writes no
-//   image; the same render without an image in another format needs no plugin.
+//   image; the same render with a Radiance HDR map needs no plugin.
 // * first_channels() keeps the leading channels of each pixel.
 #include "core/image_backend.h"
 
@@ -136,16 +139,25 @@ std::string render_without_plugin(const std::string& dir, const std::string& ext
 
 TEST(ImageBackend, WithoutThePluginARenderThatNeedsItFailsNamingWhereItLookedAndWritesNothing) {
   const std::string dir = test::temp_dir();
+  // An environment map in TIFF needs the plugin.
+  {
+    auto out = OIIO::ImageOutput::create(dir + "/sky.tif");
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(dir + "/sky.tif", OIIO::ImageSpec(8, 4, 3, OIIO::TypeDesc::FLOAT)));
+    const std::vector<float> sky(8 * 4 * 3, 0.5f);
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, sky.data()));
+    ASSERT_TRUE(out->close());
+  }
   int code = 0;
-  std::string text =
-      render_without_plugin(dir, "--env-map " + test::shared_scene("envmaps/table_mountain.hdr"), &code);
+  std::string text = render_without_plugin(dir, "--env-map " + dir + "/sky.tif", &code);
   EXPECT_EQ(code, 2) << text;
   EXPECT_NE(text.find("cannot load the image plugin"), std::string::npos) << text;
+  EXPECT_NE(text.find(dir + "/sky.tif: reading this file needs the image plugin"), std::string::npos) << text;
   EXPECT_NE(text.find(dir + "/nowhere/libpmc_oiio.so"), std::string::npos) << text;
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.exr"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/out.png"));
-  // PNG textures in, EXR and PNG out: no plugin needed.
-  text = render_without_plugin(dir, "", &code);
+  // PNG textures and a Radiance HDR map in, EXR and PNG out: no plugin needed.
+  text = render_without_plugin(dir, "--env-map " + test::shared_scene("envmaps/table_mountain.hdr"), &code);
   EXPECT_EQ(code, 0) << text;
   EXPECT_TRUE(std::filesystem::exists(dir + "/out.exr"));
   EXPECT_TRUE(std::filesystem::exists(dir + "/out.png"));
@@ -327,6 +339,95 @@ TEST(ImageBackend, AJpegCutShortIsRefusedSayingWhy) {
   EXPECT_FALSE(image_backend().open(dir + "/cut.jpg", true, why));
   EXPECT_NE(why.find("corrupt JPEG"), std::string::npos) << why;
   EXPECT_NE(why.find("Premature end"), std::string::npos) << why;
+}
+
+std::vector<float> oiio_read_floats(const std::string& path, int* w, int* h) {
+  auto in = OIIO::ImageInput::open(path);
+  EXPECT_TRUE(in);
+  if (!in) return {};
+  *w = in->spec().width;
+  *h = in->spec().height;
+  std::vector<float> px(size_t(in->spec().image_pixels()) * size_t(in->spec().nchannels));
+  EXPECT_TRUE(in->read_image(0, 0, 0, in->spec().nchannels, OIIO::TypeDesc::FLOAT, px.data()));
+  return px;
+}
+
+std::vector<float> backend_read_floats(const std::string& path, int* w, int* h, std::string* why = nullptr) {
+  std::string error;
+  auto in = image_backend().open(path, true, error);
+  if (why) *why = error;
+  if (!in) return {};
+  *w = in->header().width;
+  *h = in->header().height;
+  EXPECT_EQ(in->header().channels, 3);
+  std::vector<float> px(size_t(*w) * size_t(*h) * 3);
+  EXPECT_TRUE(in->read(0, 3, PixelFormat::Float, px.data())) << in->error();
+  return px;
+}
+
+TEST(ImageBackend, RadianceHdrsReadAsOpenImageIOReadsThem) {
+  const std::string dir = test::temp_dir();
+  // Written by OpenImageIO: run-length encoded (width 37) and flat (width 5, under RLE's minimum of 8).
+  for (int w : {37, 5}) {
+    const int h = 6;
+    std::vector<float> px(size_t(w) * h * 3);
+    for (size_t i = 0; i < px.size(); ++i)
+      px[i] = float(std::pow(2.0, double(i % 23) - 11.0)) * float(i % 7 + 1);
+    px[4] = 0.0f;
+    const std::string path = dir + "/w" + std::to_string(w) + ".hdr";
+    auto out = OIIO::ImageOutput::create(path);
+    ASSERT_TRUE(out);
+    ASSERT_TRUE(out->open(path, OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::FLOAT)));
+    ASSERT_TRUE(out->write_image(OIIO::TypeDesc::FLOAT, px.data()));
+    ASSERT_TRUE(out->close());
+    int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+    const auto a = oiio_read_floats(path, &w1, &h1), b = backend_read_floats(path, &w2, &h2);
+    EXPECT_EQ(w2, w);
+    EXPECT_EQ(h2, h);
+    EXPECT_EQ(a, b) << w;
+  }
+  // The shared environment maps, as third parties made them.
+  for (const char* name : {"goegap.hdr", "san_giuseppe_bridge.hdr", "table_mountain.hdr"}) {
+    const std::string path = test::shared_scene(std::string("envmaps/") + name);
+    int w1 = 0, h1 = 0, w2 = 0, h2 = 0;
+    const auto a = oiio_read_floats(path, &w1, &h1), b = backend_read_floats(path, &w2, &h2);
+    EXPECT_EQ(w2, w1) << name;
+    EXPECT_EQ(h2, h1) << name;
+    EXPECT_FALSE(b.empty()) << name;
+    EXPECT_TRUE(a == b) << name;
+  }
+}
+
+TEST(ImageBackend, ARadianceHdrCutShortOrWithBadRunsIsRefusedSayingWhy) {
+  const std::string dir = test::temp_dir();
+  std::string data;
+  {
+    std::ifstream in(test::shared_scene("envmaps/goegap.hdr"), std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(data.size(), 10000u);
+  const size_t pixels_at = data.find("\n\n") + 2;  // the resolution line
+  const size_t first_scanline = data.find('\n', pixels_at) + 1;
+  auto refused = [&](const std::string& bytes, const std::string& says) {
+    const std::string path = dir + "/bad.hdr";
+    {
+      std::ofstream out(path, std::ios::binary);
+      out.write(bytes.data(), std::streamsize(bytes.size()));
+    }
+    int w = 0, h = 0;
+    std::string why;
+    EXPECT_TRUE(backend_read_floats(path, &w, &h, &why).empty()) << says;
+    EXPECT_NE(why.find("corrupt Radiance HDR"), std::string::npos) << why;
+    EXPECT_NE(why.find(says), std::string::npos) << why;
+  };
+  refused(data.substr(0, data.size() / 2), "ends inside the pixels");
+  refused(data.substr(0, pixels_at), "no resolution line");
+  std::string bad = data;
+  bad[first_scanline + 4] = 0;  // the first run's length: 0
+  refused(bad, "bad run-length data");
+  bad = data;
+  bad.replace(pixels_at, first_scanline - pixels_at, "-Y 10 +X -4\n");
+  refused(bad, "impossible size");
 }
 
 TEST(ImageBackend, OtherFormatsGoToThePlugin) {
