@@ -61,10 +61,8 @@ Parsed parse_header(Bytes& in, int& width, int& height, std::string& why) {
     return Parsed::Broken;
   }
   if (std::string(ya) != "-Y" || std::string(xa) != "+X") return Parsed::Unsupported;  // another orientation
-  if (w <= 0 || h <= 0 || w > (1 << 20) || h > (1 << 20)) {
-    why = "impossible size " + std::to_string(w) + "x" + std::to_string(h);
-    return Parsed::Broken;
-  }
+  why = native_size_problem(w, h);
+  if (!why.empty()) return Parsed::Broken;
   width = int(w);
   height = int(h);
   return Parsed::Ok;
@@ -78,26 +76,32 @@ void to_float(const unsigned char* rgbe, float* rgb) {
   for (int c = 0; c < 3; ++c) rgb[c] = std::ldexp(float(rgbe[c]), int(rgbe[3]) - 136);
 }
 
-// Pixels from the cursor on, flat RGBE, into out[first ...].
-bool flat_pixels(Bytes& in, size_t first, size_t count, std::vector<float>& out) {
+// `count` pixels from the cursor on, flat RGBE, appended to `out` (checked
+// against the bytes left before anything is allocated).
+bool flat_pixels(Bytes& in, size_t count, std::vector<float>& out) {
   const unsigned char* p = nullptr;
   if (!in.take(count * 4, &p)) return false;
+  const size_t first = out.size() / 3;
+  out.resize(out.size() + 3 * count);
   for (size_t i = 0; i < count; ++i) to_float(p + 4 * i, &out[3 * (first + i)]);
   return true;
 }
 
+// The pixels, appended scanline by scanline: a file cut short fails before
+// the whole image is allocated.
 bool decode_pixels(Bytes& in, int width, int height, std::vector<float>& out, std::string& why) {
   const size_t w = size_t(width), total = w * size_t(height);
-  out.resize(3 * total);
+  out.clear();
   why = "the file ends inside the pixels";
-  if (width < 8 || width > 0x7fff) return flat_pixels(in, 0, total, out);
+  if (width < 8 || width > 0x7fff) return flat_pixels(in, total, out);
   std::vector<unsigned char> line(4 * w);
   for (size_t y = 0; y < size_t(height); ++y) {
     const unsigned char* head = nullptr;
     if (!in.take(4, &head)) return false;
     if (head[0] != 2 || head[1] != 2 || (head[2] & 0x80)) {  // not run-length encoded: flat from here on
+      out.resize(out.size() + 3);
       to_float(head, &out[3 * y * w]);
-      return flat_pixels(in, y * w + 1, total - y * w - 1, out);
+      return flat_pixels(in, total - y * w - 1, out);
     }
     if (((size_t(head[2]) << 8) | head[3]) != w) {
       why = "a scanline of the wrong width";
@@ -119,6 +123,7 @@ bool decode_pixels(Bytes& in, int width, int height, std::vector<float>& out, st
         x += n;
       }
     }
+    out.resize(out.size() + 3 * w);
     for (size_t x = 0; x < w; ++x) to_float(&line[4 * x], &out[3 * (y * w + x)]);
   }
   return true;

@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <png.h>
 
@@ -15,9 +16,11 @@
 #include <cerrno>
 #include <cmath>
 #include <csetjmp>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <stdexcept>
 #include <vector>
 
 #include "core/native_hdr.h"
@@ -105,6 +108,12 @@ bool png_read_header(PngState& s, bool unassociated_alpha, ImageHeader& h, bool&
   h.full_width = h.width;
   h.full_height = h.height;
   h.format = PixelFormat::U8;
+  const std::string size =
+      native_size_problem(png_get_image_width(s.png, s.info), png_get_image_height(s.png, s.info));
+  if (!size.empty()) {
+    std::snprintf(s.error, sizeof(s.error), "%s", size.c_str());
+    return false;
+  }
   static const char* const kNames[4][4] = {{"Y"}, {"Y", "A"}, {"R", "G", "B"}, {"R", "G", "B", "A"}};
   if (h.channels < 1 || h.channels > 4) return false;
   h.channel_names.assign(kNames[h.channels - 1], kNames[h.channels - 1] + h.channels);
@@ -116,6 +125,18 @@ bool png_read_header(PngState& s, bool unassociated_alpha, ImageHeader& h, bool&
 bool png_read_rows(PngState& s, png_bytepp rows) {
   if (setjmp(png_jmpbuf(s.png))) return false;
   png_read_image(s.png, rows);
+  png_read_end(s.png, nullptr);
+  return true;
+}
+
+// A non-interlaced image row by row, `pixels` grown with each: a file cut
+// short fails before the size its header claims is allocated.
+bool png_read_growing(PngState& s, size_t row, size_t height, std::vector<unsigned char>& pixels) {
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  for (size_t y = 0; y < height; ++y) {
+    pixels.resize((y + 1) * row);
+    png_read_row(s.png, &pixels[y * row], nullptr);
+  }
   png_read_end(s.png, nullptr);
   return true;
 }
@@ -154,10 +175,15 @@ class PngReader final : public ImageReader {
       return false;
     }
     const size_t row = size_t(h_.width) * size_t(h_.channels);
-    pixels_.resize(row * size_t(h_.height));
-    std::vector<png_bytep> rows(size_t(h_.height));
-    for (size_t y = 0; y < rows.size(); ++y) rows[y] = &pixels_[y * row];
-    const bool ok = png_read_rows(s_, rows.data());
+    bool ok;
+    if (png_get_interlace_type(s_.png, s_.info) == PNG_INTERLACE_NONE) {
+      ok = png_read_growing(s_, row, size_t(h_.height), pixels_);
+    } else {  // Adam7 passes fill the whole image at once
+      pixels_.resize(row * size_t(h_.height));
+      std::vector<png_bytep> rows(size_t(h_.height));
+      for (size_t y = 0; y < rows.size(); ++y) rows[y] = &pixels_[y * row];
+      ok = png_read_rows(s_, rows.data());
+    }
     if (!ok) {
       error_ = s_.error[0] ? s_.error : "corrupt PNG data";
       pixels_.clear();
@@ -256,19 +282,47 @@ PixelFormat format_of(Imf::PixelType t) {
   }
 }
 
+// The header alone, checked before Imf::InputFile reads the file's offset
+// tables: their size follows the data window, so a broken header claiming
+// 10^8 scanlines cost seconds and gigabytes before any check of ours.
+void check_exr_header(const std::string& path) {
+  Imf::StdIFStream in(path.c_str());
+  char magic_and_version[8];
+  in.read(magic_and_version, 8);  // throws at the end of the file
+  int version = 0;
+  for (int k = 0; k < 4; ++k) version |= int((unsigned char)magic_and_version[4 + k]) << (8 * k);
+  Imf::Header header;
+  header.readFrom(in, version);
+  const Imath::Box2i data = header.dataWindow();
+  const long long w = (long long)data.max.x - data.min.x + 1, h = (long long)data.max.y - data.min.y + 1;
+  std::string size = native_size_problem(w, h);
+  if (size.empty() && h > kMaxNativeRows)
+    size = std::to_string(h) + " scanlines is over pmc's limit of " + std::to_string(kMaxNativeRows);
+  if (!size.empty()) throw std::runtime_error("data window: " + size);
+}
+
 class ExrReader final : public ImageReader {
  public:
   explicit ExrReader(const std::string& path) : file_(std::make_unique<Imf::InputFile>(path.c_str())) {
     const Imf::Header& hd = file_->header();
     const Imath::Box2i data = hd.dataWindow(), display = hd.displayWindow();
+    // Sizes in 64 bits: a window may span the whole int range.
+    const auto extent = [](int lo, int hi) { return (long long)hi - (long long)lo + 1; };
+    const std::string size =
+        native_size_problem(extent(data.min.x, data.max.x), extent(data.min.y, data.max.y));
+    if (!size.empty()) throw std::runtime_error("data window: " + size);
+    const long long full_w = extent(display.min.x, display.max.x),
+                    full_h = extent(display.min.y, display.max.y);
+    if (full_w <= 0 || full_h <= 0 || full_w > INT32_MAX || full_h > INT32_MAX)
+      throw std::runtime_error("impossible display window");
     h_.x = data.min.x;
     h_.y = data.min.y;
-    h_.width = data.max.x - data.min.x + 1;
-    h_.height = data.max.y - data.min.y + 1;
+    h_.width = int(extent(data.min.x, data.max.x));
+    h_.height = int(extent(data.min.y, data.max.y));
     h_.full_x = display.min.x;
     h_.full_y = display.min.y;
-    h_.full_width = display.max.x - display.min.x + 1;
-    h_.full_height = display.max.y - display.min.y + 1;
+    h_.full_width = int(full_w);
+    h_.full_height = int(full_h);
     std::vector<std::string> rgba, rest;
     for (auto c = hd.channels().begin(); c != hd.channels().end(); ++c) {
       const std::string name = c.name();
@@ -401,6 +455,7 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
   if (is_radiance_hdr(m.data(), m.size())) return open_radiance_hdr(path, why);
   if (m.size() >= 4 && m[0] == 0x76 && m[1] == 0x2f && m[2] == 0x31 && m[3] == 0x01) {
     try {
+      check_exr_header(path);
       return std::make_unique<ExrReader>(path);
     } catch (const std::exception& e) {
       why = e.what();
@@ -430,6 +485,15 @@ bool write_native_image(const std::string& file, const std::string& format_path,
                         std::string& why) {
   return lower_extension(format_path) == ".png" ? write_png(file, image, why)
                                                 : write_exr_file(file, image, why);
+}
+
+std::string native_size_problem(long long width, long long height) {
+  if (width <= 0 || height <= 0)
+    return "impossible size " + std::to_string(width) + "x" + std::to_string(height);
+  if (width > kMaxNativePixels / height)
+    return "size " + std::to_string(width) + "x" + std::to_string(height) + " is over pmc's limit of " +
+           std::to_string(kMaxNativePixels) + " pixels";
+  return {};
 }
 
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,

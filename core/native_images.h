@@ -37,6 +37,14 @@ bool write_native_image(const std::string& file, const std::string& format_path,
 // Channels [c0, c1) of 8-bit interleaved `pixels` (h.width x h.height x
 // h.channels) into `data` as U8, or as Float (bytes / 255); strides in bytes,
 // 0 for packed. False with `error` set on a bad channel range or format.
+// The most pixels a native reader decodes (16384 x 16384): a larger size in a
+// header is refused before anything is allocated, so a small broken file
+// cannot ask for gigabytes.
+constexpr long long kMaxNativePixels = 1LL << 28;
+constexpr long long kMaxNativeRows = 1LL << 20;  // OpenEXR: scanlines (its offset tables follow them)
+// "" when width x height is a size the native readers decode, else why not.
+std::string native_size_problem(long long width, long long height);
+
 // A reader of an image decoded whole when opened (JPEG, Radiance HDR): its
 // header and pixels, no attributes; read() is the format's.
 template <typename Pixel>

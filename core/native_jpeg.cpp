@@ -1,6 +1,7 @@
 // native_jpeg.cpp — JPEG decoding with libjpeg (see native_jpeg.h).
 #include "core/native_jpeg.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>  // before jpeglib.h, which uses FILE and size_t
@@ -52,6 +53,14 @@ Decoded decode(std::FILE* file, ImageHeader& h, std::vector<unsigned char>& pixe
     return Decoded::Broken;
   }
   jpeg_create_decompress(&cinfo);
+  // libjpeg allocates a progressive file's coefficients for the whole image
+  // at the start; without this bound a 1 KB file claiming 20000x10000
+  // pixels takes 1.2 GB before its data runs out. The bound grows with the
+  // file (a real 16K x 16K progressive JPEG is tens of megabytes).
+  std::fseek(file, 0, SEEK_END);
+  const long bytes = std::ftell(file);
+  std::rewind(file);
+  cinfo.mem->max_memory_to_use = std::max(256L << 20, 64L * std::max(bytes, 0L));
   jpeg_stdio_src(&cinfo, file);
   jpeg_read_header(&cinfo, TRUE);
   if (cinfo.jpeg_color_space == JCS_CMYK || cinfo.jpeg_color_space == JCS_YCCK) {
@@ -60,6 +69,12 @@ Decoded decode(std::FILE* file, ImageHeader& h, std::vector<unsigned char>& pixe
   }
   cinfo.out_color_space = cinfo.num_components == 1 ? JCS_GRAYSCALE : JCS_RGB;
   jpeg_start_decompress(&cinfo);
+  const std::string size = native_size_problem(cinfo.output_width, cinfo.output_height);
+  if (!size.empty()) {
+    std::snprintf(why, JMSG_LENGTH_MAX, "%s", size.c_str());
+    jpeg_destroy_decompress(&cinfo);
+    return Decoded::Broken;
+  }
   h.width = int(cinfo.output_width);
   h.height = int(cinfo.output_height);
   h.channels = cinfo.output_components;
@@ -67,9 +82,10 @@ Decoded decode(std::FILE* file, ImageHeader& h, std::vector<unsigned char>& pixe
   h.full_height = h.height;
   h.format = PixelFormat::U8;
   h.channel_names = h.channels == 1 ? std::vector<std::string>{"Y"} : std::vector<std::string>{"R", "G", "B"};
+  // Grown row by row: a file cut short fails before the whole image is allocated.
   const size_t row = size_t(h.width) * size_t(h.channels);
-  pixels.resize(row * size_t(h.height));
   while (cinfo.output_scanline < cinfo.output_height) {
+    pixels.resize(pixels.size() + row);
     JSAMPROW at = &pixels[size_t(cinfo.output_scanline) * row];
     jpeg_read_scanlines(&cinfo, &at, 1);
   }

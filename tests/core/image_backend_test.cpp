@@ -14,7 +14,8 @@
 //   refused with libjpeg's reason.
 // * Radiance HDRs (run-length encoded and flat, and the shared environment
 //   maps) read natively to the same floats as OpenImageIO reads them; one cut
-//   short, with a bad run or an impossible size is refused saying so.
+//   short, with a bad run, an impossible size or one over pmc's limit of
+//   2^28 pixels is refused saying so (a JPEG over the limit too).
 // * TIFF and TGA go to the plugin and read as OpenImageIO reads them.
 // * A render that needs the plugin (a TIFF environment map) when the
 //   plugin cannot be loaded exits 2, names the paths tried and writes no
@@ -428,6 +429,33 @@ TEST(ImageBackend, ARadianceHdrCutShortOrWithBadRunsIsRefusedSayingWhy) {
   bad = data;
   bad.replace(pixels_at, first_scanline - pixels_at, "-Y 10 +X -4\n");
   refused(bad, "impossible size");
+  bad = data;
+  bad.replace(pixels_at, first_scanline - pixels_at, "-Y 20000 +X 20000\n");
+  refused(bad, "over pmc's limit of 268435456 pixels");  // refused before allocating 4.8 GB
+}
+
+TEST(ImageBackend, AJpegLargerThanTheLimitIsRefusedBeforeDecoding) {
+  const std::string dir = test::temp_dir();
+  std::vector<unsigned char> bytes(16 * 16 * 3, 128);
+  oiio_write(dir + "/small.jpg", 16, 16, 3, bytes);
+  std::string data;
+  {
+    std::ifstream in(dir + "/small.jpg", std::ios::binary);
+    data.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const size_t sof = data.find("\xff\xc0");  // baseline frame header: length, precision, height, width
+  ASSERT_NE(sof, std::string::npos);
+  for (size_t k : {sof + 5, sof + 7}) {  // 30000 x 30000: 900 M pixels
+    data[k] = char(30000 >> 8);
+    data[k + 1] = char(30000 & 0xff);
+  }
+  {
+    std::ofstream out(dir + "/huge.jpg", std::ios::binary);
+    out.write(data.data(), std::streamsize(data.size()));
+  }
+  std::string why;
+  EXPECT_FALSE(image_backend().open(dir + "/huge.jpg", true, why));
+  EXPECT_NE(why.find("30000x30000 is over pmc's limit"), std::string::npos) << why;
 }
 
 TEST(ImageBackend, OtherFormatsGoToThePlugin) {

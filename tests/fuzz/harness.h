@@ -4,7 +4,8 @@
 // test suite. Each function returns "" when the input was handled properly
 // (loaded, or refused with pmc::Error) and a description of the problem
 // otherwise; a crash or sanitizer report is, of course, also a finding.
-// Targets: check_obj (fuzz_obj), check_mtlx (fuzz_mtlx), check_mtl (fuzz_mtl).
+// Targets: check_obj (fuzz_obj), check_mtlx (fuzz_mtlx), check_mtl (fuzz_mtl),
+// check_image (fuzz_image).
 #pragma once
 
 #include <OpenImageIO/imageio.h>
@@ -23,6 +24,7 @@
 #include "core/device/pmc_interp.h"
 #include "core/error.h"
 #include "core/lights.h"
+#include "core/native_images.h"
 #include "core/obj_loader.h"
 #include "core/texture.h"
 #include "materials/compiler.h"
@@ -364,6 +366,56 @@ inline std::string check_mtl(const uint8_t* data, size_t size) {
     }
     std::string problem = check_material_set(scene, set, options.compile.cache);
     if (!problem.empty()) return problem;
+  }
+  return "";
+}
+
+// ---- images ---------------------------------------------------------------
+// The input is written to a per-process temp file and opened with pmc's own
+// readers (core/native_images.h: OpenEXR, PNG, JPEG, Radiance HDR); the
+// OpenImageIO plugin is not called (not our code to fuzz). A refusal must
+// say why, or be a format the plugin takes (null, `why` empty). A reader
+// must report a sane header (a size under the native limit, channels
+// named), and reading every channel as Float, and as U8 for 8-bit files,
+// must succeed or fail with error() set.
+inline std::string check_image(const uint8_t* data, size_t size) {
+  static const ProcessFolder folder = [] {
+    std::string d =
+        std::filesystem::temp_directory_path().string() + "/pmc_fuzz_image_" + std::to_string(getpid());
+    std::filesystem::create_directories(d);
+    return ProcessFolder{d};
+  }();
+  const std::string path = folder.path + "/input";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  }
+  std::string why;
+  std::unique_ptr<ImageReader> in;
+  try {
+    in = open_native_image(path, true, why);
+  } catch (const std::exception& e) {
+    return std::string("open threw: ") + e.what();
+  }
+  if (!in) return "";  // refused (why says so) or left to the plugin
+  const ImageHeader& h = in->header();
+  if (h.width <= 0 || h.height <= 0 || h.channels <= 0 || !native_size_problem(h.width, h.height).empty())
+    return "a reader with an impossible header: " + std::to_string(h.width) + "x" + std::to_string(h.height) +
+           "x" + std::to_string(h.channels);
+  if (int(h.channel_names.size()) != h.channels) return "channel names do not match the channel count";
+  const size_t values = size_t(h.width) * size_t(h.height) * size_t(h.channels);
+  if (values > (size_t(1) << 22)) return "";  // a big image: reading it would only slow the fuzzer down
+  std::vector<float> f(values);
+  try {
+    if (!in->read(0, h.channels, PixelFormat::Float, f.data()) && in->error().empty())
+      return "a Float read failed without a reason";
+    if (h.format == PixelFormat::U8) {
+      std::vector<unsigned char> b(values);
+      if (!in->read(0, h.channels, PixelFormat::U8, b.data()) && in->error().empty())
+        return "a U8 read failed without a reason";
+    }
+  } catch (const std::exception& e) {
+    return std::string("read threw: ") + e.what();
   }
   return "";
 }

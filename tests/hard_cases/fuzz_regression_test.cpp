@@ -1,8 +1,8 @@
 // fuzz_regression_test.cpp — replays fuzzing inputs in the normal test suite.
 //
-// Every file in tests/fuzz/regressions/{obj,mtlx,mtl} (inputs that once
+// Every file in tests/fuzz/regressions/{obj,mtlx,mtl,image} (inputs that once
 // crashed or misled a fuzz target, kept after the fix) and every seed in
-// tests/fuzz/corpus/{obj,mtlx,mtl} goes through the same checks as
+// tests/fuzz/corpus/{obj,mtlx,mtl,image} goes through the same checks as
 // the libFuzzer targets (tests/fuzz/harness.h): the input is either loaded
 // (and compiled, and interpreted) into something the renderer can trust, or
 // refused with pmc::Error — never a crash. Under scripts/sanitize these run
@@ -55,6 +55,8 @@ TEST(FuzzRegression, ObjInputsLoadOrFailCleanly) { replay("obj", &fuzz::check_ob
 TEST(FuzzRegression, MaterialXInputsCompileOrFailCleanly) { replay("mtlx", &fuzz::check_mtlx); }
 
 TEST(FuzzRegression, MtlInputsCompileOrFailCleanly) { replay("mtl", &fuzz::check_mtl); }
+
+TEST(FuzzRegression, ImageInputsReadOrFailCleanly) { replay("image", &fuzz::check_image); }
 
 }  // namespace
 }  // namespace pmc
