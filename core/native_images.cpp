@@ -285,7 +285,8 @@ PixelFormat format_of(Imf::PixelType t) {
 // The header alone, checked before Imf::InputFile reads the file's offset
 // tables: their size follows the data window, so a broken header claiming
 // 10^8 scanlines cost seconds and gigabytes before any check of ours.
-void check_exr_header(const std::string& path) {
+// Returns the file opened once its header passed.
+std::unique_ptr<Imf::InputFile> open_checked_exr(const std::string& path) {
   Imf::StdIFStream in(path.c_str());
   char magic_and_version[8];
   in.read(magic_and_version, 8);  // throws at the end of the file
@@ -299,18 +300,17 @@ void check_exr_header(const std::string& path) {
   if (size.empty() && h > kMaxNativeRows)
     size = std::to_string(h) + " scanlines is over pmc's limit of " + std::to_string(kMaxNativeRows);
   if (!size.empty()) throw std::runtime_error("data window: " + size);
+  return std::make_unique<Imf::InputFile>(path.c_str());
 }
 
 class ExrReader final : public ImageReader {
  public:
-  explicit ExrReader(const std::string& path) : file_(std::make_unique<Imf::InputFile>(path.c_str())) {
+  // The data window is within the native limits (open_checked_exr).
+  explicit ExrReader(const std::string& path) : file_(open_checked_exr(path)) {
     const Imf::Header& hd = file_->header();
     const Imath::Box2i data = hd.dataWindow(), display = hd.displayWindow();
-    // Sizes in 64 bits: a window may span the whole int range.
+    // Sizes in 64 bits: a display window may span the whole int range.
     const auto extent = [](int lo, int hi) { return (long long)hi - (long long)lo + 1; };
-    const std::string size =
-        native_size_problem(extent(data.min.x, data.max.x), extent(data.min.y, data.max.y));
-    if (!size.empty()) throw std::runtime_error("data window: " + size);
     const long long full_w = extent(display.min.x, display.max.x),
                     full_h = extent(display.min.y, display.max.y);
     if (full_w <= 0 || full_h <= 0 || full_w > INT32_MAX || full_h > INT32_MAX)
@@ -455,7 +455,6 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
   if (is_radiance_hdr(m.data(), m.size())) return open_radiance_hdr(path, why);
   if (m.size() >= 4 && m[0] == 0x76 && m[1] == 0x2f && m[2] == 0x31 && m[3] == 0x01) {
     try {
-      check_exr_header(path);
       return std::make_unique<ExrReader>(path);
     } catch (const std::exception& e) {
       why = e.what();

@@ -34,9 +34,6 @@ std::unique_ptr<ImageReader> open_native_image(const std::string& path, bool una
 bool native_image_writes(const std::string& format_path, const ImageWrite& image);
 bool write_native_image(const std::string& file, const std::string& format_path, const ImageWrite& image,
                         std::string& why);
-// Channels [c0, c1) of 8-bit interleaved `pixels` (h.width x h.height x
-// h.channels) into `data` as U8, or as Float (bytes / 255); strides in bytes,
-// 0 for packed. False with `error` set on a bad channel range or format.
 // The most pixels a native reader decodes (16384 x 16384): a larger size in a
 // header is refused before anything is allocated, so a small broken file
 // cannot ask for gigabytes.
@@ -71,6 +68,9 @@ class DecodedImageReader : public ImageReader {
   std::string error_;
 };
 
+// Channels [c0, c1) of 8-bit interleaved `pixels` (h.width x h.height x
+// h.channels) into `data` as U8, or as Float (bytes / 255); strides in bytes,
+// 0 for packed. False with `error` set on a bad channel range or format.
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t x_stride, std::ptrdiff_t y_stride, std::string& error);
 

@@ -34,7 +34,6 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 
 #include "tests/support/test_support.h"
 
@@ -250,16 +249,9 @@ TEST(ImageBackend, APngCutShortOpensAndThenFailsToDecodeSayingWhy) {
     b = (unsigned char)(state >> 24);
   }
   oiio_write(dir + "/whole.png", w, h, 3, bytes);
-  std::string data;
-  {
-    std::ifstream in(dir + "/whole.png", std::ios::binary);
-    data.assign(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string data = test::read_file(dir + "/whole.png");
   ASSERT_GT(data.size(), 2000u);
-  {
-    std::ofstream out(dir + "/cut.png", std::ios::binary);
-    out.write(data.data(), std::streamsize(data.size() / 2));
-  }
+  test::write_file(dir + "/cut.png", data.substr(0, data.size() / 2));
   std::string why;
   auto in = image_backend().open(dir + "/cut.png", true, why);
   ASSERT_TRUE(in) << why;  // the header is intact
@@ -326,16 +318,9 @@ TEST(ImageBackend, AJpegCutShortIsRefusedSayingWhy) {
   std::vector<unsigned char> bytes(size_t(w) * h * 3);
   for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = (unsigned char)((i * i) >> 3);
   oiio_write(dir + "/whole.jpg", w, h, 3, bytes);
-  std::string data;
-  {
-    std::ifstream in(dir + "/whole.jpg", std::ios::binary);
-    data.assign(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string data = test::read_file(dir + "/whole.jpg");
   ASSERT_GT(data.size(), 1000u);
-  {
-    std::ofstream out(dir + "/cut.jpg", std::ios::binary);
-    out.write(data.data(), std::streamsize(data.size() / 2));
-  }
+  test::write_file(dir + "/cut.jpg", data.substr(0, data.size() / 2));
   std::string why;
   EXPECT_FALSE(image_backend().open(dir + "/cut.jpg", true, why));
   EXPECT_NE(why.find("corrupt JPEG"), std::string::npos) << why;
@@ -401,20 +386,13 @@ TEST(ImageBackend, RadianceHdrsReadAsOpenImageIOReadsThem) {
 
 TEST(ImageBackend, ARadianceHdrCutShortOrWithBadRunsIsRefusedSayingWhy) {
   const std::string dir = test::temp_dir();
-  std::string data;
-  {
-    std::ifstream in(test::shared_scene("envmaps/goegap.hdr"), std::ios::binary);
-    data.assign(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string data = test::read_file(test::shared_scene("envmaps/goegap.hdr"));
   ASSERT_GT(data.size(), 10000u);
   const size_t pixels_at = data.find("\n\n") + 2;  // the resolution line
   const size_t first_scanline = data.find('\n', pixels_at) + 1;
   auto refused = [&](const std::string& bytes, const std::string& says) {
     const std::string path = dir + "/bad.hdr";
-    {
-      std::ofstream out(path, std::ios::binary);
-      out.write(bytes.data(), std::streamsize(bytes.size()));
-    }
+    test::write_file(path, bytes);
     int w = 0, h = 0;
     std::string why;
     EXPECT_TRUE(backend_read_floats(path, &w, &h, &why).empty()) << says;
@@ -438,21 +416,14 @@ TEST(ImageBackend, AJpegLargerThanTheLimitIsRefusedBeforeDecoding) {
   const std::string dir = test::temp_dir();
   std::vector<unsigned char> bytes(16 * 16 * 3, 128);
   oiio_write(dir + "/small.jpg", 16, 16, 3, bytes);
-  std::string data;
-  {
-    std::ifstream in(dir + "/small.jpg", std::ios::binary);
-    data.assign(std::istreambuf_iterator<char>(in), {});
-  }
+  std::string data = test::read_file(dir + "/small.jpg");
   const size_t sof = data.find("\xff\xc0");  // baseline frame header: length, precision, height, width
   ASSERT_NE(sof, std::string::npos);
   for (size_t k : {sof + 5, sof + 7}) {  // 30000 x 30000: 900 M pixels
     data[k] = char(30000 >> 8);
     data[k + 1] = char(30000 & 0xff);
   }
-  {
-    std::ofstream out(dir + "/huge.jpg", std::ios::binary);
-    out.write(data.data(), std::streamsize(data.size()));
-  }
+  test::write_file(dir + "/huge.jpg", data);
   std::string why;
   EXPECT_FALSE(image_backend().open(dir + "/huge.jpg", true, why));
   EXPECT_NE(why.find("30000x30000 is over pmc's limit"), std::string::npos) << why;

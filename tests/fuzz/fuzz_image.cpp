@@ -8,7 +8,7 @@
 // libOpenEXR spent about 0.4 s opening an 8x6 file (zeroing fresh pages),
 // which held the whole target to ~70 inputs a second instead of ~1200.
 // OpenEXR's own decoding is fuzzed upstream; pmc's header check before it
-// (core/native_images.cpp, check_exr_header) is still reached by mutation.
+// (core/native_images.cpp, open_checked_exr) is still reached by mutation.
 #include <cstdio>
 #include <cstdlib>
 

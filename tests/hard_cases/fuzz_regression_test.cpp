@@ -11,8 +11,6 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <string>
 #include <vector>
 
@@ -32,17 +30,12 @@ std::vector<std::string> files_in(const std::string& rel) {
   return out;
 }
 
-std::string bytes_of(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 void replay(const std::string& kind, std::string (*check)(const uint8_t*, size_t)) {
   size_t n = 0;
   for (const char* where : {"tests/fuzz/regressions/", "tests/fuzz/corpus/"})
     for (const std::string& f : files_in(where + kind)) {
       SCOPED_TRACE(f);
-      std::string data = bytes_of(f);
+      std::string data = test::read_file(f);
       EXPECT_EQ(check(reinterpret_cast<const uint8_t*>(data.data()), data.size()), "");
       ++n;
     }

@@ -34,6 +34,8 @@ std::string temp_root();
 // A fresh empty directory under temp_root(), named after the test.
 std::string temp_dir();
 void write_file(const std::string& path, const std::string& text);
+// The whole file as bytes (empty when it cannot be read).
+std::string read_file(const std::string& path);
 bool file_exists(const std::string& path);
 // Runs pmc ($PMC_TEST_PMC, else the build's) with `args`; returns the exit code, output in `output`.
 int run_pmc(const std::string& args, std::string* output = nullptr);
