@@ -110,18 +110,45 @@ void ClProgram::build(const ClContext& ctx, const std::string& main_file, const 
   program_ = clCreateProgramWithSource(ctx.context(), 1, &text, &len, &st);
   cl_check(st, "clCreateProgramWithSource");
   std::string opts = "-cl-std=CL1.2 " + options;
+  if (const char* extra = std::getenv("PMC_CL_BUILD_OPTIONS"); extra && *extra)
+    opts += std::string(" ") + extra;
   cl_device_id dev = ctx.device();
   st = clBuildProgram(program_, 1, &dev, opts.c_str(), nullptr, nullptr);
   if (st != CL_SUCCESS) {
-    size_t n = 0;
-    clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
-    std::string log(n, '\0');
-    clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+    std::string log = build_log(dev);
     clReleaseProgram(program_);
     program_ = nullptr;
     fail("OpenCL: building ", main_file, " for ", ctx.description(), " failed (error ", st, "):\n", log);
   }
   build_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (const char* dir = std::getenv("PMC_CL_DUMP_DIR"); dir && *dir) dump_build(dev, dir, main_file, opts);
+}
+
+std::string ClProgram::build_log(cl_device_id dev) const {
+  size_t n = 0;
+  clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, 0, nullptr, &n);
+  std::string log(n, '\0');
+  clGetProgramBuildInfo(program_, dev, CL_PROGRAM_BUILD_LOG, n, log.data(), nullptr);
+  while (!log.empty() && log.back() == '\0') log.pop_back();
+  return log;
+}
+
+void ClProgram::dump_build(cl_device_id dev, const std::string& dir, const std::string& main_file,
+                           const std::string& opts) const {
+  static int serial = 0;
+  std::string base = main_file;
+  for (char& c : base)
+    if (c == '/') c = '_';
+  std::string stem = dir + "/" + base + "-" + std::to_string(++serial);
+  std::ofstream(stem + ".log") << "options: " << opts << "\n" << build_log(dev);
+  size_t size = 0;
+  if (clGetProgramInfo(program_, CL_PROGRAM_BINARY_SIZES, sizeof size, &size, nullptr) != CL_SUCCESS ||
+      size == 0)
+    return;
+  std::string binary(size, '\0');
+  unsigned char* p = reinterpret_cast<unsigned char*>(binary.data());
+  if (clGetProgramInfo(program_, CL_PROGRAM_BINARIES, sizeof p, &p, nullptr) == CL_SUCCESS)
+    std::ofstream(stem + ".bin", std::ios::binary) << binary;
 }
 
 ClProgram::~ClProgram() {

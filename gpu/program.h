@@ -5,7 +5,9 @@
 // here (by base name), with #line directives so compiler messages name the right file and
 // line; set PMC_KERNEL_DIR=<repository root> to read the files from disk
 // instead while developing. A failed build throws pmc::Error carrying the
-// compiler's log.
+// compiler's log. For profiling, PMC_CL_BUILD_OPTIONS adds build options
+// (-cl-nv-verbose: NVIDIA's register and spill counts) and PMC_CL_DUMP_DIR=DIR
+// writes each program's log and binary (PTX on NVIDIA) there.
 #pragma once
 
 #include <map>
@@ -39,6 +41,9 @@ class ClProgram {
   ClProgram() = default;
   void build(const ClContext& ctx, const std::string& name, const std::string& expanded,
              const std::string& options);
+  std::string build_log(cl_device_id dev) const;
+  void dump_build(cl_device_id dev, const std::string& dir, const std::string& main_file,
+                  const std::string& opts) const;
   cl_program program_ = nullptr;
   std::map<std::string, cl_kernel> kernels_;
   double build_seconds_ = 0.0;

@@ -480,18 +480,43 @@ PMC_FN pmc_u32 pmc_cache_match_word(const PmcCacheTable* t, PmcCacheKey k) {
   return t->policy == PMC_CACHE_PRIORITY ? pmc_cache_fp30(k.fingerprint) << 2 : k.fingerprint;
 }
 
+/* A cell is read PMC_CELL_CHUNK words at a time, every load of a chunk issued
+ * before any is looked at. Scanning word by word with an early exit costs one
+ * memory round trip per word: on a GPU each is hundreds of cycles at a random
+ * address, and a lookup that hits in the fourth word waited four times. The
+ * device reads plain (not volatile) words: a stale word reads as an older
+ * state of the cell, which is empty or the same entry, so at worst a lookup
+ * misses (and evaluates) or an insert's CAS fails and it goes on from the
+ * value the CAS returns. */
+#define PMC_CELL_CHUNK 8
+#ifdef __OPENCL_VERSION__
+#define PMC_CELL_WORD(t, i) (((__global const ulong*)(t)->entries)[i])
+#else
+#define PMC_CELL_WORD(t, i) pmc_load64(&(t)->entries[i])
+#endif
+
+/* Words [i0, i0 + PMC_CELL_CHUNK) of the cell at `base` (0 past its end). */
+PMC_FN void pmc_cache_read_chunk(const PmcCacheTable* t, pmc_u64 base, pmc_u32 i0,
+                                 pmc_u64 w[PMC_CELL_CHUNK]) {
+  for (pmc_u32 j = 0; j < PMC_CELL_CHUNK; ++j)
+    w[j] = i0 + j < t->ways ? PMC_CELL_WORD(t, base + i0 + j) : 0ul;
+}
+
 /* Lookup: 1 and the encoded value on a hit. Entries fill from the front and
  * are never emptied (priority replaces one non-empty word by another), so the
  * first empty entry ends the scan. */
 PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u32 mask = pmc_cache_match_mask(t), want = pmc_cache_match_word(t, k);
-  for (pmc_u32 i = 0; i < t->ways; ++i) {
-    pmc_u64 e = pmc_load64(&t->entries[base + i]);
-    if (e == 0ul) return 0;
-    if (((pmc_u32)(e >> 32) & mask) == want) {
-      *value = (pmc_u32)e;
-      return 1;
+  for (pmc_u32 i0 = 0; i0 < t->ways; i0 += PMC_CELL_CHUNK) {
+    pmc_u64 w[PMC_CELL_CHUNK];
+    pmc_cache_read_chunk(t, base, i0, w);
+    for (pmc_u32 j = 0; j < PMC_CELL_CHUNK; ++j) {
+      if (w[j] == 0ul) return 0;
+      if (((pmc_u32)(w[j] >> 32) & mask) == want) {
+        *value = (pmc_u32)w[j];
+        return 1;
+      }
     }
   }
   return 0;
@@ -503,14 +528,18 @@ PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* valu
 PMC_FN int pmc_cache_insert_keep_first(const PmcCacheTable* t, PmcCacheKey k, pmc_u32 value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u64 word = ((pmc_u64)k.fingerprint << 32) | (pmc_u64)value;
-  for (pmc_u32 i = 0; i < t->ways; ++i) {
-    pmc_u64 e = pmc_load64(&t->entries[base + i]);
-    if (e == 0ul) {
-      pmc_u64 prev = pmc_cas64(&t->entries[base + i], 0ul, word);
-      if (prev == 0ul) return 1;
-      e = prev; /* somebody else won this entry: look at what they wrote */
+  for (pmc_u32 i0 = 0; i0 < t->ways; i0 += PMC_CELL_CHUNK) {
+    pmc_u64 w[PMC_CELL_CHUNK];
+    pmc_cache_read_chunk(t, base, i0, w);
+    for (pmc_u32 j = 0; j < PMC_CELL_CHUNK && i0 + j < t->ways; ++j) {
+      pmc_u64 e = w[j];
+      if (e == 0ul) {
+        pmc_u64 prev = pmc_cas64(&t->entries[base + i0 + j], 0ul, word);
+        if (prev == 0ul) return 1;
+        e = prev; /* somebody else won this entry: look at what they wrote */
+      }
+      if ((pmc_u32)(e >> 32) == k.fingerprint) return 0;
     }
-    if ((pmc_u32)(e >> 32) == k.fingerprint) return 0;
   }
   return -1;
 }
