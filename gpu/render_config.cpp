@@ -117,6 +117,7 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.cache.bandwidth = c.cache_bandwidth;
   s.cache.max_refine = c.cache_max_refine;
   s.cache.feature_texels = float(c.cache_feature_texels);
+  s.cache.audit = c.cache_audit;
   return s;
 }
 

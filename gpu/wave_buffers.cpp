@@ -1,4 +1,4 @@
-// wave_buffers.cpp — allocation and clearing of the per-render buffers.
+// wave_buffers.cpp — allocation of the per-render buffers.
 #include "gpu/wave_buffers.h"
 
 #include <algorithm>
@@ -21,8 +21,10 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
   occluded = cl.buffer(n, nullptr, host);
   counters = cl.buffer(sizeof(PmcCounters));
   order = cl.buffer(order_entries * sizeof(uint32_t), nullptr, host);
-  film = cl.buffer(pixels * sizeof(PmcFilmPixel));
-  cache_entries = cl.buffer(std::max<size_t>(1, cache_words) * sizeof(uint64_t));
+  film_bytes = pixels * sizeof(PmcFilmPixel);
+  cache_bytes = std::max<size_t>(1, cache_words) * sizeof(uint64_t);
+  film = cl.buffer(film_bytes);
+  cache_entries = cl.buffer(cache_bytes);
   cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
   if (!link.zero_copy()) {  // sized once: pending non-blocking writes read from them
     host_rays.resize(n);
@@ -30,20 +32,6 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
     host_occluded.resize(n);
     host_order.resize(order_entries);
   }
-  clear(cl, pixels, cache_words);
-}
-
-void WaveBuffers::clear(const ClContext& cl, size_t pixels, size_t cache_words) {
-  // Zeroed in 8 MiB pieces from one host array (PoCL 3.1's
-  // clEnqueueFillBuffer crashed on the large cache table).
-  std::vector<uint64_t> zeros(size_t(1) << 20, 0);
-  auto zero = [&](const ClBuffer& b, size_t bytes) {
-    for (size_t at = 0; at < bytes; at += zeros.size() * sizeof(uint64_t))
-      cl.write(b, at, std::min(zeros.size() * sizeof(uint64_t), bytes - at), zeros.data(), true);
-  };
-  zero(film, pixels * sizeof(PmcFilmPixel));
-  zero(cache_entries, std::max<size_t>(1, cache_words) * sizeof(uint64_t));
-  zero(cache_stats, PMC_CSTAT_COUNT * sizeof(uint64_t));
 }
 
 }  // namespace pmc

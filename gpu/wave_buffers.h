@@ -43,11 +43,13 @@ struct WaveBuffers {
   std::vector<uint8_t> host_occluded;
   std::vector<uint32_t> host_order;
 
-  // `order_capacity`: entries of the material-sorted order (every chunk of a queue).
+  size_t film_bytes = 0, cache_bytes = 0;
+
+  // `order_capacity`: entries of the material-sorted order (every chunk of a
+  // queue). The film and the cache start uninitialised: WaveKernels::clear
+  // zeroes them on the device.
   WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t order_capacity, size_t pixels,
               size_t cache_words);
-  // Zeroes the film, the cache table and its counters.
-  void clear(const ClContext& cl, size_t pixels, size_t cache_words);
 };
 
 }  // namespace pmc

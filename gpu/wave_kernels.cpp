@@ -3,27 +3,32 @@
 
 #include <algorithm>
 
+#include "core/device/pmc_cache.h"
 #include "core/error.h"
 
 namespace pmc {
 
 int default_shade_lanes(const ClContext& cl) { return cl.info().is_gpu ? 1 : 16; }
 
-std::string wave_program_options(const MaterialSet& mats, int lanes) {
+std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
   uint32_t peak = 0;
   for (const CompiledMaterial& m : mats.program.materials) peak = std::max(peak, m.peak_stack);
   uint32_t size = 16;
   while (size < peak) size *= 2;
-  return "-DPMC_STACK_SIZE=" + std::to_string(size) + " -DPMC_LANES=" + std::to_string(lanes);
+  return "-DPMC_STACK_SIZE=" + std::to_string(size) + " -DPMC_LANES=" + std::to_string(lanes) +
+         " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1");
 }
 
 WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes)
-    : cl_(cl), lanes_(lanes), program_(cl, "pmc_kernels.cl", wave_program_options(materials, lanes)) {
+    : cl_(cl),
+      lanes_(lanes),
+      program_(cl, "pmc_kernels.cl", wave_program_options(materials, lanes, cl.info().is_gpu)) {
   PMC_CHECK(lanes >= 1 && size_t(lanes) <= kLocalSize && (lanes & (lanes - 1)) == 0, "shade lanes ", lanes);
   camera_ = program_.kernel("pmc_camera_rays");
   shade_ = program_.kernel("pmc_shade");
   resolve_ = program_.kernel("pmc_resolve_shadows");
   film_ = program_.kernel("pmc_film_accumulate");
+  zero_ = program_.kernel("pmc_zero_words");
   check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 12);
 }
 
@@ -40,6 +45,7 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
   shade(scene, wave, 0, 0, 0, nullptr);
   resolve_shadows(wave, 0, 0, nullptr);
   accumulate(wave, 0, nullptr);
+  zero(wave.cache_stats, 0);
   cl_.finish();
 }
 
@@ -76,6 +82,21 @@ void WaveKernels::resolve_shadows(WaveBuffers& w, size_t first, size_t end, cl_e
 void WaveKernels::accumulate(WaveBuffers& w, size_t count, cl_event* done) {
   set_kernel_args(film_, w.frame, w.path_states, w.film);
   launch(film_, count, kLocalSize, done);
+}
+
+void WaveKernels::clear(WaveBuffers& w) {
+  zero(w.film, w.film_bytes);
+  zero(w.cache_entries, w.cache_bytes);
+  zero(w.cache_stats, PMC_CSTAT_COUNT * sizeof(uint64_t));
+  cl_.finish();
+}
+
+void WaveKernels::zero(const ClBuffer& b, size_t bytes) {
+  PMC_CHECK(bytes % sizeof(uint32_t) == 0, "zeroing ", bytes, " bytes");
+  const cl_ulong words = bytes / sizeof(uint32_t);
+  set_kernel_args(zero_, b, words);
+  // A fixed grid (at most 4096 groups) that strides over the words.
+  launch(zero_, std::min<size_t>(words, 4096 * kLocalSize), kLocalSize, nullptr);
 }
 
 }  // namespace pmc

@@ -45,19 +45,23 @@ class WaveKernels {
   void resolve_shadows(WaveBuffers& wave, size_t first, size_t end, cl_event* done);
   // Adds the radiance of the wave's `count` paths to the film.
   void accumulate(WaveBuffers& wave, size_t count, cl_event* done);
+  // Zeroes the film, the cache table and its counters (before a render).
+  void clear(WaveBuffers& wave);
 
  private:
   void launch(cl_kernel k, size_t count, size_t local, cl_event* done);
   const ClContext& cl_;
   int lanes_;
   ClProgram program_;
-  cl_kernel camera_ = nullptr, shade_ = nullptr, resolve_ = nullptr, film_ = nullptr;
+  void zero(const ClBuffer& b, size_t bytes);
+  cl_kernel camera_ = nullptr, shade_ = nullptr, resolve_ = nullptr, film_ = nullptr, zero_ = nullptr;
 };
 
 // -DPMC_STACK_SIZE=...: the materials' peak stack rounded up to a power of
 // two (at least 16), so few distinct builds exist across scenes; and
-// -DPMC_LANES=lanes.
-std::string wave_program_options(const MaterialSet& materials, int lanes);
+// -DPMC_LANES=lanes; -DPMC_CELL_CHUNK (core/device/pmc_cache.h): 8 on GPUs,
+// 1 on CPU devices.
+std::string wave_program_options(const MaterialSet& materials, int lanes, bool gpu);
 
 // The shade kernel's batch size for a device when none is asked for: 16 hits
 // per work-item on CPU devices (the interpreter's dispatch is paid once per

@@ -240,9 +240,13 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
   c.position_hits = counts[PMC_CSTAT_POSITION_HITS];
   c.bypassed = counts[PMC_CSTAT_BYPASSED];
   const size_t words = size_t(cs.cells) * cs.ways;
-  std::vector<uint64_t> table(words);
-  cl.read(wave.cache_entries, 0, words * sizeof(uint64_t), table.data());
-  for (uint64_t e : table) c.occupied += e != 0 ? 1 : 0;
+  c.occupied = c.inserts;
+  if (cs.audit) {
+    std::vector<uint64_t> table(words);
+    cl.read(wave.cache_entries, 0, words * sizeof(uint64_t), table.data());
+    c.occupied = 0;
+    for (uint64_t e : table) c.occupied += e != 0 ? 1 : 0;
+  }
   c.cells = cs.cells;
   c.ways = cs.ways;
   c.memory_bytes = words * sizeof(uint64_t);
@@ -310,6 +314,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     st.kernel_warmup_seconds = std::chrono::duration<double>(Clock::now() - t_warm).count();
     m.warmed_up = true;
   }
+  m.kernels.clear(wave);
 
   WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
   for (int sample = first_sample; sample < end_sample; ++sample) {

@@ -43,6 +43,11 @@ struct CacheSettings {
   float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
   int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
   std::string reason;           // why this size (printed, and written to stats)
+  // Count the occupied entries by reading the table back after the render
+  // (tests check that this equals `inserts`). Otherwise occupied = inserts:
+  // entries start empty and only an insert's CAS from 0 fills one, and the
+  // table (256 MiB at 1080p) is not copied back.
+  bool audit = false;
 };
 
 // Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one

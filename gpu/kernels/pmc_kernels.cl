@@ -597,3 +597,12 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
     px->bad_samples += 1u;
   }
 }
+
+/* Zeroes words [0, count) of a buffer, each work-item every global_size-th
+ * word from its id (consecutive items write consecutive words). The film and
+ * the cache table are cleared here, on the device: from the host they took a
+ * copy of zeros as large as the table (256 MiB at 1080p). */
+__kernel void pmc_zero_words(__global uint* words, ulong count) {
+  const ulong stride = (ulong)get_global_size(0);
+  for (ulong i = (ulong)get_global_id(0); i < count; i += stride) words[i] = 0u;
+}

@@ -57,6 +57,7 @@ TEST(CachePolicy, PriorityHitsMoreOftenOnCameraRaysInSmallTables) {
   // floors would send most points past the refinement limit, uncached, and
   // leave the table too empty to need a policy).
   config.cache_bandwidth = false;
+  config.cache_audit = true;  // occupied counted from the table itself, checked against inserts
   RenderSession session(config, test::cl());
   ASSERT_TRUE(session.settings().cache.on);
   const uint64_t full = session.settings().cache.cells;

@@ -58,6 +58,7 @@ TEST(CacheLoad, TinyAndHugeTablesOverThousandsOfSamples) {
   config.cache_eval = CacheEval::Center;
   config.cache_filter = CacheFilter::Nearest;
   config.cache_min_nodes = 4;  // the brick's 21- and 7-node points: more keys under load
+  config.cache_audit = true;   // occupied counted from the table itself, checked against inserts
 
   auto run = [&](bool cache, int64_t cells, int64_t entries) {
     RenderConfig c = config;
