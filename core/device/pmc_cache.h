@@ -316,6 +316,29 @@ PMC_FN PmcCacheTexel pmc_cache_cell_floored(float3 p, float radius, float bias, 
   return t;
 }
 
+/* The selection offset (in cells) of a position point for stochastic
+ * trilinear selection: (ju, jv) in [-0.5, 0.5)^2 along an orthonormal basis
+ * of the tangent plane of the surface with normal n (Duff et al.'s branchless
+ * basis), nothing along n. A 3D offset also chose cells in front of and
+ * behind the surface, whose centres lie up to a cell off it: on
+ * data/default/room.obj with solid_materials.mtlx (axis-aligned walls) the
+ * in-plane offset took the hit rate at 640x360, 16 spp from 74.3 to 85.8%
+ * and the bias at 320x180, 256 spp from 42.6 to 50.3 dB (worst 16x16 tile
+ * 30.9 -> 40.9 dB); on the marble sphere hits 75.1 -> 81.4%, bias 48.5 ->
+ * 48.2 dB (worst tile 37.5 -> 35.4 dB). A zero or non-finite n gives no offset. */
+PMC_FN float4 pmc_cache_plane_jitter(float3 n, float ju, float jv) {
+  const float m = fmax(fabs(n.x), fmax(fabs(n.y), fabs(n.z))); /* scaled first: tiny and huge n */
+  if (!(m > 0.0f) || !isfinite(m) || isnan(n.x + n.y + n.z)) return make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+  n = n * (1.0f / m);
+  n = n * (1.0f / sqrt(dot(n, n)));
+  const float sg = n.z >= 0.0f ? 1.0f : -1.0f;
+  const float a = -1.0f / (sg + n.z), b = n.x * n.y * a;
+  const float3 t1 = make_float3(1.0f + sg * n.x * n.x * a, sg * b, -sg * n.x);
+  const float3 t2 = make_float3(b, sg + n.y * n.y * a, -n.y);
+  const float3 j = ju * t1 + jv * t2;
+  return make_float4(j.x, j.y, j.z, 0.0f);
+}
+
 PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float4 jitter, pmc_u32 material) {
   return pmc_cache_cell_floored(p, radius, bias, jitter, material, PMC_LEVEL_NO_FLOOR, 0);
 }

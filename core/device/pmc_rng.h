@@ -44,6 +44,5 @@ PMC_FN float pmc_rand(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 dim) {
 #define PMC_DIM_RR 8u
 #define PMC_DIM_CACHE_U 9u
 #define PMC_DIM_CACHE_V 10u
-#define PMC_DIM_CACHE_W 11u /* position cells: the third axis */
 
 #endif /* PMC_RNG_H */

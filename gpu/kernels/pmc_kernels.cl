@@ -101,7 +101,8 @@ typedef struct PmcHitPoint {
   int prim, material;
   uint path;
   int surface;              /* 0: the ray escaped */
-  float4 cache_jitter;      /* --cache-filter bilinear: texel (x, y) and cell (x, y, z) selection offsets */
+  float4 cache_jitter;      /* --cache-filter bilinear: texel selection offsets (x, y); cells take
+                               them in the tangent plane (pmc_cache_plane_jitter) */
   PmcCacheTexel texel;      /* ready when the material has uv-keyed cache points */
   PmcCacheTexel cell;       /* ready when it has position-keyed ones */
   uint cache_points;        /* how many (the cells to prefetch) */
@@ -227,8 +228,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     if (frame->cache_bilinear && hp->cache_points > 0u) {
       uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
       hp->cache_jitter = make_float4(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
-                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f,
-                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_W) - 0.5f, 0.0f);
+                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f, 0.0f, 0.0f);
     }
     const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
     if ((all & ~hp->cache_position_mask) != 0u)
@@ -236,7 +236,8 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
           (uint)tri.material, info->cache_level_floor_uv, frame->cache_max_refine);
     if (hp->cache_position_mask != 0u)
-      hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias, hp->cache_jitter,
+      hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias,
+                                        pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
                                         (uint)tri.material, info->cache_level_floor_position,
                                         frame->cache_max_refine);
   }

@@ -205,11 +205,14 @@ cores: read ratios, not single times; a configuration with nothing to cache runs
 """ + "\n".join(lines) + """
 
 Where position keys do not pay, and why: a 3D grid cut by a surface has more cells per unit of area than
-a 2D texel grid of the same spacing (up to 1.7x for a plane at 45 degrees to the axes), and trilinear
-selection reaches 8 cells where bilinear reaches 4, so at equal samples a position point is looked up in
-more distinct keys, and misses more, than a uv point. Light sub-graphs (a noise and a few arithmetic
+a 2D texel grid of the same spacing (up to 1.7x for a plane at 45 degrees to the axes), and the random
+selection offset, though it lies in the surface's tangent plane, still reaches up to 8 cells of a tilted
+plane where bilinear reaches 4 texels, so at equal samples a position point is looked up in more distinct
+keys, and misses more, than a uv point. (Before the offset was kept in the tangent plane it also moved
+along the normal, to cells whose centres lie up to a cell off the surface: marble 75.1% hits, the solid
+room 74.3% hits and 42.6 dB, worst tile 30.9 dB.) Light sub-graphs (a noise and a few arithmetic
 nodes) cost little more than a lookup on PoCL; the gain comes from the heavy ones (fractal3d's octaves).
-Thin, high-contrast solid patterns (the marble's veins) are smoothed by the cell-sized trilinear
+Thin, high-contrast solid patterns (the marble's veins) are smoothed by the cell-sized
 filter: their worst tiles are below the whole image by 10 dB or more; finer cells (--mip-bias 1) buy
 accuracy back at the price of hits, which the level floors from each pattern's bandwidth now do
 automatically (section "Cache texels that follow the pattern"; these numbers predate them).

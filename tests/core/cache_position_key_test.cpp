@@ -8,7 +8,8 @@
 // one cell share a key, neighbouring cells (along each axis, at each level,
 // of other nodes and materials) and the uv texel with the same indices do
 // not; ~100k distinct cells hash without (cell, fingerprint) collisions; the
-// jittered cell is picked with its trilinear weight along each axis.
+// jittered cell is picked with its trilinear weight along each axis; the
+// kernel's offsets lie in the surface's tangent plane (pmc_cache_plane_jitter).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -157,6 +158,36 @@ TEST(CachePositionKey, JitteredCellsAverageToThePosition) {
   EXPECT_NEAR(sx / n, p.x, 1.5e-3);
   EXPECT_NEAR(sy / n, p.y, 1.5e-3);
   EXPECT_NEAR(sz / n, p.z, 1.5e-3);
+}
+
+TEST(CachePositionKey, PlaneJitterLiesInTheTangentPlaneWithTheOffsetsLength) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), j(-0.5f, 0.5f);
+  std::vector<float3> normals = {make_float3(0, 0, 1),       make_float3(0, 0, -1),
+                                 make_float3(1, 0, 0),       make_float3(0, -1, 0),
+                                 make_float3(0, 0, -1e-30f), make_float3(3e20f, -2e20f, 1e20f)};
+  for (int i = 0; i < 1000; ++i) normals.push_back(make_float3(u(rng), u(rng), u(rng)));
+  for (float3 n : normals) {
+    const float ju = j(rng), jv = j(rng);
+    const float4 o = pmc_cache_plane_jitter(n, ju, jv);
+    const float3 d = make_float3(o.x, o.y, o.z);
+    ASSERT_TRUE(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z));
+    const double len = std::sqrt(double(n.x) * n.x + double(n.y) * n.y + double(n.z) * n.z);
+    const float3 nn = make_float3(float(n.x / len), float(n.y / len), float(n.z / len));
+    EXPECT_NEAR(dot(d, nn), 0.0f, 1e-5f) << "normal " << n.x << "," << n.y << "," << n.z;
+    EXPECT_NEAR(dot(d, d), ju * ju + jv * jv, 1e-5f) << "the basis is orthonormal";
+  }
+  // An axis-aligned wall: cells change only along the wall's own axes.
+  const float4 wall = pmc_cache_plane_jitter(make_float3(0, 0, 2), 0.3f, -0.4f);
+  EXPECT_EQ(wall.z, 0.0f);
+  EXPECT_NEAR(std::fabs(wall.x) + std::fabs(wall.y), 0.7f, 1e-6f);
+  // Degenerate and non-finite normals: no offset, never NaN.
+  for (float3 n : {make_float3(0, 0, 0), make_float3(kNaN, 0, 1), make_float3(kInf, 0, 0)}) {
+    const float4 o = pmc_cache_plane_jitter(n, 0.25f, 0.25f);
+    EXPECT_EQ(o.x, 0.0f);
+    EXPECT_EQ(o.y, 0.0f);
+    EXPECT_EQ(o.z, 0.0f);
+  }
 }
 
 }  // namespace
