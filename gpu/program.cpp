@@ -1,6 +1,7 @@
 // program.cpp — include expansion, program build with logs, 1-D launches.
 #include "gpu/program.h"
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
@@ -135,7 +136,7 @@ std::string ClProgram::build_log(cl_device_id dev) const {
 
 void ClProgram::dump_build(cl_device_id dev, const std::string& dir, const std::string& main_file,
                            const std::string& opts) const {
-  static int serial = 0;
+  static std::atomic<int> serial{0};  // programs may build on several threads
   std::string base = main_file;
   for (char& c : base)
     if (c == '/') c = '_';
