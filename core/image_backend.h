@@ -52,10 +52,13 @@ class ImageReader {
                     std::ptrdiff_t y_stride = 0) = 0;
   virtual std::string error() = 0;
   virtual void close() = 0;
-  // Attributes of the header (metadata); `fallback` when absent.
-  virtual std::string string_attribute(const std::string& name, const std::string& fallback = "") const = 0;
-  virtual int int_attribute(const std::string& name, int fallback = 0) const = 0;
-  virtual float float_attribute(const std::string& name, float fallback = 0.0f) const = 0;
+  // Attributes of the header (metadata); `fallback` when absent (always, for
+  // a format that keeps none: the defaults).
+  virtual std::string string_attribute(const std::string& /*name*/, const std::string& fallback = "") const {
+    return fallback;
+  }
+  virtual int int_attribute(const std::string& /*name*/, int fallback = 0) const { return fallback; }
+  virtual float float_attribute(const std::string& /*name*/, float fallback = 0.0f) const { return fallback; }
 };
 
 struct ImageAttribute {

@@ -161,11 +161,6 @@ class PngReader final : public ImageReader {
   }
   std::string error() override { return error_; }
   void close() override { png_release(s_); }
-  std::string string_attribute(const std::string&, const std::string& fallback) const override {
-    return fallback;
-  }
-  int int_attribute(const std::string&, int fallback) const override { return fallback; }
-  float float_attribute(const std::string&, float fallback) const override { return fallback; }
 
  private:
   bool decoded() {

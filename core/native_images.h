@@ -52,11 +52,6 @@ class DecodedImageReader : public ImageReader {
   const ImageHeader& header() const override { return h_; }
   std::string error() override { return error_; }
   void close() override { pixels_ = {}; }
-  std::string string_attribute(const std::string&, const std::string& fallback) const override {
-    return fallback;
-  }
-  int int_attribute(const std::string&, int fallback) const override { return fallback; }
-  float float_attribute(const std::string&, float fallback) const override { return fallback; }
 
  protected:
   bool open_pixels() {
