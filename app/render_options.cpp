@@ -210,7 +210,7 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
   field(app, "--shade-lanes", "shade_lanes", c.shade_lanes, "N",
         "hits of one material shaded together by one work-item (a power of two up to 64): the material "
         "interpreter decodes each instruction once per batch")
-      ->default_str("16 on CPU devices, 1 on GPUs");
+      ->default_str("64 on CPU devices (fewer for materials with very deep stacks), 1 on GPUs");
   app.option_defaults()->group("options");
 }
 

@@ -100,7 +100,8 @@ struct RenderConfig {
   TraceMode trace_mode = TraceMode::Stream;
   int64_t chunk_rays = 65536;                  // copy transfers: rays per streamed chunk (0: the whole queue)
   TransferMode transfer = TransferMode::Auto;  // how hits reach the device (gpu/host_link.h)
-  int shade_lanes = 0;  // hits per shade work-item: 1, 2, 4 ... 64 (0: 16 on CPU devices, 1 on GPUs)
+  int shade_lanes = 0;  // hits per shade work-item: 1, 2, 4 ... 64 (0: 64 on CPU devices, fewer for large
+                        // material stacks; 1 on GPUs)
   uint32_t min_kernel_stack = 0;  // floats; kernels get at least this stack (0: the materials' peak),
                                   // so renders of different scenes can share one kernel build
 

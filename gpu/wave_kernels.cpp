@@ -8,14 +8,30 @@
 
 namespace pmc {
 
-int default_shade_lanes(const ClContext& cl) { return cl.info().is_gpu ? 1 : 16; }
+namespace {
 
-std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
+// The materials' peak stack (floats per lane), rounded up to a power of two.
+uint32_t stack_size(const MaterialSet& mats) {
   uint32_t peak = 0;
   for (const CompiledMaterial& m : mats.program.materials) peak = std::max(peak, m.peak_stack);
   uint32_t size = 16;
   while (size < peak) size *= 2;
-  return "-DPMC_STACK_SIZE=" + std::to_string(size) + " -DPMC_LANES=" + std::to_string(lanes) +
+  return size;
+}
+
+}  // namespace
+
+int default_shade_lanes(const ClContext& cl, const MaterialSet& mats) {
+  if (cl.info().is_gpu) return 1;
+  // 64 lanes while a work-item's stack stays within 64 KiB (256 floats per
+  // lane); larger programs halve the batch per doubling, down to 16.
+  int lanes = int(WaveKernels::kLocalSize);
+  for (uint32_t size = stack_size(mats); lanes > 16 && size * uint32_t(lanes) * 4u > 65536u;) lanes /= 2;
+  return lanes;
+}
+
+std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
+  return "-DPMC_STACK_SIZE=" + std::to_string(stack_size(mats)) + " -DPMC_LANES=" + std::to_string(lanes) +
          " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1");
 }
 

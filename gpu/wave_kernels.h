@@ -63,9 +63,12 @@ class WaveKernels {
 // 1 on CPU devices.
 std::string wave_program_options(const MaterialSet& materials, int lanes, bool gpu);
 
-// The shade kernel's batch size for a device when none is asked for: 16 hits
-// per work-item on CPU devices (the interpreter's dispatch is paid once per
-// batch and its arithmetic vectorises over the batch), 1 on GPUs.
-int default_shade_lanes(const ClContext& cl);
+// The shade kernel's batch size for a device when none is asked for: on CPU
+// devices 64 hits per work-item (the interpreter's dispatch is paid once per
+// batch and its arithmetic vectorises over the batch; 64 renders the default
+// scene, Sponza and the cached default scene 11-15% faster than 16, see
+// docs/BENCHMARKS.md), fewer when the materials' stack would make a
+// work-item's batch larger than 64 KiB (at least 16); 1 on GPUs.
+int default_shade_lanes(const ClContext& cl, const MaterialSet& materials);
 
 }  // namespace pmc

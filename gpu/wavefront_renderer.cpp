@@ -29,7 +29,7 @@ struct WavefrontRenderer::Impl {
       : cl(c),
         scene(s),
         tracer(t),
-        kernels(c, mats, lanes > 0 ? lanes : default_shade_lanes(c)),
+        kernels(c, mats, lanes > 0 ? lanes : default_shade_lanes(c, mats)),
         scene_buffers(c, s, mats),
         sorter(scene_buffers.triangle_material, scene_buffers.material_count, kernels.lanes()) {}
 };

@@ -132,7 +132,7 @@ using ProgressFn = std::function<void(int samples_done, int samples_total, uint6
 class WavefrontRenderer {
  public:
   // `shade_lanes`: hits per shade work-item (a power of two, at most 64;
-  // 0: 16 on CPU devices, 1 on GPUs; see gpu/wave_kernels.h).
+  // 0: the device's default, see default_shade_lanes in gpu/wave_kernels.h).
   WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
                     const EmbreeTracer& tracer, int shade_lanes = 0);
   ~WavefrontRenderer();

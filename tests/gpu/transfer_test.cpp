@@ -17,13 +17,7 @@ namespace pmc {
 namespace {
 
 RenderOutput render_default_scene(bool cache, TransferMode mode, size_t chunk, size_t wave_paths) {
-  RenderConfig c;
-  c.scene = test::source_path("data/default/room.obj");
-  c.mtlx = {test::source_path("data/default/materials.mtlx")};
-  c.width = 40;
-  c.height = 24;
-  c.spp = 2;
-  c.max_depth = 4;
+  RenderConfig c = test::default_scene_config(40, 24, 2);
   c.cache = cache;
   c.cache_cells = 4096;
   c.transfer = mode;
@@ -36,9 +30,7 @@ RenderOutput render_default_scene(bool cache, TransferMode mode, size_t chunk, s
 
 void expect_same(const RenderOutput& a, const RenderOutput& b) {
   ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
-  size_t differ = 0;
-  for (size_t i = 0; i < a.image.pixels.size(); ++i) differ += a.image.pixels[i] != b.image.pixels[i] ? 1 : 0;
-  EXPECT_EQ(differ, 0u) << "of " << a.image.pixels.size() << " values";
+  EXPECT_EQ(test::differing_values(a.image, b.image), 0u) << "of " << a.image.pixels.size() << " values";
   EXPECT_EQ(a.stats.rays, b.stats.rays);
   EXPECT_EQ(a.stats.shadow_rays, b.stats.shadow_rays);
 }

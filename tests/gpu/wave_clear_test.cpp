@@ -36,7 +36,7 @@ void fill_pattern(const ClContext& cl, const ClBuffer& b, size_t bytes) {
 TEST(WaveClear, FilmTableAndCountersAreZeroedWhole) {
   const ClContext& cl = test::cl();
   MaterialSet no_materials;
-  WaveKernels kernels(cl, no_materials, default_shade_lanes(cl));
+  WaveKernels kernels(cl, no_materials, default_shade_lanes(cl, no_materials));
   HostLink link(cl, TransferMode::Copy);
   const size_t pixels = 300001;        // 64-byte film pixels: ~4.8M words
   const size_t cache_words = 1234567;  // 64-bit entries: ~2.5M words

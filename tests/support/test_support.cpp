@@ -103,4 +103,21 @@ size_t non_finite(const Image& img) {
   return n;
 }
 
+size_t differing_values(const Image& a, const Image& b) {
+  size_t n = 0;
+  for (size_t i = 0; i < a.pixels.size() && i < b.pixels.size(); ++i) n += a.pixels[i] != b.pixels[i] ? 1 : 0;
+  return n;
+}
+
+RenderConfig default_scene_config(int width, int height, int spp) {
+  RenderConfig c;
+  c.scene = source_path("data/default/room.obj");
+  c.mtlx = {source_path("data/default/materials.mtlx")};
+  c.width = width;
+  c.height = height;
+  c.spp = spp;
+  c.max_depth = 4;
+  return c;
+}
+
 }  // namespace pmc::test

@@ -18,6 +18,7 @@
 
 #include "core/image_io.h"
 #include "gpu/cl_context.h"
+#include "gpu/render_config.h"
 
 namespace pmc::test {
 
@@ -44,5 +45,9 @@ const ClContext& cl();
 // Mean of all channels, and counts of non-finite values.
 double image_mean(const Image& img);
 size_t non_finite(const Image& img);
+// Values (pixel channels) that differ between two images of the same size.
+size_t differing_values(const Image& a, const Image& b);
+// The bundled default scene (data/default) at this size, path length 4.
+RenderConfig default_scene_config(int width, int height, int spp);
 
 }  // namespace pmc::test

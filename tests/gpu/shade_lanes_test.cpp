@@ -1,0 +1,74 @@
+// shade_lanes_test.cpp — the shade kernel's batch size changes speed, never
+// the image.
+//
+// A shade work-item evaluates one material for a batch of PMC_LANES hits
+// (gpu/wave_kernels.h). Batches of 1 (the GPU build), 16 (the CPU fallback
+// for very deep material stacks) and the CPU default (64) must render
+// bit-identical images with identical ray counts, with the cache off and on
+// (--cache-eval center: a stored value depends on its key alone; the batch
+// also decides which lanes run a cache group's misses together). The default
+// itself follows the materials' stack depth.
+#include <gtest/gtest.h>
+
+#include "gpu/render_session.h"
+#include "gpu/wave_kernels.h"
+#include "tests/support/test_support.h"
+
+namespace pmc {
+namespace {
+
+RenderOutput render_default_scene(bool cache, int lanes) {
+  RenderConfig c = test::default_scene_config(48, 27, 2);
+  c.cache = cache;
+  c.cache_cells = 4096;
+  c.shade_lanes = lanes;
+  RenderSession session(c, test::cl());
+  return session.render(session.settings());
+}
+
+TEST(ShadeLanes, BatchSizesRenderIdenticalImages) {
+  for (bool cache : {false, true}) {
+    SCOPED_TRACE(cache ? "cache on" : "cache off");
+    const RenderOutput by_default = render_default_scene(cache, 0);
+    EXPECT_EQ(by_default.stats.shade_lanes, test::cl().info().is_gpu ? 1 : 64);
+    EXPECT_GT(test::image_mean(by_default.image), 0.0);
+    for (int lanes : {1, 16}) {
+      SCOPED_TRACE("lanes " + std::to_string(lanes));
+      const RenderOutput other = render_default_scene(cache, lanes);
+      EXPECT_EQ(other.stats.shade_lanes, lanes);
+      ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
+      EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
+          << "of " << other.image.pixels.size() << " values";
+      EXPECT_EQ(other.stats.rays, by_default.stats.rays);
+      EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
+    }
+  }
+}
+
+MaterialSet with_peak_stack(uint32_t floats) {
+  MaterialSet set;
+  set.program.materials.resize(2);
+  set.program.materials[0].peak_stack = 3;
+  set.program.materials[1].peak_stack = floats;
+  return set;
+}
+
+TEST(ShadeLanes, CpuDefaultShrinksForDeepStacks) {
+  const ClContext& cl = test::cl();
+  if (cl.info().is_gpu) {
+    EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(34)), 1);
+    return;
+  }
+  // Stacks round up to powers of two; 64 lanes while 4 bytes x stack x lanes <= 64 KiB.
+  EXPECT_EQ(default_shade_lanes(cl, MaterialSet{}), 64);
+  EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(34)), 64);
+  EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(256)), 64);
+  EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(257)), 32);
+  EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(1024)), 16);
+  EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(100000)), 16);
+  EXPECT_NE(wave_program_options(with_peak_stack(257), 32, false).find("-DPMC_STACK_SIZE=512 -DPMC_LANES=32"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace pmc
