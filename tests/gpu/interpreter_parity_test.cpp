@@ -11,7 +11,7 @@
 // with PMC_TEST_SEED=<seed> to reproduce), once with every operand in a stack
 // slot and once with a mix of inline constants and broadcast scalars. Each
 // program is <op> <OUTPUT> <END>, so END and OUTPUT are exercised by every
-// case, once with a work-item per item and once with 16 items per work-item
+// case, once with a work-item per item and with 16 and 64 items per work-item
 // (the lane-batched interpreter the shade kernel runs on CPU devices);
 // CACHE_LOOKUP / CACHE_STORE run (as misses: no cache context) around a
 // block in a chained program whose result must be the block's on both sides. Lanes beyond an instruction's
@@ -755,11 +755,11 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
     cases.push_back(std::move(c));
   }
 
-  // Device runs: one item per work-item, and batches of 16 items per
+  // Device runs: one item per work-item, and batches of 16 and 64 items per
   // work-item (the lane-batched interpreter of CPU devices).
   const ClContext& cl = test::cl();
   const size_t n = entries.size();
-  ASSERT_EQ(kItems % 16, 0) << "a batch must not straddle two programs";
+  ASSERT_EQ(kItems % 64, 0) << "a batch must not straddle two programs";
   auto run_device = [&](int lanes) {
     std::ostringstream opts;
     opts << "-DKDATA=" << kData << " -DKPRELOAD=" << kPreload << " -DKDST=" << kDst
@@ -783,8 +783,8 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
 
   // Compare each device run with the host.
   std::map<std::string, double> worst;  // op -> max |d - h| / tolerance unit, for the record
-  for (int lanes : {1, 16}) {
-    SCOPED_TRACE(lanes == 1 ? "device: one item per work-item" : "device: 16 items per work-item");
+  for (int lanes : {1, 16, 64}) {
+    SCOPED_TRACE("device: " + std::to_string(lanes) + " item(s) per work-item");
     const std::vector<float> dev = run_device(lanes);
     for (const Case& c : cases) {
       int skipped = 0, failures = 0;
