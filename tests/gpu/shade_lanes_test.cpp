@@ -17,11 +17,12 @@
 namespace pmc {
 namespace {
 
-RenderOutput render_default_scene(bool cache, int lanes) {
+RenderOutput render_default_scene(bool cache, int lanes, uint32_t min_stack = 0) {
   RenderConfig c = test::default_scene_config(48, 27, 2);
   c.cache = cache;
   c.cache_cells = 4096;
   c.shade_lanes = lanes;
+  c.min_kernel_stack = min_stack;
   RenderSession session(c, test::cl());
   return session.render(session.settings());
 }
@@ -43,6 +44,18 @@ TEST(ShadeLanes, BatchSizesRenderIdenticalImages) {
       EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
     }
   }
+}
+
+// The largest stack that still gets the full batch (256 floats x 64 lanes:
+// 64 KiB of stack per work-item, besides the batch's hit records) runs on
+// the device and renders what the default stack does.
+TEST(ShadeLanes, DeepestStackAtTheFullBatchRendersTheSameImage) {
+  const RenderOutput by_default = render_default_scene(false, 0);
+  const RenderOutput deep = render_default_scene(false, 0, 256);
+  EXPECT_EQ(deep.stats.shade_lanes, by_default.stats.shade_lanes);
+  ASSERT_EQ(deep.image.pixels.size(), by_default.image.pixels.size());
+  EXPECT_EQ(test::differing_values(deep.image, by_default.image), 0u);
+  EXPECT_EQ(deep.stats.rays, by_default.stats.rays);
 }
 
 MaterialSet with_peak_stack(uint32_t floats) {
