@@ -8,6 +8,20 @@ namespace pmc {
 
 void warn(const std::string& message) { std::fprintf(stderr, "pmc: warning: %s\n", message.c_str()); }
 
+std::string printable(const std::string& text) {
+  std::string out;
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += char(c);
+    } else {
+      char hex[5];
+      std::snprintf(hex, sizeof(hex), "\\x%02x", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 namespace {
 
 constexpr char kMark = '\x1f';  // ASCII unit separator: never in a file name or a number

@@ -37,6 +37,10 @@ template <typename... Parts>
 
 void warn(const std::string& message);
 
+// Text read from a file, fit for a message: control bytes (NUL, ESC, ...)
+// written as \xNN, so a name cannot cut or garble the line it is quoted in.
+std::string printable(const std::string& text);
+
 // A setting's name inside a ConfigError message (see above).
 struct SettingName {
   const char* name;

@@ -191,7 +191,7 @@ TEST(ObjLoader, NormalsIndexIntoNormals) {
 
 TEST(ObjLoader, TriangulatesQuads) {
   std::string dir = temp_dir();
-  // tinyobjloader splits a quad along its shorter diagonal: 0-2 here ...
+  // the parser splits (tinyobjloader's rule) a quad along its shorter diagonal: 0-2 here ...
   // ... and 1-3 in the second quad.
   write_file(dir + "/q.obj",
              "v 0 0 0\n"
@@ -226,7 +226,7 @@ TEST(ObjLoader, TriangulatesPentagon) {
              "f 1 2 3 4 5\n");
   Scene s = load_obj(dir + "/p.obj");
   ASSERT_EQ(s.triangles.size(), 3u);  // 5 corners -> 3 triangles
-  // tinyobjloader's ear clipping on a convex polygon: a fan around corner 0.
+  // ear clipping on a convex polygon: a fan around corner 0.
   EXPECT_EQ(vertex_indices(s), (std::vector<int>{0, 1, 2, 0, 2, 3, 0, 3, 4}));
   double area2 = 0;
   for (const PmcTriangle& t : s.triangles) {
@@ -284,7 +284,7 @@ TEST(ObjLoader, NegativeIndicesAreRelative) {
              "f -3/-3/-1 -2/-2/-1 -1/-1/-1\n");
   Scene s = load_obj(dir + "/neg.obj");
   ASSERT_EQ(s.triangles.size(), 3u);
-  // The square's diagonals are equally long: tinyobjloader then splits along 1-3.
+  // The square's diagonals are equally long: the parser then splits along 1-3.
   EXPECT_EQ(vertex_indices(s), (std::vector<int>{0, 1, 3, 1, 2, 3, 4, 5, 6}));
   const PmcTriangle& t = s.triangles[2];
   for (int k = 0; k < 3; ++k) {
@@ -358,8 +358,8 @@ TEST(ObjLoader, ObjectAndGroupNamesAreKeptPerTriangle) {
   EXPECT_EQ(s.shape_names[s.triangle_shapes[2]], "shelf");
 }
 
-// tinyobjloader quotes material names inside its warnings; a material named
-// like one of the warnings pmc reacts to must not be read as that warning
+// tinyobjloader quoted material names inside the warnings pmc once read; a
+// material named like one of those warnings must not be read as one
 // (fuzz_mtl found both: the OBJ was refused as truncated / missing its MTL).
 TEST(ObjLoader, MaterialNamedLikeAWarningIsJustAName) {
   std::string dir = temp_dir();
@@ -370,7 +370,7 @@ TEST(ObjLoader, MaterialNamedLikeAWarningIsJustAName) {
                                  "usemtl Degenerated face found\nf 1 2 3\n"
                                  "usemtl Failed to load material file\nf 1 3 2\n");
   // Before the fix: "a face has fewer than 3 corners (is the file truncated?)".
-  // (tinyobj's usemtl reads one word, so the faces get the default material.)
+  // (usemtl reads one word, as tinyobj did, so the faces get a material named "Degenerated".)
   Scene s = load_obj(dir + "/a.obj");
   EXPECT_EQ(s.triangles.size(), 2u);
 }
@@ -381,7 +381,7 @@ TEST(ObjLoader, FaceIndexOutOfRangeThrows) {
     const char* name;
     const char* face;
   };
-  // Past the end, before the start (relative), a quad (tinyobjloader drops bad
+  // Past the end, before the start (relative), a quad (tinyobjloader once dropped bad
   // quads with only a warning), a normal index past the end, and index 0.
   const Case cases[] = {{"tri", "f 1 2 9\n"},
                         {"rel", "f -9 1 2\n"},

@@ -1,5 +1,5 @@
-// fuzz_obj.cpp — libFuzzer target for the OBJ loader (core/obj_loader.cpp,
-// tinyobjloader underneath); the checks live in harness.h (check_obj).
+// fuzz_obj.cpp — libFuzzer target for the OBJ loader (core/obj_parser.cpp and
+// core/obj_loader.cpp; tinyobjloader reads the MTL); the checks live in harness.h (check_obj).
 // Bad input must end in pmc::Error; anything else — a crash, a sanitizer
 // report, an uncaught exception, a Scene whose triangles index outside its
 // arrays or keep non-finite data — is a finding.

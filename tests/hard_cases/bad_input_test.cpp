@@ -81,7 +81,7 @@ TEST(BadInput, ObjFaceIndexOutOfRange) {
   std::string dir = dir_with_mtl();
   test::write_file(dir + "/tri.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
   expect_refused(dir, render(dir, dir + "/tri.obj"), {"tri.obj", "vertex index 9", "3 vertices"});
-  // In a quad (tinyobj drops those with only a warning) and a negative index.
+  // In a quad (tinyobjloader once dropped those with only a warning) and a negative index.
   test::write_file(dir + "/quad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 4 7\n");
   expect_refused(dir, render(dir, dir + "/quad.obj"), {"quad.obj", "out of range"});
   test::write_file(dir + "/neg.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n");

@@ -1,0 +1,223 @@
+// obj_parser_test.cpp — pmc's own OBJ geometry parser (core/obj_parser.h):
+// files that span many parallel chunks against the faces they were written
+// from, thread-count independence, numbers, names, polygons and errors.
+#include "core/obj_parser.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cmath>
+#include <cstring>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "core/error.h"
+
+namespace pmc {
+namespace {
+
+std::string parse_error(const std::string& text) {
+  try {
+    parse_obj("test.obj", text);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no error for:\n" << text;
+  return {};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// A strip of `quads` unit quads along x, written in blocks that mix absolute
+// and relative indices, with a material every 7 quads and a group every 11,
+// so their state crosses chunk boundaries (the file is several MiB). Each
+// quad's expected triangles, material and group are recorded as written.
+struct Strip {
+  std::string text;
+  std::vector<int> v;  // 6 vertex indices per quad (0-based)
+  std::vector<std::string> material, group;
+};
+
+Strip make_strip(int quads) {
+  Strip s;
+  std::ostringstream os;
+  os << "# a comment line\nmtllib none.mtl\n";
+  std::string material = "", group = "";
+  int written = 0;  // vertices so far
+  for (int q = 0; q < quads; ++q) {
+    if (q % 7 == 3) {
+      material = "m" + std::to_string(q % 5);
+      os << "usemtl " << material << "\n";
+    }
+    if (q % 11 == 5) {
+      group = "g" + std::to_string(q);
+      os << "g " << group << " part\n";
+    }
+    // Four new corners: (q,0) (q+1,0) (q+1,1) (q,1), padded so each line is long.
+    for (int c = 0; c < 4; ++c) {
+      const int x = q + (c == 1 || c == 2 ? 1 : 0), y = c >= 2 ? 1 : 0;
+      os << "v " << x << ".000000000 " << y << ".00000000000 0.000000000000000\n";
+    }
+    os << "vt 0.5 0.5\nvn 0 0 1\n";
+    const int a = written + 1;  // the first new vertex, 1-based
+    written += 4;
+    if (q % 2 == 0)
+      os << "f " << a << "/" << q + 1 << "/" << q + 1 << " " << a + 1 << "/" << q + 1 << "/" << q + 1 << " "
+         << a + 2 << "/" << q + 1 << "/" << q + 1 << " " << a + 3 << "/" << q + 1 << "/" << q + 1 << "\n";
+    else
+      os << "f -4/-1/-1 -3/-1/-1 -2/-1/-1 -1/-1/-1\n";
+    // The diagonals are equally long: corners 0-1-3 and 1-2-3.
+    const int b = a - 1;
+    s.v.insert(s.v.end(), {b, b + 1, b + 3, b + 1, b + 2, b + 3});
+    s.material.push_back(material);
+    s.group.push_back(group.empty() ? "" : group + " part");
+  }
+  s.text = os.str();
+  return s;
+}
+
+void expect_strip(const Strip& s, const ObjGeometry& g) {
+  const size_t quads = s.material.size();
+  ASSERT_EQ(g.triangles.size(), 2 * quads);
+  ASSERT_EQ(g.positions.size(), 12 * quads);
+  ASSERT_EQ(g.uvs.size(), 2 * quads);
+  ASSERT_EQ(g.normals.size(), 3 * quads);
+  for (size_t q = 0; q < quads; ++q) {
+    for (int h = 0; h < 2; ++h) {
+      const ObjTriangle& t = g.triangles[2 * q + size_t(h)];
+      for (int k = 0; k < 3; ++k) {
+        ASSERT_EQ(t.v[k], s.v[6 * q + 3 * size_t(h) + size_t(k)]) << "quad " << q;
+        ASSERT_EQ(t.t[k], int(q)) << "quad " << q;
+        ASSERT_EQ(t.n[k], int(q)) << "quad " << q;
+      }
+      ASSERT_EQ(t.usemtl < 0 ? std::string() : g.usemtl_names.at(size_t(t.usemtl)), s.material[q]) << q;
+      ASSERT_EQ(g.shape_names.at(size_t(t.shape)), s.group[q]) << q;
+    }
+  }
+  EXPECT_EQ(g.usemtl_names, (std::vector<std::string>{"m3", "m0", "m2", "m4", "m1"}));
+  ASSERT_EQ(g.mtllibs.size(), 1u);
+  EXPECT_EQ(g.mtllibs[0], (std::vector<std::string>{"none.mtl"}));
+}
+
+TEST(ObjParser, ManyChunksMatchTheFacesWritten) {
+  const Strip s = make_strip(60000);
+  ASSERT_GT(s.text.size(), size_t(6) << 20);  // several parallel chunks
+  expect_strip(s, parse_obj("strip.obj", s.text));
+}
+
+TEST(ObjParser, OneThreadGivesTheSameGeometry) {
+  const Strip s = make_strip(30000);
+  const ObjGeometry parallel = parse_obj("strip.obj", s.text);
+  tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+  const ObjGeometry serial = parse_obj("strip.obj", s.text);
+  expect_strip(s, serial);
+  ASSERT_EQ(serial.triangles.size(), parallel.triangles.size());
+  for (size_t i = 0; i < serial.triangles.size(); ++i)
+    ASSERT_EQ(std::memcmp(&serial.triangles[i], &parallel.triangles[i], sizeof(ObjTriangle)), 0) << i;
+  EXPECT_EQ(serial.positions, parallel.positions);
+}
+
+TEST(ObjParser, NumbersAsTinyobjReadsThemPlusNonFinite) {
+  const ObjGeometry g = parse_obj("n.obj",
+                                  "v +1.5 -2e-3 .25\n"  // sign, exponent, leading dot
+                                  "v 1.5abc junk\n"     // numeric prefix, then 0
+                                  "v 1\n"               // missing components are 0
+                                  "v nan inf -INF\n"
+                                  "v 1e39 -1e39 1e-50\n"  // past float: +-inf, underflow 0
+                                  "vt 0.25\tx\n"
+                                  "f 1 2 3\n");
+  const std::vector<float>& p = g.positions;
+  ASSERT_EQ(p.size(), 15u);
+  EXPECT_EQ(p[0], 1.5f);
+  EXPECT_EQ(p[1], -2e-3f);
+  EXPECT_EQ(p[2], 0.25f);
+  EXPECT_EQ(p[3], 1.5f);
+  EXPECT_EQ(p[4], 0.0f);
+  EXPECT_EQ(p[6], 1.0f);
+  EXPECT_EQ(p[7], 0.0f);
+  EXPECT_TRUE(std::isnan(p[9]));
+  EXPECT_EQ(p[10], INFINITY);
+  EXPECT_EQ(p[11], -INFINITY);
+  EXPECT_EQ(p[12], INFINITY);
+  EXPECT_EQ(p[13], -INFINITY);
+  EXPECT_EQ(p[14], 0.0f);
+  EXPECT_EQ(g.uvs, (std::vector<float>{0.25f, 0.0f}));
+}
+
+TEST(ObjParser, NamesAndLineEnds) {
+  // \r\n, a lone \r, tabs; o keeps the rest of its line, g joins its names.
+  const ObjGeometry g = parse_obj("names.obj",
+                                  "v 0 0 0\r\nv 1 0 0\rv 0 1 0\n"
+                                  "o my object\n"
+                                  "\tusemtl\tred  trailing words\n"
+                                  "f 1 2 3\r\n"
+                                  "g  a\t b \n"
+                                  "usemtl\n"
+                                  "f 1 2 3\n"
+                                  "g\n"
+                                  "o empty\n"  // no faces: dropped
+                                  "o last\n"
+                                  "f 3 2 1");  // no line end
+  ASSERT_EQ(g.triangles.size(), 3u);
+  EXPECT_EQ(g.shape_names, (std::vector<std::string>{"my object", "a b", "last"}));
+  EXPECT_EQ(g.usemtl_names, (std::vector<std::string>{"red"}));
+  EXPECT_EQ(g.triangles[0].usemtl, 0);
+  EXPECT_EQ(g.triangles[1].usemtl, -1);  // a bare usemtl: the default material
+  EXPECT_EQ(g.triangles[2].shape, 2);
+  EXPECT_EQ(g.triangles[2].v[0], 2);
+}
+
+// Twice the signed area of a triangle of `g` projected along axis `axis`
+// (the component of its edges' cross product).
+double area2(const ObjGeometry& g, const ObjTriangle& t, int axis = 2) {
+  auto p = [&](int k, int c) { return double(g.positions[3 * size_t(t.v[k]) + size_t(c)]); };
+  const int a = (axis + 1) % 3, b = (axis + 2) % 3;
+  return (p(1, a) - p(0, a)) * (p(2, b) - p(0, b)) - (p(1, b) - p(0, b)) * (p(2, a) - p(0, a));
+}
+
+TEST(ObjParser, ConcavePolygonIsEarClipped) {
+  // An L (area 3) that corner 0 does not see whole: a fan around it would
+  // fold over (its second triangle winds the other way). The triangles
+  // must all keep the L's winding and add up to its area.
+  const char* corners[6] = {"2 0", "2 1", "1 1", "1 2", "0 2", "0 0"};
+  std::string flat, tilted;
+  for (const char* c : corners) {
+    flat += std::string("v ") + c + " 0\n";
+    tilted += std::string("v 0 ") + c + "\n";  // the same L in the x = 0 plane, normal +x
+  }
+  for (int axis : {2, 0}) {
+    const ObjGeometry g = parse_obj("l.obj", (axis == 2 ? flat : tilted) + "f 1 2 3 4 5 6\n");
+    ASSERT_EQ(g.triangles.size(), 4u);
+    double total = 0;
+    for (const ObjTriangle& t : g.triangles) {
+      EXPECT_GT(area2(g, t, axis), 0.0) << axis;
+      total += area2(g, t, axis);
+    }
+    EXPECT_DOUBLE_EQ(total, 2 * 3.0) << axis;
+  }
+}
+
+TEST(ObjParser, ErrorsNameTheLine) {
+  EXPECT_TRUE(
+      contains(parse_error("v 0 0 0\nv 1 0 0\n\nf 1 2\n"), "test.obj: line 4: a face has fewer than 3"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 0 1 1\n"), "line 2: a face corner '0' has an index of 0"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 1/ 1 1\n"), "'1/'"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 1 1 x\n"), "'x'"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 1 1 2\n"), "line 2: vertex index out of range"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 1 1 -2\n"), "points before the first vertex"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nvn 0 0 1\nf 1//1 1//1 1//2\n"), "normal index out of range"));
+  EXPECT_TRUE(contains(parse_error("v 0 0 0\nf 1/1 1/1 1/1\n"), "texture-coordinate index out of range"));
+  // Control bytes in a quoted corner are escaped.
+  EXPECT_TRUE(contains(parse_error(std::string("v 0 0 0\nf 1 1 \x01\n")), "'\\x01'"));
+  // An error far into a many-chunk file still names its line.
+  std::string big = make_strip(40000).text;
+  size_t lines = 0;
+  for (char c : big) lines += c == '\n' ? 1 : 0;
+  EXPECT_TRUE(contains(parse_error(big + "f 1 2 999999999\n"), "line " + std::to_string(lines + 1) + ":"));
+}
+
+}  // namespace
+}  // namespace pmc
