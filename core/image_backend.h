@@ -47,7 +47,8 @@ class ImageReader {
   virtual const ImageHeader& header() const = 0;
   // Channels [c0, c1) of the whole image, converted to `format` (U8, U32 or
   // Float; integers scale to 0..1 when read as Float). Strides in bytes, 0 for
-  // packed. False on failure (error() says why).
+  // packed. False on failure (error() says why). Read the pixels once: a
+  // reader may decode straight from the file into `data` and close it.
   virtual bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t x_stride = 0,
                     std::ptrdiff_t y_stride = 0) = 0;
   virtual std::string error() = 0;

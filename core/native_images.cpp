@@ -131,6 +131,19 @@ bool png_read_rows(PngState& s, png_bytepp rows) {
 
 // A non-interlaced image row by row, `pixels` grown with each: a file cut
 // short fails before the size its header claims is allocated.
+// One row of a non-interlaced image into `row`; false on corrupt data.
+bool png_read_one_row(PngState& s, png_bytep row) {
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  png_read_row(s.png, row, nullptr);
+  return true;
+}
+
+bool png_finish(PngState& s) {
+  if (setjmp(png_jmpbuf(s.png))) return false;
+  png_read_end(s.png, nullptr);
+  return true;
+}
+
 bool png_read_growing(PngState& s, size_t row, size_t height, std::vector<unsigned char>& pixels) {
   if (setjmp(png_jmpbuf(s.png))) return false;
   for (size_t y = 0; y < height; ++y) {
@@ -157,12 +170,39 @@ class PngReader final : public ImageReader {
   ~PngReader() override { png_release(s_); }
   const ImageHeader& header() const override { return h_; }
   bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
+    if (pixels_.empty() && s_.png && png_get_interlace_type(s_.png, s_.info) == PNG_INTERLACE_NONE)
+      return stream(c0, c1, format, data, xs, ys);
     return decoded() && copy_u8_channels(pixels_.data(), h_, c0, c1, format, data, xs, ys, error_);
   }
   std::string error() override { return error_; }
   void close() override { png_release(s_); }
 
  private:
+  // A non-interlaced image row by row straight into `data`, through one row
+  // of memory: no whole-image buffer to allocate, fault in and copy from.
+  // The file is read once; a second read() finds it closed.
+  bool stream(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) {
+    ImageHeader one_row = h_;
+    one_row.height = 1;
+    const std::ptrdiff_t x_stride = xs ? xs : std::ptrdiff_t(size_t(c1 - c0) * format_bytes(format));
+    const std::ptrdiff_t y_stride = ys ? ys : x_stride * h_.width;
+    std::vector<unsigned char> row(size_t(h_.width) * size_t(h_.channels));
+    auto* out = static_cast<unsigned char*>(data);
+    bool ok = true;
+    for (int y = 0; y < h_.height && ok; ++y) {
+      ok = png_read_one_row(s_, row.data());
+      if (ok &&
+          !copy_u8_channels(row.data(), one_row, c0, c1, format, out + y * y_stride, x_stride, 0, error_)) {
+        png_release(s_);
+        return false;
+      }
+    }
+    ok = ok && png_finish(s_);
+    if (!ok) error_ = s_.error[0] ? s_.error : "corrupt PNG data";
+    png_release(s_);
+    return ok;
+  }
+
   bool decoded() {
     if (!pixels_.empty()) return true;
     if (!s_.png) {
@@ -490,6 +530,44 @@ std::string native_size_problem(long long width, long long height) {
   return {};
 }
 
+namespace {
+
+// One row of `width` pixels, channels [c0, c0 + N) of NCH, as bytes `xs` apart:
+// the channel counts known at compile time, so the loop is plain loads and stores.
+template <int NCH, int N>
+void copy_u8_row(const unsigned char* src, int c0, unsigned char* dst, std::ptrdiff_t xs, int width) {
+  src += c0;
+  for (int x = 0; x < width; ++x, src += NCH, dst += xs)
+    for (int c = 0; c < N; ++c) dst[c] = src[c];
+}
+
+using CopyRow = void (*)(const unsigned char*, int, unsigned char*, std::ptrdiff_t, int);
+
+CopyRow u8_row_copier(int nch, int n) {
+  switch (nch * 8 + n) {
+    case 1 * 8 + 1:
+      return &copy_u8_row<1, 1>;
+    case 2 * 8 + 1:
+      return &copy_u8_row<2, 1>;
+    case 2 * 8 + 2:
+      return &copy_u8_row<2, 2>;
+    case 3 * 8 + 1:
+      return &copy_u8_row<3, 1>;
+    case 3 * 8 + 3:
+      return &copy_u8_row<3, 3>;
+    case 4 * 8 + 1:
+      return &copy_u8_row<4, 1>;
+    case 4 * 8 + 3:
+      return &copy_u8_row<4, 3>;
+    case 4 * 8 + 4:
+      return &copy_u8_row<4, 4>;
+    default:
+      return nullptr;
+  }
+}
+
+}  // namespace
+
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t xs, std::ptrdiff_t ys, std::string& error) {
   if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
@@ -500,9 +578,14 @@ bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0,
   if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * size);
   if (!ys) ys = xs * h.width;
   auto* out = static_cast<unsigned char*>(data);
+  const size_t row = size_t(h.width) * nch;
+  if (CopyRow copy = format == PixelFormat::U8 ? u8_row_copier(h.channels, c1 - c0) : nullptr) {
+    for (int y = 0; y < h.height; ++y) copy(pixels + size_t(y) * row, c0, out + y * ys, xs, h.width);
+    return true;
+  }
   for (int y = 0; y < h.height; ++y)
     for (int x = 0; x < h.width; ++x) {
-      const unsigned char* src = &pixels[(size_t(y) * size_t(h.width) + size_t(x)) * nch];
+      const unsigned char* src = &pixels[size_t(y) * row + size_t(x) * nch];
       unsigned char* dst = out + y * ys + x * xs;
       for (int c = c0; c < c1; ++c) {
         if (format == PixelFormat::U8)
