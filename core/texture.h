@@ -1,13 +1,11 @@
 // texture.h — images for the kernels: one RGBA8 texel pool with mip chains.
 //
-// Images are read through OpenImageIO (the image plugin, core/image_backend.h), converted to 8-bit RGBA (sRGB-encoded
-// for colour textures, linear for data), and stored with a full box-filtered
-// mip chain in one texel pool that is uploaded as a single buffer. A texture
-// is loaded once however many materials use it; only used textures are
-// loaded. load() opens the file and checks its header at once (a missing or
-// unreadable file is an error naming who uses it) and hands out the texture's
-// index; the pixels are decoded later, all pending textures in parallel, when
-// the pool is first read (textures(), texels()) or by resolve(). 8-bit RGB
+// Images are read through OpenImageIO (the image plugin, core/image_backend.h), converted to 8-bit RGBA
+// (sRGB-encoded for colour textures, linear for data), and stored with a full box-filtered mip chain in one
+// texel pool that is uploaded as a single buffer. A texture is loaded once however many materials use it;
+// only used textures are loaded. load() opens the file and checks its header at once (a missing or unreadable
+// file is an error naming who uses it) and hands out the texture's index; the pixels are decoded later, all
+// pending textures in parallel, when the pool is first read (textures(), texels()) or by resolve(). 8-bit RGB
 // and RGBA files are read straight into the pool (strided reads), others
 // through a conversion buffer.
 //
@@ -20,8 +18,10 @@
 #pragma once
 
 #include <cstdint>
+#include <cstdlib>
 #include <map>
 #include <memory>
+#include <new>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,10 +30,18 @@
 
 namespace pmc {
 
+// Memory for large pools: blocks of 2 MiB and more are 2 MiB-aligned and
+// marked for transparent huge pages (madvise), so filling a texture pool of
+// a hundred megabytes takes a few hundred page faults instead of tens of
+// thousands (on Linux with THP in "madvise" or "always" mode; elsewhere
+// plain aligned memory). Freed with std::free.
+void* allocate_pool_bytes(size_t bytes);
+
 // An allocator that leaves value-initialised elements uninitialised (resize
-// without a memset); otherwise std::allocator.
+// without a memset) and takes its memory from allocate_pool_bytes.
 template <typename T>
-struct NoInitAllocator : std::allocator<T> {
+struct NoInitAllocator {
+  using value_type = T;
   template <typename U>
   struct rebind {
     using other = NoInitAllocator<U>;
@@ -41,6 +49,11 @@ struct NoInitAllocator : std::allocator<T> {
   NoInitAllocator() = default;
   template <typename U>
   NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
+  T* allocate(size_t n) {
+    if (n > size_t(-1) / sizeof(T)) throw std::bad_alloc();
+    return static_cast<T*>(allocate_pool_bytes(n * sizeof(T)));
+  }
+  void deallocate(T* p, size_t) noexcept { std::free(p); }
   template <typename U>
   void construct(U* p) noexcept {
     ::new (static_cast<void*>(p)) U;
@@ -48,6 +61,14 @@ struct NoInitAllocator : std::allocator<T> {
   template <typename U, typename... Args>
   void construct(U* p, Args&&... args) {
     ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+  template <typename U>
+  bool operator==(const NoInitAllocator<U>&) const noexcept {
+    return true;
+  }
+  template <typename U>
+  bool operator!=(const NoInitAllocator<U>&) const noexcept {
+    return false;
   }
 };
 using TexelWords = std::vector<uint32_t, NoInitAllocator<uint32_t>>;
