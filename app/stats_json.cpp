@@ -42,14 +42,16 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
 }
 
 nlohmann::json setup_json(const SetupSeconds& setup) {
-  return {{"opencl_device", setup.opencl_device},
-          {"scene", setup.scene},
-          {"materials", setup.materials},
-          {"lights", setup.lights},
-          {"bvh", setup.bvh},
-          {"renderer", setup.renderer},
-          {"total", setup.total()},
-          {"background", {{"opencl_device", setup.background_opencl_device}}}};
+  return {
+      {"opencl_device", setup.opencl_device},
+      {"scene", setup.scene},
+      {"materials", setup.materials},
+      {"lights", setup.lights},
+      {"bvh", setup.bvh},
+      {"renderer", setup.renderer},
+      {"total", setup.total()},
+      {"background",
+       {{"opencl_device", setup.background_opencl_device}, {"kernel_build", setup.background_kernel_build}}}};
 }
 
 nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {

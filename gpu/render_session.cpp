@@ -16,9 +16,12 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
+#include "gpu/wave_kernels.h"
 
 namespace pmc {
 namespace {
+
+using Clock = std::chrono::steady_clock;
 
 // The cache table for a program compiled with cache instructions: the
 // config's size, else one sized from the scene's cache points; none (the
@@ -117,7 +120,6 @@ RenderSession::RenderSession(const RenderConfig& config) : RenderSession(config,
 
 RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : config_(config), cl_(cl) {
   config_.validate();
-  using Clock = std::chrono::steady_clock;
   Clock::time_point mark = Clock::now();
   auto lap = [&mark](double& seconds) {
     const Clock::time_point now = Clock::now();
@@ -130,23 +132,40 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : 
     limit_threads(config_);
     opening.emplace([device = config_.device] { return std::make_unique<ClContext>(device); });
   }
+  // The kernel build, from the end of material compiling: beside the texture
+  // decoding and the BVH build (declared after `opening`, so it is waited for first).
+  std::optional<Background<std::unique_ptr<WaveKernels>>> building;
+  auto start_kernel_build = [&](MaterialSet& set) {
+    for (CompiledMaterial& m : set.program.materials)
+      m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
+    if (opening) {  // waited for here, inside the materials step
+      const Clock::time_point wait = Clock::now();
+      own_cl_ = opening->get();
+      cl_ = own_cl_.get();
+      setup_.background_opencl_device = opening->seconds();
+      setup_.opencl_device = std::chrono::duration<double>(Clock::now() - wait).count();
+    }
+    const ClContext& cl = *cl_;
+    const int lanes = config_.shade_lanes > 0 ? config_.shade_lanes : default_shade_lanes(cl, set);
+    building.emplace([&cl, lanes, options = wave_program_options(set, lanes, cl.info().is_gpu)] {
+      return std::make_unique<WaveKernels>(cl, lanes, options);
+    });
+  };
   try {
-    prepare_scene(lap);
+    prepare_scene(lap, start_kernel_build);
   } catch (...) {
-    if (opening) opening->get();  // the device's error first, as when it was opened first
+    if (opening && !cl_) opening->get();  // the device's error first, as when it was opened first
     throw;
   }
-  if (opening) {
-    own_cl_ = opening->get();
-    cl_ = own_cl_.get();
-    setup_.background_opencl_device = opening->seconds();
-    lap(setup_.opencl_device);
-  }
-  renderer_ = std::make_unique<WavefrontRenderer>(*cl_, scene_, materials_, *tracer_, config_.shade_lanes);
+  if (!building) start_kernel_build(materials_);  // (the hook always runs; this keeps it so)
+  setup_.materials -= setup_.opencl_device;       // reported apart
+  renderer_ = std::make_unique<WavefrontRenderer>(*cl_, scene_, materials_, *tracer_, building->get());
+  setup_.background_kernel_build = building->seconds();
   lap(setup_.renderer);
 }
 
-void RenderSession::prepare_scene(const std::function<void(double&)>& lap) {
+void RenderSession::prepare_scene(const std::function<void(double&)>& lap,
+                                  const std::function<void(MaterialSet&)>& compiled) {
   ObjLoadOptions load;
   load.load_textures = false;  // the material compiler loads what live nodes read
   scene_ = load_obj(config_.scene, load);
@@ -160,9 +179,8 @@ void RenderSession::prepare_scene(const std::function<void(double&)>& lap) {
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   mo.compile.cache_position_keys = config_.cache_position_keys;
   mo.compile.cache_feature_texels = config_.cache_bandwidth ? config_.cache_feature_texels : 0.0;
+  mo.compiled = compiled;
   materials_ = build_material_set(scene_, mo);
-  for (CompiledMaterial& m : materials_.program.materials)
-    m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
   lap(setup_.materials);
   settings_ = base_render_settings(config_);
   settings_.camera = resolve_camera(config_, scene_);

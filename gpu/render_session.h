@@ -18,9 +18,11 @@
 //
 // A session given no device opens it itself (open_device(config)) on a
 // Background job (core/background.h) while the OBJ is parsed and the
-// materials compiled, and waits for it before the renderer needs it. An
-// error opening the device surfaces unchanged, and before any error of the
-// scene or its materials, as when the device was opened first.
+// materials compiled, and waits for it once they are. An error opening the
+// device surfaces unchanged, and before any error of the scene or its
+// materials, as when the device was opened first. The OpenCL program (whose
+// build options come from the compiled materials) then builds on another
+// Background job while the textures decode and the BVH builds.
 //
 // Errors: ConfigError for settings (see core/error.h), pmc::Error naming the
 // file for bad scenes and materials.
@@ -45,14 +47,18 @@ namespace pmc {
 // in that step only as far as the step waits for it; its own duration is
 // reported apart (background_*), overlapping the steps.
 struct SetupSeconds {
-  double opencl_device = 0;  // a session that opens its device: the wait for it, after bvh (0 when given one)
+  double opencl_device = 0;  // a session that opens its device: the wait for it, once the materials are
+                             // compiled (0 when given one)
   double scene = 0;          // OBJ + MTL parsing
   double materials = 0;      // binding, MaterialX reading, compiling, texture decoding and mip chains
   double lights = 0;         // camera, lights file and environment map, cache sizing
   double bvh = 0;            // cut-out tester and Embree's BVH build
-  double renderer = 0;       // OpenCL program build (kernel_build_seconds) and scene buffer uploads
+  double renderer = 0;       // the wait for the OpenCL program build, and scene buffer uploads
   double total() const { return opencl_device + scene + materials + lights + bvh + renderer; }
-  double background_opencl_device = 0;  // opening the device on its job (not part of total())
+  // Jobs beside the steps (not part of total()): opening the device; the
+  // program build (kernel_build_seconds), from the end of material compiling.
+  double background_opencl_device = 0;
+  double background_kernel_build = 0;
 };
 
 class RenderSession {
@@ -82,7 +88,9 @@ class RenderSession {
  private:
   RenderSession(const RenderConfig& config, const ClContext* cl);
   // Scene, materials, lights and BVH: the steps before the renderer; `lap` ends each.
-  void prepare_scene(const std::function<void(double&)>& lap);
+  // `compiled` runs once the materials are compiled, before their textures decode.
+  void prepare_scene(const std::function<void(double&)>& lap,
+                     const std::function<void(MaterialSet&)>& compiled);
   RenderConfig config_;
   std::unique_ptr<ClContext> own_cl_;  // before everything that uses it, so destroyed after them
   const ClContext* cl_ = nullptr;

@@ -36,9 +36,10 @@ std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
 }
 
 WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes)
-    : cl_(cl),
-      lanes_(lanes),
-      program_(cl, "pmc_kernels.cl", wave_program_options(materials, lanes, cl.info().is_gpu)) {
+    : WaveKernels(cl, lanes, wave_program_options(materials, lanes, cl.info().is_gpu)) {}
+
+WaveKernels::WaveKernels(const ClContext& cl, int lanes, const std::string& program_options)
+    : cl_(cl), lanes_(lanes), program_(cl, "pmc_kernels.cl", program_options) {
   PMC_CHECK(lanes >= 1 && size_t(lanes) <= kLocalSize && (lanes & (lanes - 1)) == 0, "shade lanes ", lanes);
   camera_ = program_.kernel("pmc_camera_rays");
   shade_ = program_.kernel("pmc_shade");

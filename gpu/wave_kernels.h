@@ -29,6 +29,9 @@ class WaveKernels {
 
   // `lanes`: hits per shade work-item (a power of two up to kLocalSize).
   WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes);
+  // The same from wave_program_options(materials, lanes, ...), computed
+  // beforehand: the build needs nothing else, so it can run on another thread.
+  WaveKernels(const ClContext& cl, int lanes, const std::string& program_options);
   double build_seconds() const { return program_.build_seconds(); }
   int lanes() const { return lanes_; }
 

@@ -20,16 +20,19 @@ struct WavefrontRenderer::Impl {
   const ClContext& cl;
   const Scene& scene;
   const EmbreeTracer& tracer;
-  WaveKernels kernels;
+  std::unique_ptr<WaveKernels> built;
+  WaveKernels& kernels;
   SceneBuffers scene_buffers;
   MaterialSorter sorter;
   bool warmed_up = false;
 
-  Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t, int lanes)
+  Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t,
+       std::unique_ptr<WaveKernels> k)
       : cl(c),
         scene(s),
         tracer(t),
-        kernels(c, mats, lanes > 0 ? lanes : default_shade_lanes(c, mats)),
+        built(std::move(k)),
+        kernels(*built),
         scene_buffers(c, s, mats),
         sorter(scene_buffers.triangle_material, scene_buffers.material_count, kernels.lanes()) {}
 };
@@ -256,7 +259,14 @@ void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheS
 
 WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
                                      const EmbreeTracer& tracer, int shade_lanes)
-    : impl_(std::make_unique<Impl>(cl, scene, materials, tracer, shade_lanes)) {}
+    : WavefrontRenderer(
+          cl, scene, materials, tracer,
+          std::make_unique<WaveKernels>(
+              cl, materials, shade_lanes > 0 ? shade_lanes : default_shade_lanes(cl, materials))) {}
+
+WavefrontRenderer::WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
+                                     const EmbreeTracer& tracer, std::unique_ptr<WaveKernels> kernels)
+    : impl_(std::make_unique<Impl>(cl, scene, materials, tracer, std::move(kernels))) {}
 WavefrontRenderer::~WavefrontRenderer() = default;
 
 RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn& progress) {

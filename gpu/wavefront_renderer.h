@@ -129,12 +129,17 @@ struct RenderOutput {
 // Called after each finished pass: samples done so far, total (of this render's range), rays so far.
 using ProgressFn = std::function<void(int samples_done, int samples_total, uint64_t rays)>;
 
+class WaveKernels;
+
 class WavefrontRenderer {
  public:
   // `shade_lanes`: hits per shade work-item (a power of two, at most 64;
   // 0: the device's default, see default_shade_lanes in gpu/wave_kernels.h).
   WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
                     const EmbreeTracer& tracer, int shade_lanes = 0);
+  // With its program built already (for these materials: see RenderSession).
+  WavefrontRenderer(const ClContext& cl, const Scene& scene, const MaterialSet& materials,
+                    const EmbreeTracer& tracer, std::unique_ptr<WaveKernels> kernels);
   ~WavefrontRenderer();
   RenderOutput render(const RenderSettings& settings, const ProgressFn& progress = {});
 

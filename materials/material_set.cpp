@@ -124,6 +124,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
          ": usemtl names that match no MTL or MaterialX material (rendered with the default "
          "material): " +
          unmatched);
+  if (options.compiled) options.compiled(set);
   // R in the low byte: on a little-endian host the words are the pool's bytes
   // as they are, shared with it (no copy).
   set.texel_words = scene.textures.words();

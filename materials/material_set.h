@@ -12,6 +12,7 @@
 // host's reference interpreter of it is materials/cpu_interpreter.h.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -24,11 +25,16 @@
 
 namespace pmc {
 
+struct MaterialSet;
+
 struct MaterialOptions {
   std::vector<std::string> mtlx_files;
   MtlxReadOptions mtlx;           // --mtlx-library, --mtlx-search-path
   std::string override_material;  // --material: one material for every triangle
   CompileOptions compile;         // cache instructions on/off, cache threshold
+  // Called once every material is compiled, before the textures decode (the
+  // longest step after it): a render session starts its kernel build there.
+  std::function<void(MaterialSet&)> compiled;
 };
 
 struct MaterialSet {
