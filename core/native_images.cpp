@@ -182,25 +182,14 @@ class PngReader final : public ImageReader {
   // of memory: no whole-image buffer to allocate, fault in and copy from.
   // The file is read once; a second read() finds it closed.
   bool stream(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) {
-    ImageHeader one_row = h_;
-    one_row.height = 1;
-    const std::ptrdiff_t x_stride = xs ? xs : std::ptrdiff_t(size_t(c1 - c0) * format_bytes(format));
-    const std::ptrdiff_t y_stride = ys ? ys : x_stride * h_.width;
-    std::vector<unsigned char> row(size_t(h_.width) * size_t(h_.channels));
-    auto* out = static_cast<unsigned char*>(data);
-    bool ok = true;
-    for (int y = 0; y < h_.height && ok; ++y) {
-      ok = png_read_one_row(s_, row.data());
-      if (ok &&
-          !copy_u8_channels(row.data(), one_row, c0, c1, format, out + y * y_stride, x_stride, 0, error_)) {
-        png_release(s_);
-        return false;
-      }
-    }
-    ok = ok && png_finish(s_);
-    if (!ok) error_ = s_.error[0] ? s_.error : "corrupt PNG data";
+    bool decoded = true;
+    const bool ok = stream_u8_channels(
+        h_, c0, c1, format, data, xs, ys,
+        [&](unsigned char* row) { return decoded = png_read_one_row(s_, row); }, error_);
+    const bool finished = ok && png_finish(s_);
+    if (!decoded || (ok && !finished)) error_ = s_.error[0] ? s_.error : "corrupt PNG data";
     png_release(s_);
-    return ok;
+    return finished;
   }
 
   bool decoded() {
@@ -567,6 +556,22 @@ CopyRow u8_row_copier(int nch, int n) {
 }
 
 }  // namespace
+
+bool stream_u8_channels(const ImageHeader& h, int c0, int c1, PixelFormat format, void* data,
+                        std::ptrdiff_t xs, std::ptrdiff_t ys,
+                        const std::function<bool(unsigned char* row)>& read_row, std::string& error) {
+  ImageHeader one_row = h;
+  one_row.height = 1;
+  if (!xs) xs = std::ptrdiff_t(size_t(std::max(0, c1 - c0)) * format_bytes(format));
+  if (!ys) ys = xs * h.width;
+  std::vector<unsigned char> row(size_t(h.width) * size_t(h.channels));
+  auto* out = static_cast<unsigned char*>(data);
+  for (int y = 0; y < h.height; ++y)
+    if (!read_row(row.data()) ||
+        !copy_u8_channels(row.data(), one_row, c0, c1, format, out + y * ys, xs, 0, error))
+      return false;
+  return true;
+}
 
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t xs, std::ptrdiff_t ys, std::string& error) {

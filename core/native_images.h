@@ -17,6 +17,7 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -68,5 +69,14 @@ class DecodedImageReader : public ImageReader {
 // 0 for packed. False with `error` set on a bad channel range or format.
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t x_stride, std::ptrdiff_t y_stride, std::string& error);
+
+// The same for an image decoded row by row: read_row(row) fills one row of
+// h.width x h.channels bytes (rows in order, false on a decode error, which
+// the caller reports); each row's channels go to `data` through one row of
+// buffer, so no whole-image copy is made. False with `error` set on a bad
+// channel range or format, or false when read_row failed.
+bool stream_u8_channels(const ImageHeader& h, int c0, int c1, PixelFormat format, void* data,
+                        std::ptrdiff_t x_stride, std::ptrdiff_t y_stride,
+                        const std::function<bool(unsigned char* row)>& read_row, std::string& error);
 
 }  // namespace pmc

@@ -6,7 +6,8 @@
 // (core/image_backend.h). OpenImageIO's conventions: grey files give one
 // channel "Y", colour files three ("R", "G", "B") as libjpeg decodes them to
 // RGB, bytes as stored (no colour conversion). CMYK and YCCK files go to the
-// plugin. A file cut short is an error, not a grey-filled image.
+// plugin. A file cut short is an error, not a grey-filled image. Opening
+// reads the header; the pixels decode when read (once), row by row.
 #pragma once
 
 #include <memory>
@@ -18,7 +19,7 @@ namespace pmc {
 
 // True when `magic` (a file's first bytes) starts a JPEG stream.
 bool is_jpeg(const unsigned char* magic, size_t n);
-// A reader of the decoded image; null with `why` set when the file is broken,
+// A reader of the image (its header read); null with `why` set when the header is broken,
 // null with `why` empty when the plugin should read it (CMYK, YCCK).
 std::unique_ptr<ImageReader> open_jpeg(const std::string& path, std::string& why);
 
