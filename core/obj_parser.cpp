@@ -17,7 +17,9 @@ namespace {
 
 constexpr int32_t kAbsent = std::numeric_limits<int32_t>::min();  // a corner without t or n
 constexpr size_t kChunkBytes = size_t(1) << 20;
-constexpr size_t kMaxEarClipCorners = 256;  // larger polygons become fans (ear clipping is cubic)
+// Larger polygons become fans: ear clipping costs up to n^3 steps, which a
+// file of many huge concave polygons could turn into a hang.
+constexpr size_t kMaxEarClipCorners = 64;
 
 bool blank(char c) { return c == ' ' || c == '\t'; }
 

@@ -15,8 +15,9 @@
 // - `f` corners `v`, `v/t`, `v//n`, `v/t/n`; indices start at 1, negative
 //   ones count back from the last element written before the face. Quads
 //   split along their shorter diagonal (a tie: corners 0-1-3, 1-2-3);
-//   larger polygons are ear-clipped in the plane of their Newell normal
-//   (a convex polygon becomes a fan around its first corner).
+//   polygons of up to 64 corners are ear-clipped in the plane of their
+//   Newell normal (a convex one becomes a fan around its first corner);
+//   larger ones, and ones without a normal, become that fan.
 // - `usemtl NAME` (its first word) applies to the faces after it; `o NAME`
 //   (the rest of the line) and `g A B` (names joined by one space) name the
 //   shape of the faces after them; `mtllib` lines keep their file names

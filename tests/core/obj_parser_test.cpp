@@ -200,6 +200,31 @@ TEST(ObjParser, ConcavePolygonIsEarClipped) {
   }
 }
 
+TEST(ObjParser, LargePolygonsBecomeFans) {
+  // A 100-corner circle (past the ear-clipping limit): 98 triangles around
+  // corner 0, one winding, the polygon's area.
+  const int n = 100;
+  std::ostringstream os;
+  double area = 0;
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n, b = 2 * M_PI * (i + 1) / n;
+    os << "v " << std::cos(a) << " " << std::sin(a) << " 0\n";
+    area += 0.5 * std::sin(b - a);
+  }
+  os << "f";
+  for (int i = 1; i <= n; ++i) os << " " << i;
+  const ObjGeometry g = parse_obj("circle.obj", os.str() + "\n");
+  ASSERT_EQ(g.triangles.size(), size_t(n - 2));
+  double total = 0;
+  for (size_t i = 0; i < g.triangles.size(); ++i) {
+    EXPECT_EQ(g.triangles[i].v[0], 0);
+    EXPECT_EQ(g.triangles[i].v[1], int(i) + 1);
+    EXPECT_GT(area2(g, g.triangles[i]), 0.0);
+    total += area2(g, g.triangles[i]);
+  }
+  EXPECT_NEAR(total / 2, area, 1e-4);
+}
+
 TEST(ObjParser, ErrorsNameTheLine) {
   EXPECT_TRUE(
       contains(parse_error("v 0 0 0\nv 1 0 0\n\nf 1 2\n"), "test.obj: line 4: a face has fewer than 3"));
