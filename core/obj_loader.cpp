@@ -91,6 +91,10 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
   }
   ObjGeometry geometry = parse_obj(path, text);
   text = std::string();
+  if (geometry.approximate_polygons > 0)
+    warn(path + ": " + std::to_string(geometry.approximate_polygons) +
+         " concave polygons (over 1024 corners, or too irregular) were split partly as fans around their "
+         "first corner: their triangles may cover more or less than the polygon");
   std::vector<tinyobj::material_t> mtl_materials;
   std::map<std::string, int> mtl_by_name;
   load_mtl_libraries(path, geometry.mtllibs, mtl_materials, mtl_by_name);

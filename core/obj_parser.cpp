@@ -16,10 +16,13 @@ namespace pmc {
 namespace {
 
 constexpr int32_t kAbsent = std::numeric_limits<int32_t>::min();  // a corner without t or n
+constexpr int32_t kBeforeAll = kAbsent + 1;  // a relative index too far back for any file
 constexpr size_t kChunkBytes = size_t(1) << 20;
-// Larger polygons become fans: ear clipping costs up to n^3 steps, which a
-// file of many huge concave polygons could turn into a hang.
-constexpr size_t kMaxEarClipCorners = 64;
+// Concave polygons are ear-clipped up to this many corners, within a budget
+// of 4 n^2 point tests each (ear clipping's worst case is n^3, which a file
+// of huge concave polygons could turn into a hang); past either, the rest
+// becomes a fan, and the loader says how many polygons that happened to.
+constexpr size_t kMaxEarClipCorners = 1024;
 
 bool blank(char c) { return c == ' ' || c == '\t'; }
 
@@ -100,6 +103,7 @@ struct Chunk {
   std::vector<Event> events;
   std::vector<std::vector<std::string>> mtllibs;
   size_t triangles = 0;
+  size_t approximate = 0;  // concave polygons split partly as fans (pass 2)
   bool has_error = false;
   ChunkError error;
   // Set between the passes.
@@ -140,14 +144,19 @@ class ChunkParser {
     const char* data = text_.data();
     const char* p = data + c_.begin;
     const char* const stop = data + c_.end;
+    const char* nl = nullptr;  // the next '\n' at or after p, or stop; kept across lines so
+                               // a file of lone '\r' line ends is not rescanned per line
     while (p < stop) {
-      const char* nl = static_cast<const char*>(std::memchr(p, '\n', size_t(stop - p)));
-      const char* line_end = nl ? nl : stop;
-      const char* cr = static_cast<const char*>(std::memchr(p, '\r', size_t(line_end - p)));
-      const char* next = nl ? nl + 1 : stop;
+      if (!nl || nl < p) {
+        nl = static_cast<const char*>(std::memchr(p, '\n', size_t(stop - p)));
+        if (!nl) nl = stop;
+      }
+      const char* line_end = nl;
+      const char* cr = static_cast<const char*>(std::memchr(p, '\r', size_t(nl - p)));
+      const char* next = nl < stop ? nl + 1 : stop;
       if (cr) {
         line_end = cr;
-        next = cr + 1 == nl ? nl + 1 : cr + 1;
+        next = cr + 1 == nl ? (nl < stop ? nl + 1 : stop) : cr + 1;
       }
       if (!line(p, line_end)) return;
       p = next;
@@ -204,7 +213,7 @@ class ChunkParser {
       out = int32_t(std::min<long long>(raw - 1, std::numeric_limits<int32_t>::max()));
     } else {
       const long long local = (long long)count + raw;  // the chunk's base is added in pass 2
-      out = int32_t(std::max<long long>(local, -(1ll << 30)));
+      out = int32_t(std::max<long long>(local, kBeforeAll));
       c_.relative.emplace_back(c_.corners.size(), component);
     }
     return true;
@@ -292,10 +301,11 @@ class Triangulator {
       emit(0, 1, 2);
     } else if (n == 4) {
       quad();
-    } else if (n > kMaxEarClipCorners || !ear_clip(n)) {
+    } else if (!ear_clip(n)) {
       for (size_t i = 1; i + 1 < n; ++i) emit(0, i, i + 1);
     }
   }
+  size_t approximate() const { return approximate_; }
 
  private:
   const float* at(size_t corner) const { return &p_[3 * size_t(k_[corner].v)]; }
@@ -317,8 +327,9 @@ class Triangulator {
     t.shape = shape_;
   }
 
-  // tinyobj's rule (in double, as Debian's tinyobj computes it): split
-  // along the shorter diagonal, 1-3 on a tie.
+  // tinyobj's rule: split along the shorter diagonal, 1-3 on a tie
+  // (computed in double from the float positions; Debian's tinyobj used its
+  // unrounded double positions, so a near-tie may split the other way).
   void quad() {
     double d02 = 0.0, d13 = 0.0;
     for (int c = 0; c < 3; ++c) {
@@ -357,10 +368,22 @@ class Triangulator {
     const Vec3 v = cross(w, u);  // (u, v, w) right-handed: the polygon runs counter-clockwise in (u, v)
     xy_.resize(n);
     for (size_t i = 0; i < n; ++i) xy_[i] = {dot(point(i), u), dot(point(i), v)};
+    bool convex = true;  // a fan is then the ear clipping's own result, found in O(n)
+    for (size_t i = 0; i < n && convex; ++i) convex = area2((i + n - 1) % n, i, (i + 1) % n) >= 0.0;
+    if (convex) return false;
+    if (n > kMaxEarClipCorners) {
+      ++approximate_;
+      return false;
+    }
     left_.resize(n);
     for (size_t i = 0; i < n; ++i) left_[i] = i;
+    tests_ = 4 * n * n;
     size_t i = 1, misses = 0;
     while (left_.size() > 3) {
+      if (tests_ == 0) {
+        ++approximate_;
+        break;
+      }
       const size_t m = left_.size();
       const size_t prev = left_[(i + m - 1) % m], cur = left_[i % m], next = left_[(i + 1) % m];
       if (is_ear(prev, cur, next)) {
@@ -382,8 +405,9 @@ class Triangulator {
     return (xy_[b].x - xy_[a].x) * (xy_[c].y - xy_[a].y) - (xy_[b].y - xy_[a].y) * (xy_[c].x - xy_[a].x);
   }
 
-  bool is_ear(size_t prev, size_t cur, size_t next) const {
+  bool is_ear(size_t prev, size_t cur, size_t next) {
     if (!(area2(prev, cur, next) > 0.0)) return false;  // reflex or degenerate
+    tests_ -= std::min(tests_, left_.size());
     for (size_t j : left_) {
       if (j == prev || j == cur || j == next) continue;
       if (area2(prev, cur, j) > 0.0 && area2(cur, next, j) > 0.0 && area2(next, prev, j) > 0.0) return false;
@@ -400,6 +424,7 @@ class Triangulator {
   int32_t usemtl_ = -1, shape_ = 0;
   std::vector<XY> xy_;
   std::vector<size_t> left_;
+  size_t tests_ = 0, approximate_ = 0;
 };
 
 template <typename T>
@@ -412,7 +437,7 @@ void append(std::vector<T>& to, const std::vector<T>& from) {
 ObjGeometry parse_obj(const std::string& path, const std::string& text) {
   std::vector<Chunk> chunks = make_chunks(text);
   parallel_for_each_index(chunks.size(), [&](size_t i) { ChunkParser(text, chunks[i]).run(); });
-  for (const Chunk& c : chunks)  // the first error in the file
+  for (const Chunk& c : chunks)  // the first malformed line (index ranges are checked in pass 2)
     if (c.has_error) fail(path, ": line ", line_number_at(text, c.error.offset), ": ", c.error.what);
 
   // The join: bases, names and the state each chunk starts in.
@@ -449,9 +474,9 @@ ObjGeometry parse_obj(const std::string& path, const std::string& text) {
     }
     for (auto& m : c.mtllibs) g.mtllibs.push_back(std::move(m));
   }
-  if (positions / 3 > size_t(std::numeric_limits<int32_t>::max()) ||
-      triangles > size_t(std::numeric_limits<int32_t>::max()))
-    fail(path, ": more than 2^31 vertices or triangles");
+  const size_t most = size_t(std::numeric_limits<int32_t>::max()) - 1;
+  if (positions / 3 > most || normals / 3 > most || uvs / 2 > most || triangles > most)
+    fail(path, ": more than 2^31 - 2 vertices, normals, texture coordinates or triangles");
   g.positions.reserve(positions);
   g.normals.reserve(normals);
   g.uvs.reserve(uvs);
@@ -470,7 +495,7 @@ ObjGeometry parse_obj(const std::string& path, const std::string& text) {
       int32_t& x = component == 0   ? c.corners[corner].v
                    : component == 1 ? c.corners[corner].t
                                     : c.corners[corner].n;
-      x = int32_t(std::max<int64_t>(int64_t(x) + int64_t(c.base[component]), -1));
+      x = x == kBeforeAll ? -1 : int32_t(std::max<int64_t>(int64_t(x) + int64_t(c.base[component]), -1));
     }
     Triangulator tri(g.positions);
     ObjTriangle* out = g.triangles.data() + c.first_triangle;
@@ -510,9 +535,12 @@ ObjGeometry parse_obj(const std::string& path, const std::string& text) {
       out += n - 2;
       corner += n;
     }
+    c.approximate = tri.approximate();
   });
-  for (const Chunk& c : chunks)
+  for (const Chunk& c : chunks) {
     if (c.has_error) fail(path, ": line ", line_number_at(text, c.error.offset), ": ", c.error.what);
+    g.approximate_polygons += c.approximate;
+  }
 
   // Shape runs without faces are dropped.
   std::vector<int32_t> run_index(run_names.size(), -1);

@@ -15,9 +15,10 @@
 // - `f` corners `v`, `v/t`, `v//n`, `v/t/n`; indices start at 1, negative
 //   ones count back from the last element written before the face. Quads
 //   split along their shorter diagonal (a tie: corners 0-1-3, 1-2-3);
-//   polygons of up to 64 corners are ear-clipped in the plane of their
-//   Newell normal (a convex one becomes a fan around its first corner);
-//   larger ones, and ones without a normal, become that fan.
+//   larger polygons are ear-clipped in the plane of their Newell normal (a
+//   convex one, or one without a normal, becomes a fan around its first
+//   corner; concave ones past 1024 corners or a work budget are counted in
+//   approximate_polygons, and what is left of them becomes a fan).
 // - `usemtl NAME` (its first word) applies to the faces after it; `o NAME`
 //   (the rest of the line) and `g A B` (names joined by one space) name the
 //   shape of the faces after them; `mtllib` lines keep their file names
@@ -49,6 +50,10 @@ struct ObjGeometry {
   // runs without faces are left out.
   std::vector<std::string> shape_names;
   std::vector<std::vector<std::string>> mtllibs;  // the file names of each mtllib line
+  // Concave polygons (over 1024 corners, or too irregular for ear clipping's
+  // budget) whose triangles were made partly as a fan: they may cover more
+  // or less than the polygon.
+  size_t approximate_polygons = 0;
 };
 
 // Parses `text`, the contents of the OBJ file `path` (named in errors).

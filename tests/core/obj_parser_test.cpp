@@ -200,9 +200,29 @@ TEST(ObjParser, ConcavePolygonIsEarClipped) {
   }
 }
 
-TEST(ObjParser, LargePolygonsBecomeFans) {
-  // A 100-corner circle (past the ear-clipping limit): 98 triangles around
-  // corner 0, one winding, the polygon's area.
+// A star of `points` points (2 * points corners, concave), as OBJ text with its face.
+std::string star(int points, double* area) {
+  std::ostringstream os;
+  const int n = 2 * points;
+  *area = 0;
+  std::vector<double> x(static_cast<size_t>(n)), y(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n, r = i % 2 ? 0.5 : 1.0;
+    x[size_t(i)] = r * std::cos(a);
+    y[size_t(i)] = r * std::sin(a);
+    os << "v " << x[size_t(i)] << " " << y[size_t(i)] << " 0\n";
+  }
+  for (int i = 0; i < n; ++i) {
+    const size_t j = size_t((i + 1) % n);
+    *area += 0.5 * (x[size_t(i)] * y[j] - x[j] * y[size_t(i)]);
+  }
+  os << "f";
+  for (int i = 1; i <= n; ++i) os << " " << i;
+  return os.str() + "\n";
+}
+
+TEST(ObjParser, LargePolygons) {
+  // A 100-corner circle is convex: a fan around corner 0, found without ear clipping.
   const int n = 100;
   std::ostringstream os;
   double area = 0;
@@ -223,6 +243,20 @@ TEST(ObjParser, LargePolygonsBecomeFans) {
     total += area2(g, g.triangles[i]);
   }
   EXPECT_NEAR(total / 2, area, 1e-4);
+  EXPECT_EQ(g.approximate_polygons, 0u);
+  // A 200-corner star is concave: ear clipping, every triangle inside it.
+  double star_area = 0;
+  const ObjGeometry s = parse_obj("star.obj", star(100, &star_area));
+  ASSERT_EQ(s.triangles.size(), 198u);
+  total = 0;
+  for (const ObjTriangle& t : s.triangles) {
+    EXPECT_GT(area2(s, t), 0.0);
+    total += area2(s, t);
+  }
+  EXPECT_NEAR(total / 2, star_area, 1e-4);
+  EXPECT_EQ(s.approximate_polygons, 0u);
+  // Past 1024 corners a concave polygon is a fan, and counted.
+  EXPECT_EQ(parse_obj("big.obj", star(600, &star_area)).approximate_polygons, 1u);
 }
 
 TEST(ObjParser, ErrorsNameTheLine) {
