@@ -245,6 +245,10 @@ int TexturePool::add(const std::string& name, int width, int height, std::vector
   return static_cast<int>(textures_.size()) - 1;
 }
 
+namespace {
+constexpr size_t kMaxPendingTextures = 256;
+}  // namespace
+
 int TexturePool::load(const std::string& path, bool srgb, const std::string& used_by) {
   std::string key = path + (srgb ? "#srgb" : "#linear");
   auto found = by_key_.find(key);
@@ -273,6 +277,10 @@ int TexturePool::load(const std::string& path, bool srgb, const std::string& use
   p->in = std::move(in);
   pending_.push_back(std::move(p));
   by_key_[key] = int(textures_.size()) - 1;
+  // Each pending texture keeps its file open until it decodes: decode a
+  // full batch now, so a scene of thousands of textures stays far below the
+  // process's open-file limit (1024 by default).
+  if (pending_.size() >= kMaxPendingTextures) resolve();
   return int(textures_.size()) - 1;
 }
 

@@ -14,6 +14,7 @@
 
 #include <OpenImageIO/imageio.h>
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -160,6 +161,35 @@ TEST(Texture, FilesDecodeLaterIntoTheirPlacesAndCopiesDecodeFirst) {
       EXPECT_EQ(last[1], uint8_t(40 * i));
     }
   EXPECT_EQ(pool.texels()[0], 7);
+}
+
+// Pending files stay open until they decode; a scene with more textures
+// than the open-file limit allows must still load (they decode in batches).
+TEST(Texture, ThousandsOfFilesLoadInBatchesUnderTheOpenFileLimit) {
+  const std::string dir = test::temp_dir();
+  const int files = 1100;  // past the default limit of 1024 open files
+  for (int i = 0; i < files; ++i) write_png(dir + "/t" + std::to_string(i) + ".png", 2, 2, uint8_t(i % 251));
+  // This machine's limit may be high: lower it to 700 for the loads.
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &old), 0);
+  rlimit low = old;
+  low.rlim_cur = std::min<rlim_t>(old.rlim_cur, 700);
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &low), 0);
+  TexturePool pool;
+  std::vector<int> index;
+  std::string error;
+  try {
+    for (int i = 0; i < files; ++i)
+      index.push_back(pool.load(dir + "/t" + std::to_string(i) + ".png", false, "test"));
+  } catch (const Error& e) {
+    error = e.what();
+  }
+  setrlimit(RLIMIT_NOFILE, &old);
+  ASSERT_EQ(error, "");
+  for (int i = 0; i < files; ++i) {
+    const PmcTexture& t = pool.textures()[size_t(index[size_t(i)])];
+    ASSERT_EQ(pool.texels()[size_t(t.offset) * 4], uint8_t(i % 251)) << i;
+  }
 }
 
 TEST(Texture, CorruptFileFailsNamingItAndItsUserWhenResolved) {
