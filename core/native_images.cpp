@@ -129,8 +129,6 @@ bool png_read_rows(PngState& s, png_bytepp rows) {
   return true;
 }
 
-// A non-interlaced image row by row, `pixels` grown with each: a file cut
-// short fails before the size its header claims is allocated.
 // One row of a non-interlaced image into `row`; false on corrupt data.
 bool png_read_one_row(PngState& s, png_bytep row) {
   if (setjmp(png_jmpbuf(s.png))) return false;
@@ -144,6 +142,8 @@ bool png_finish(PngState& s) {
   return true;
 }
 
+// A non-interlaced image row by row, `pixels` grown with each: a file cut
+// short fails before the size its header claims is allocated.
 bool png_read_growing(PngState& s, size_t row, size_t height, std::vector<unsigned char>& pixels) {
   if (setjmp(png_jmpbuf(s.png))) return false;
   for (size_t y = 0; y < height; ++y) {
@@ -560,6 +560,10 @@ CopyRow u8_row_copier(int nch, int n) {
 bool stream_u8_channels(const ImageHeader& h, int c0, int c1, PixelFormat format, void* data,
                         std::ptrdiff_t xs, std::ptrdiff_t ys,
                         const std::function<bool(unsigned char* row)>& read_row, std::string& error) {
+  if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
+    error = "unsupported channel range or pixel format";  // before any row is decoded
+    return false;
+  }
   ImageHeader one_row = h;
   one_row.height = 1;
   if (!xs) xs = std::ptrdiff_t(size_t(std::max(0, c1 - c0)) * format_bytes(format));

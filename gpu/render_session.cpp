@@ -147,8 +147,9 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : 
     }
     const ClContext& cl = *cl_;
     const int lanes = config_.shade_lanes > 0 ? config_.shade_lanes : default_shade_lanes(cl, set);
-    building.emplace([&cl, lanes, options = wave_program_options(set, lanes, cl.info().is_gpu)] {
-      return std::make_unique<WaveKernels>(cl, lanes, options);
+    // By value: the device (owned by the caller or own_cl_) outlives `building`.
+    building.emplace([device = cl_, lanes, options = wave_program_options(set, lanes, cl.info().is_gpu)] {
+      return std::make_unique<WaveKernels>(*device, lanes, options);
     });
   };
   try {
