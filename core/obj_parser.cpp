@@ -327,13 +327,15 @@ class Triangulator {
     t.shape = shape_;
   }
 
-  // tinyobj's rule: split along the shorter diagonal, 1-3 on a tie
-  // (computed in double from the float positions; Debian's tinyobj used its
-  // unrounded double positions, so a near-tie may split the other way).
+  // tinyobj's rule: split along the shorter diagonal, 1-3 on a tie. In
+  // float, from the float positions: on Sponza, the Cornell box, the spider
+  // and the default room this reproduces every split of Debian's tinyobj
+  // (which compares unrounded doubles), where double arithmetic here did not
+  // (squares whose diagonals tie only up to rounding).
   void quad() {
-    double d02 = 0.0, d13 = 0.0;
+    float d02 = 0.0f, d13 = 0.0f;
     for (int c = 0; c < 3; ++c) {
-      const double e02 = double(at(2)[c]) - at(0)[c], e13 = double(at(3)[c]) - at(1)[c];
+      const float e02 = at(2)[c] - at(0)[c], e13 = at(3)[c] - at(1)[c];
       d02 += e02 * e02;
       d13 += e13 * e13;
     }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
+#include <tiny_obj_loader.h>
 
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,8 @@
 #include <vector>
 
 #include "core/error.h"
+#include "core/obj_loader.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {
@@ -276,6 +279,47 @@ TEST(ObjParser, ErrorsNameTheLine) {
   size_t lines = 0;
   for (char c : big) lines += c == '\n' ? 1 : 0;
   EXPECT_TRUE(contains(parse_error(big + "f 1 2 999999999\n"), "line " + std::to_string(lines + 1) + ":"));
+}
+
+// The loader against tinyobjloader itself (the library pmc used before its
+// own parser) on real scenes: the same triangles, corners, materials and
+// object/group names, in the same order.
+TEST(ObjParser, SameSceneAsTinyobjOnRealScenes) {
+  for (const std::string& path :
+       {test::source_path("data/default/room.obj"), test::shared_scene("cornell/cornell_box.obj"),
+        test::shared_scene("spider/spider.obj")}) {
+    SCOPED_TRACE(path);
+    tinyobj::ObjReaderConfig config;
+    config.triangulate = true;
+    config.vertex_color = false;
+    config.mtl_search_path = path.substr(0, path.find_last_of('/') + 1);
+    tinyobj::ObjReader reader;
+    ASSERT_TRUE(reader.ParseFromFile(path, config)) << reader.Error();
+    ObjLoadOptions options;
+    options.load_textures = false;
+    const Scene scene = load_obj(path, options);
+    size_t at = 0;
+    for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+      for (size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f, ++at) {
+        ASSERT_LT(at, scene.triangles.size());
+        const PmcTriangle& t = scene.triangles[at];
+        for (int k = 0; k < 3; ++k) {
+          const tinyobj::index_t& ix = shape.mesh.indices[3 * f + size_t(k)];
+          ASSERT_EQ(t.v[k], ix.vertex_index) << "triangle " << at;
+          if (t.n[k] >= 0) ASSERT_EQ(t.n[k], ix.normal_index) << "triangle " << at;
+          if (t.t[k] >= 0) ASSERT_EQ(t.t[k], ix.texcoord_index) << "triangle " << at;
+        }
+        const int m = shape.mesh.material_ids[f];
+        ASSERT_EQ(scene.materials[size_t(t.material)].name,
+                  m >= 0 ? reader.GetMaterials()[size_t(m)].name : std::string("(default)"));
+        ASSERT_EQ(scene.shape_names[scene.triangle_shapes[at]], shape.name);
+      }
+    }
+    EXPECT_EQ(at, scene.triangles.size());
+    ASSERT_EQ(scene.positions.size(), reader.GetAttrib().vertices.size());
+    for (size_t i = 0; i < scene.positions.size(); ++i)
+      ASSERT_EQ(scene.positions[i], float(reader.GetAttrib().vertices[i])) << i;
+  }
 }
 
 }  // namespace
