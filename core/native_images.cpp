@@ -530,6 +530,15 @@ void copy_u8_row(const unsigned char* src, int c0, unsigned char* dst, std::ptrd
     for (int c = 0; c < N; ++c) dst[c] = src[c];
 }
 
+// Channels [c0, c1) of `h` as U8 or Float: what the 8-bit copies can do.
+bool u8_request_ok(const ImageHeader& h, int c0, int c1, PixelFormat format, std::string& error) {
+  if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
+    error = "unsupported channel range or pixel format";
+    return false;
+  }
+  return true;
+}
+
 using CopyRow = void (*)(const unsigned char*, int, unsigned char*, std::ptrdiff_t, int);
 
 CopyRow u8_row_copier(int nch, int n) {
@@ -560,10 +569,7 @@ CopyRow u8_row_copier(int nch, int n) {
 bool stream_u8_channels(const ImageHeader& h, int c0, int c1, PixelFormat format, void* data,
                         std::ptrdiff_t xs, std::ptrdiff_t ys,
                         const std::function<bool(unsigned char* row)>& read_row, std::string& error) {
-  if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
-    error = "unsupported channel range or pixel format";  // before any row is decoded
-    return false;
-  }
+  if (!u8_request_ok(h, c0, c1, format, error)) return false;  // before any row is decoded
   ImageHeader one_row = h;
   one_row.height = 1;
   if (!xs) xs = std::ptrdiff_t(size_t(std::max(0, c1 - c0)) * format_bytes(format));
@@ -579,10 +585,7 @@ bool stream_u8_channels(const ImageHeader& h, int c0, int c1, PixelFormat format
 
 bool copy_u8_channels(const unsigned char* pixels, const ImageHeader& h, int c0, int c1, PixelFormat format,
                       void* data, std::ptrdiff_t xs, std::ptrdiff_t ys, std::string& error) {
-  if (c0 < 0 || c1 > h.channels || c0 >= c1 || (format != PixelFormat::U8 && format != PixelFormat::Float)) {
-    error = "unsupported channel range or pixel format";
-    return false;
-  }
+  if (!u8_request_ok(h, c0, c1, format, error)) return false;
   const size_t nch = size_t(h.channels), size = format_bytes(format);
   if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * size);
   if (!ys) ys = xs * h.width;
