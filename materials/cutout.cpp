@@ -10,7 +10,7 @@ CutoutTester::CutoutTester(const Scene& scene, const MaterialSet& materials)
   flags_.assign(scene.triangles.size(), 0);
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     int m = scene.triangles[i].material;
-    if (materials.infos[size_t(m)].flags & PMC_MAT_CUTOUT) {
+    if (materials.cutout_entry[size_t(m)] >= 0) {
       flags_[i] = 1;
       ++count_;
     }
@@ -39,7 +39,10 @@ bool CutoutTester::transparent(uint32_t prim, float u, float v) const {
   in.bitangent = make_float3(0, 1, 0);
   in.footprint = 0.0f;  // the finest mip: masks keep their edges
   float params[PMC_P_COUNT];
-  evaluate_material(materials_, textures_, t.material, in, params);
+  float stack[PMC_STACK_SIZE];
+  pmc_surface_defaults(params, in.normal);
+  pmc_interp_run(materials_.cutout_program.code.data(), uint32_t(materials_.cutout_entry[size_t(t.material)]),
+                 &in, &textures_, stack, params, nullptr);
   float opacity =
       (params[PMC_P_OPACITY] + params[PMC_P_OPACITY + 1] + params[PMC_P_OPACITY + 2]) * (1.0f / 3.0f);
   return !(opacity >= 0.5f);

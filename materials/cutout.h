@@ -2,7 +2,8 @@
 //
 // For triangles whose material's opacity depends on the shading point (MTL
 // map_d, a MaterialX opacity network), CutoutTester runs the material's
-// program with the CPU interpreter at the candidate hit's uv and reports the
+// opacity program (MaterialSet::cutout_program: the nodes that feed opacity,
+// nothing else) with the CPU interpreter at the candidate hit's uv and reports the
 // hit transparent when opacity < 0.5 (a binary mask: deterministic, no noise).
 // Only materials that have a cut-out are flagged, so opaque scenes pay nothing.
 #pragma once

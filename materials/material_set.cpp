@@ -8,10 +8,26 @@
 #include "core/error.h"
 #include "materials/mtl_graph.h"
 #include "materials/mtlx_reader.h"
+#include "materials/node_table.h"
 
 namespace pmc {
 
 namespace {
+
+// A copy of an optimised graph whose surface keeps only its opacity input:
+// compiled, it is the program the cut-out test runs in Embree's filters,
+// where a candidate hit needs nothing else. The whole material there would
+// also fetch its colour textures and run its BSDF inputs' networks.
+Graph opacity_only(const Graph& g) {
+  Graph o = g;
+  Node& surface = o.nodes[size_t(o.surface)];
+  std::vector<Input> kept;
+  for (const SurfaceParam& p : surface_params(surface.category))
+    if (p.param == PMC_P_OPACITY)
+      if (const Input* in = surface.input(p.input)) kept.push_back(*in);
+  surface.inputs = std::move(kept);
+  return o;
+}
 
 // MaterialX <look> assignments: each OBJ object/group "/NAME" (a shape name
 // of several words, as tinyobj names `g a b`, is each "/word") takes the
@@ -81,6 +97,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
   MaterialSet set;
   set.infos.assign(scene.materials.size(), PmcMaterialInfo{});
   set.compiled.assign(scene.materials.size(), -1);
+  set.cutout_entry.assign(scene.materials.size(), -1);
   const std::string mtl_file = scene.obj_path;
   uint32_t unused_entry = 0;
   bool have_unused = false;
@@ -96,6 +113,10 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     PmcMaterialInfo& info = set.infos[i];
     info.entry = cm.entry;
     info.flags = cm.has_cutout ? PMC_MAT_CUTOUT : 0u;
+    if (cm.has_cutout) {
+      Graph opacity = opacity_only(set.graphs.back());
+      set.cutout_entry[i] = int(compile_material(opacity, scene.textures, set.cutout_program).entry);
+    }
     for (int k = 0; k < 3; ++k) info.emission[k] = cm.constant_emission[k];
     info.cache_points = uint32_t(cm.cache_plan.points.size());
     info.cache_position_mask = 0u;

@@ -42,6 +42,10 @@ struct MaterialSet {
   std::vector<PmcMaterialInfo> infos;  // per scene material
   std::vector<int> compiled;           // per scene material: index into program.materials, -1 if unused
   std::vector<Graph> graphs;           // optimised graphs, parallel to program.materials
+  // Cut-out materials' opacity alone (materials/cutout.h), for the host:
+  // per scene material, its entry in `cutout_program`, or -1 without a cut-out.
+  MaterialProgram cutout_program;
+  std::vector<int> cutout_entry;
   // The scene's texel pool as 32-bit RGBA words, shared with the pool (no copy; never changes).
   std::shared_ptr<const TexelWords> texel_words = std::make_shared<const TexelWords>();
   std::vector<float> srgb_lut;
