@@ -4,6 +4,8 @@
 // outputs; every output path is checked before the scene is loaded, then a
 // RenderSession renders and the outputs are written atomically, removed
 // again (OutputGuard) if a later one fails.
+#include <tbb/parallel_invoke.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -70,17 +72,25 @@ int run_render(const RenderArgs& a) {
   OutputGuard guard;
   guard.track(exr);
   guard.track(png);
-  // The EXR records which part of which frame it is (core/render_part.h);
-  // a part (--samples, --crop) also carries the exact sums `pmc merge` adds.
-  const bool part = config.samples || config.crop;
-  write_part_exr(exr, out.image, part_info(session, settings, out), part ? &out.film : nullptr);
-  write_png_display(png, tone_map_image(out.image, a.tone_map));
   if (!a.hitmap.empty()) {
     guard.track(a.hitmap);
     guard.track(hitmap_exr);
-    write_png_display(a.hitmap, heatmap_with_colorbar(out.hitmap));
-    write_exr(hitmap_exr, out.hitmap);
   }
+  // The files are independent, and each one's encoder (zlib) runs on one
+  // core: they are written side by side. The EXR records which part of which
+  // frame it is (core/render_part.h; the scene's content hash takes a pass
+  // over every texel); a part (--samples, --crop) also carries the exact sums
+  // `pmc merge` adds.
+  const bool part = config.samples || config.crop;
+  tbb::parallel_invoke(
+      [&] { write_part_exr(exr, out.image, part_info(session, settings, out), part ? &out.film : nullptr); },
+      [&] {
+        write_png_display(png, tone_map_image(out.image, a.tone_map));
+        if (!a.hitmap.empty()) {
+          write_png_display(a.hitmap, heatmap_with_colorbar(out.hitmap));
+          write_exr(hitmap_exr, out.hitmap);
+        }
+      });
   if (!a.stats.empty()) {
     guard.track(a.stats);
     nlohmann::json j = render_json(settings, out.stats, obj);
