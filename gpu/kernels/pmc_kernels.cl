@@ -391,7 +391,11 @@ static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const 
                                       __global const PmcRay* rays, __global PmcPathState* paths, uint i) {
   int prim = hits[i].prim;
   if (prim >= 0) (void)*(__global volatile const int*)&scene->triangles[prim];
-  (void)*(__global volatile const float*)&paths[rays[i].id];
+  /* first and last word: a record can straddle two cache lines */
+  __global const PmcPathState* path = &paths[rays[i].id];
+  (void)*(__global volatile const float*)&path->throughput[0];
+  (void)*(__global volatile const float*)&path->env_pdf;
+  (void)*(__global volatile const float*)&rays[i].org_x;
 }
 
 /* Starts the loads of the vertex data a hit's triangle names. */
