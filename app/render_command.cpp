@@ -20,6 +20,7 @@
 #include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/heatmap.h"
+#include "core/texture_cache.h"
 #include "core/tone_map.h"
 #include "gpu/part_identity.h"
 #include "gpu/render_session.h"
@@ -95,6 +96,7 @@ int run_render(const RenderArgs& a) {
     guard.track(a.stats);
     nlohmann::json j = render_json(settings, out.stats, obj);
     j["setup_seconds"] = setup_json(session.setup_seconds());
+    j["texture_cache"] = texture_cache_json(TextureCache::instance());
     write_text_file(a.stats, j.dump(2) + "\n");
   }
   guard.commit();

@@ -64,6 +64,11 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
 
+  field(app, "--texture-cache", "texture_cache", c.texture_cache, "DIR|off",
+        "folder where decoded textures (with their mip chains) are kept between runs, so a scene's "
+        "textures decode once; at most 4 GiB, least recently used removed first; 'off' decodes every run")
+      ->default_str("$PMC_TEXTURE_CACHE, else $XDG_CACHE_HOME/pmc/textures, else ~/.cache/pmc/textures");
+
   app.option_defaults()->group("image");
   field(app, "--width", "width", c.width, "W", "image width in pixels")->capture_default_str();
   field(app, "--height", "height", c.height, "H", "image height in pixels")->capture_default_str();

@@ -54,6 +54,14 @@ nlohmann::json setup_json(const SetupSeconds& setup) {
        {{"opencl_device", setup.background_opencl_device}, {"kernel_build", setup.background_kernel_build}}}};
 }
 
+nlohmann::json texture_cache_json(const TextureCache& cache) {
+  const TextureCacheStats st = cache.stats();
+  return {{"folder", cache.enabled() ? cache.folder() : "off"},
+          {"hits", st.hits},
+          {"misses", st.misses},
+          {"writes", st.writes}};
+}
+
 nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {
   nlohmann::json j;
   j["scene"] = scene;

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/texture_cache.h"
 #include "gpu/render_session.h"
 #include "gpu/wavefront_renderer.h"
 
@@ -22,6 +23,8 @@ nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats
 // sum: wall seconds), and background: {opencl_device: seconds opening it
 // took on its own thread, overlapping the steps}.
 nlohmann::json setup_json(const SetupSeconds& setup);
+// The texture cache's folder and its hits, misses and writes in this process.
+nlohmann::json texture_cache_json(const TextureCache& cache);
 // A render's settings and statistics (`pmc render --stats`).
 nlohmann::json render_json(const RenderSettings& settings, const RenderStats& stats,
                            const std::string& scene);

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/image_backend.h"
 #include "core/parallel.h"
+#include "core/texture_cache.h"
 
 namespace pmc {
 namespace {
@@ -357,19 +358,32 @@ void TexturePool::resolve() const {
     at += mip_chain_texels(t.width, t.height);
   }
   words.resize(at);  // not zero-filled: each decode writes all of its chain
+  // A texture decoded by an earlier run is read back from the texture cache
+  // (core/texture_cache.h) instead; one decoded now is stored there, unless
+  // its decode warned (the warning would not repeat on a cache hit).
+  TextureCache& cache = TextureCache::instance();
+  const uint64_t writes_before = cache.stats().writes;
   parallel_for_each_index(pending_.size(), [&](size_t i) {
     Pending& p = *pending_[i];
     const PmcTexture& t = textures_[size_t(p.index)];
     uint8_t* base = reinterpret_cast<uint8_t*>(words.data() + t.offset);
+    const size_t bytes = mip_chain_texels(t.width, t.height) * 4;
     try {
+      const std::string key = cache.key(p.path, p.in->header(), p.srgb);
+      if (!key.empty() && cache.read(key, base, bytes)) {
+        p.in->close();
+        return;
+      }
       p.warning = decode_rgba8(*p.in, p.path, p.used_by, p.srgb, base);
       p.in->close();
       build_mips(base, t.width, t.height, p.srgb);
+      if (!key.empty() && p.warning.empty()) cache.write(key, base, bytes);
     } catch (const Error& e) {
       p.error = e.what();
       std::memset(base, 0, mip_chain_texels(t.width, t.height) * 4);  // no uninitialised texels remain
     }
   });
+  if (cache.stats().writes != writes_before) cache.trim();
   std::vector<std::unique_ptr<Pending>> done;
   done.swap(pending_);
   for (const auto& p : done) {

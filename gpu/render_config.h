@@ -48,6 +48,9 @@ struct RenderConfig {
   std::string material;           // one MaterialX material for every triangle ("": the OBJ's own)
   std::string mtlx_library;       // MaterialX data libraries ("": $PMC_MTLX_LIBRARY or the build's default)
   std::vector<std::string> mtlx_search_paths;  // where MaterialX filenames are looked up last
+  // Decoded textures kept between runs (core/texture_cache.h): a folder, "off",
+  // or "" for $PMC_TEXTURE_CACHE, else the user's cache folder.
+  std::string texture_cache;
 
   // The image.
   int width = 640, height = 360;  // pixels

@@ -16,6 +16,7 @@
 #include "core/camera.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
+#include "core/texture_cache.h"
 #include "gpu/wave_kernels.h"
 
 namespace pmc {
@@ -120,6 +121,7 @@ RenderSession::RenderSession(const RenderConfig& config) : RenderSession(config,
 
 RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : config_(config), cl_(cl) {
   config_.validate();
+  TextureCache::instance().configure(config_.texture_cache);
   Clock::time_point mark = Clock::now();
   auto lap = [&mark](double& seconds) {
     const Clock::time_point now = Clock::now();
