@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -114,8 +115,11 @@ std::string TextureCache::folder() const {
 
 std::string TextureCache::key(const std::string& path, const ImageHeader& header, bool srgb) const {
   if (!enabled()) return "";
-  Fd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC));
-  if (f.fd < 0) return "";
+  // Regular files only: a FIFO or device named as a texture is not read
+  // twice (non-blocking open: a FIFO without a writer would block).
+  Fd f(::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK));
+  struct stat st {};
+  if (f.fd < 0 || ::fstat(f.fd, &st) != 0 || !S_ISREG(st.st_mode)) return "";
   // Two 64-bit hashes of the file that start from different states: a
   // 128-bit name, so two different textures never share an entry.
   ContentHash a, b;
@@ -216,9 +220,17 @@ void TextureCache::trim() {
   std::vector<Entry> entries;
   uint64_t total = 0;
   std::error_code ec;
+  const auto now = fs::file_time_type::clock::now();
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const fs::path& p = it->path();
-    if (p.extension() != kSuffix) continue;
+    if (p.extension() != kSuffix) {
+      // A temporary left by a run that died while writing it.
+      std::error_code e0;
+      if (p.filename().string().find(std::string(kSuffix) + ".tmp.") != std::string::npos &&
+          now - fs::last_write_time(p, e0) > std::chrono::hours(1) && !e0)
+        fs::remove(p, e0);
+      continue;
+    }
     std::error_code e1, e2;
     Entry e{p, fs::last_write_time(p, e1), uint64_t(fs::file_size(p, e2))};
     if (e1 || e2) continue;

@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -189,6 +190,22 @@ TEST_F(TextureCacheTest, TrimKeepsTheFolderUnderItsLimitDroppingTheLeastRecently
   // The oldest is gone: its load decodes again.
   decoded(pngs.front());
   EXPECT_EQ(TextureCache::instance().stats().hits, hits + 1);
+}
+
+TEST_F(TextureCacheTest, TemporariesOfDeadRunsAreRemovedAndLiveOnesKept) {
+  fs::create_directories(folder_);
+  const std::string dead = folder_ + "/0123.pmctex.tmp.4242.7";
+  const std::string live = folder_ + "/4567.pmctex.tmp.4243.7";
+  test::write_file(dead, "half an entry");
+  test::write_file(live, "an entry being written");
+  struct timespec two_hours_ago[2] = {};
+  ASSERT_EQ(clock_gettime(CLOCK_REALTIME, &two_hours_ago[0]), 0);
+  two_hours_ago[0].tv_sec -= 7200;
+  two_hours_ago[1] = two_hours_ago[0];
+  ASSERT_EQ(::utimensat(AT_FDCWD, dead.c_str(), two_hours_ago, 0), 0);
+  decoded(png_);  // writes an entry, then trims
+  EXPECT_FALSE(fs::exists(dead)) << "a temporary untouched for an hour belongs to a run that died";
+  EXPECT_TRUE(fs::exists(live)) << "a recent temporary may still be written";
 }
 
 }  // namespace
