@@ -10,7 +10,7 @@ CutoutTester::CutoutTester(const Scene& scene, const MaterialSet& materials)
   flags_.assign(scene.triangles.size(), 0);
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     int m = scene.triangles[i].material;
-    if (materials.cutout_entry[size_t(m)] >= 0) {
+    if (size_t(m) < materials.cutout_entry.size() && materials.cutout_entry[size_t(m)] >= 0) {
       flags_[i] = 1;
       ++count_;
     }
