@@ -13,7 +13,14 @@
 #include "core/scene.h"
 #include "materials/material_set.h"
 
+struct PmcShadingInputs;  // core/device/pmc_interp.h (materials/cpu_interpreter.h includes it)
+
 namespace pmc {
+
+// The shading inputs of a candidate hit at barycentrics (u, v) of scene
+// triangle `prim`: interpolated uv and position, a flat frame, and the
+// finest mip level (masks keep their edges).
+PmcShadingInputs cutout_shading_inputs(const Scene& scene, uint32_t prim, float u, float v);
 
 class CutoutTester : public AlphaTester {
  public:

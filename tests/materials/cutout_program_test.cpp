@@ -82,18 +82,7 @@ TEST(CutoutProgram, OpacityAloneAgreesWithTheWholeMaterial) {
     for (int k = 0; k < 500; ++k) {
       float u = unit(rng), v = unit(rng);
       if (u + v > 1.0f) u = 1.0f - u, v = 1.0f - v;
-      const float w = 1.0f - u - v;
-      PmcShadingInputs in{};
-      const float* a = &scene.uvs[2 * size_t(t.t[0])];
-      const float* b = &scene.uvs[2 * size_t(t.t[1])];
-      const float* c = &scene.uvs[2 * size_t(t.t[2])];
-      in.uv = make_float2(w * a[0] + u * b[0] + v * c[0], w * a[1] + u * b[1] + v * c[1]);
-      const float* p0 = &scene.positions[3 * size_t(t.v[0])];
-      const float* p1 = &scene.positions[3 * size_t(t.v[1])];
-      const float* p2 = &scene.positions[3 * size_t(t.v[2])];
-      in.position = make_float3(w * p0[0] + u * p1[0] + v * p2[0], w * p0[1] + u * p1[1] + v * p2[1],
-                                w * p0[2] + u * p1[2] + v * p2[2]);
-      in.normal = make_float3(0, 0, 1);
+      const PmcShadingInputs in = cutout_shading_inputs(scene, prim, u, v);
       float p[PMC_P_COUNT];
       evaluate_material(set, ts, t.material, in, p);
       const float opacity = (p[PMC_P_OPACITY] + p[PMC_P_OPACITY + 1] + p[PMC_P_OPACITY + 2]) / 3.0f;
