@@ -1,8 +1,10 @@
 // mtlx_upgrade.cpp — the 1.36-1.38 -> 1.39 rewrites listed in mtlx_upgrade.h.
 #include "materials/mtlx_upgrade.h"
 
-#include <cstdio>
+#include <cerrno>
+#include <cstdlib>
 #include <functional>
+#include <limits>
 #include <set>
 #include <vector>
 
@@ -11,11 +13,20 @@
 namespace pmc {
 namespace {
 
-// "1.38" -> 138; 0 if absent or unreadable (treated as current).
+// "1.38" -> 138; 0 if absent or unreadable (treated as current). Parsed with
+// strtol, not sscanf("%d"), so a huge number ("66666666661.39") cannot
+// overflow: a major past 99 or a minor past 99 counts as a future version.
 int version_of(pugi::xml_node root) {
-  int major = 0, minor = 0;
-  if (std::sscanf(root.attribute("version").as_string(), "%d.%d", &major, &minor) != 2) return 0;
-  return major * 100 + minor;
+  const char* text = root.attribute("version").as_string();
+  char* end = nullptr;
+  errno = 0;
+  const long major = std::strtol(text, &end, 10);
+  if (end == text || *end != '.' || major < 0) return 0;
+  const char* minor_text = end + 1;
+  const long minor = std::strtol(minor_text, &end, 10);
+  if (end == minor_text || minor < 0) return 0;
+  if (errno == ERANGE || major > 99 || minor > 99) return std::numeric_limits<int>::max();
+  return static_cast<int>(major * 100 + minor);
 }
 
 void for_each_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn) {

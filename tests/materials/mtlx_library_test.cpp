@@ -514,5 +514,34 @@ TEST(MtlxLibrary, OldDocumentsUpgradeLikeMaterialXDoes) {
   EXPECT_NEAR(a[PMC_P_SPECULAR_ROUGHNESS], 0.25f, 1e-6f);
 }
 
+// A version number too large for an int (a fuzzer's find) is a future
+// version: read as current, no upgrade, and no overflow.
+TEST(MtlxLibrary, HugeVersionNumbersReadAsTheCurrentVersion) {
+  auto roughness = [](const std::string& version, const char* first, const char* second) {
+    const std::string doc = "<?xml version=\"1.0\"?>\n<materialx version=\"" + version +
+                            "\">\n"
+                            "  <atan2 name=\"a\" type=\"float\"><input name=\"" +
+                            first + "\" type=\"float\" value=\"1\"/><input name=\"" + second +
+                            "\" type=\"float\" value=\"2\"/></atan2>\n"
+                            "  <standard_surface name=\"SR\" type=\"surfaceshader\">"
+                            "<input name=\"specular_roughness\" type=\"float\" nodename=\"a\"/>"
+                            "</standard_surface>\n"
+                            "  <surfacematerial name=\"M\" type=\"material\"><input "
+                            "name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"SR\"/>"
+                            "</surfacematerial>\n</materialx>\n";
+    float p[PMC_P_COUNT];
+    evaluate(only(read_mtlx_string(doc, kPath)), 0.5f, 0.5f, p);
+    return p[PMC_P_SPECULAR_ROUGHNESS];
+  };
+  // 1.39's atan2(iny, inx) = atan(iny/inx); 1.37's in1 is inx.
+  EXPECT_NEAR(roughness("1.39", "iny", "inx"), std::atan2(1.0f, 2.0f), 1e-6f);
+  EXPECT_NEAR(roughness("1.37", "in1", "in2"), std::atan2(2.0f, 1.0f), 1e-6f);
+  // A future document keeps in1/in2, which 1.39's atan2 does not have (ignored,
+  // with a warning), exactly as a 1.39 document does.
+  const float current = roughness("1.39", "in1", "in2");
+  for (const char* future : {"66666666661.39", "4294967297.37", "1.4294967333", "2.0"})
+    EXPECT_EQ(roughness(future, "in1", "in2"), current) << future;
+}
+
 }  // namespace
 }  // namespace pmc
