@@ -1,6 +1,7 @@
 // native_images.cpp — OpenEXR (libOpenEXR) and 8-bit PNG (libpng) files, read and written directly.
 #include "core/native_images.h"
 
+#include <OpenEXR/IlmThreadPool.h>
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFloatAttribute.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -11,6 +12,7 @@
 #include <OpenEXR/ImfStdIO.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <png.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -255,6 +257,9 @@ bool png_write_rows(PngState& s, const ImageWrite& image, png_bytepp rows) {
   png_set_IHDR(s.png, s.info, png_uint_32(image.header.width), png_uint_32(image.header.height), 8,
                kTypes[image.header.channels - 1], PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
+  // zlib level 3, not libpng's 6: a third of the time for a ~10% larger
+  // file (640x360 render: 11 ms against 29 ms).
+  png_set_compression_level(s.png, 3);
   png_write_info(s.png, s.info);
   png_write_image(s.png, rows);
   png_write_end(s.png, nullptr);
@@ -424,6 +429,17 @@ bool write_exr_file(const std::string& file, const ImageWrite& image, std::strin
                          : data;
     Imf::Header hd(display, data);
     hd.compression() = Imf::ZIP_COMPRESSION;
+    // Rendered floats barely compress (about 11% at any zlib level), so the
+    // fastest level; and OpenEXR compresses its 16-line blocks on as many
+    // threads as the thread budget allows (a 640x360 RGBA render: 31 ms
+    // against 60 ms at level 4 on one thread).
+    hd.zipCompressionLevel() = 1;
+    static const int threads = [] {  // sized once: concurrent writers share the pool
+      const int n = std::max<int>(
+          1, int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism)));
+      IlmThread::ThreadPool::globalThreadPool().setNumThreads(n);
+      return n;
+    }();
     for (const ImageAttribute& a : image.attributes) {
       if (a.name == "compression") {
         hd.compression() = exr_compression(a.text);
@@ -459,7 +475,7 @@ bool write_exr_file(const std::string& file, const ImageWrite& image, std::strin
                 Imf::Slice(exr_type(formats[c]), const_cast<char*>(origin + at), size_t(pixel), size_t(row)));
       at += std::ptrdiff_t(format_bytes(formats[c]));
     }
-    Imf::OutputFile out(file.c_str(), hd);
+    Imf::OutputFile out(file.c_str(), hd, threads);
     out.setFrameBuffer(fb);
     out.writePixels(h.height);
     return true;
