@@ -1,7 +1,32 @@
 // scene_buffers.cpp — uploads geometry, bytecode, textures and lights.
 #include "gpu/scene_buffers.h"
 
+#include "core/parallel.h"
+
 namespace pmc {
+
+std::vector<PmcTriangleRecord> triangle_records_of(const Scene& scene) {
+  std::vector<PmcTriangleRecord> records(scene.triangles.size());
+  parallel_for_each_index(records.size(), [&](size_t i) {
+    const PmcTriangle& t = scene.triangles[i];
+    PmcTriangleRecord r{};
+    r.material = t.material;
+    for (int k = 0; k < 3; ++k)
+      for (int c = 0; c < 3; ++c) r.p[3 * k + c] = scene.positions[3 * size_t(t.v[k]) + size_t(c)];
+    if (t.n[0] >= 0) {
+      r.flags |= PMC_TRI_NORMALS;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 3; ++c) r.n[3 * k + c] = scene.normals[3 * size_t(t.n[k]) + size_t(c)];
+    }
+    if (t.t[0] >= 0) {
+      r.flags |= PMC_TRI_UVS;
+      for (int k = 0; k < 3; ++k)
+        for (int c = 0; c < 2; ++c) r.t[2 * k + c] = scene.uvs[2 * size_t(t.t[k]) + size_t(c)];
+    }
+    records[i] = r;
+  });
+  return records;
+}
 
 SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& mats) {
   for (const PmcMaterialInfo& m : mats.infos)
@@ -10,10 +35,8 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   triangle_material.reserve(scene.triangles.size());
   for (const PmcTriangle& t : scene.triangles) triangle_material.push_back(t.material);
   material_count = int(mats.infos.size());
-  buffers[kScene_positions] = cl.shared_buffer_of(scene.positions);
-  buffers[kScene_normals] = cl.shared_buffer_of(scene.normals);
-  buffers[kScene_uvs] = cl.shared_buffer_of(scene.uvs);
-  buffers[kScene_triangles] = cl.shared_buffer_of(scene.triangles);
+  triangle_records = triangle_records_of(scene);
+  buffers[kScene_triangles] = cl.shared_buffer_of(triangle_records);
   buffers[kScene_code] = cl.shared_buffer_of(mats.program.code);
   buffers[kScene_materials] = cl.shared_buffer_of(mats.infos);
   buffers[kScene_textures] = cl.shared_buffer_of(scene.textures.textures());

@@ -1,9 +1,9 @@
 // scene_buffers.h — the scene's read-only device buffers, uploaded once.
 //
-// Everything the shade kernel reads about the scene (geometry, materials'
-// bytecode and textures, the light table) lives here, one buffer per entry
-// of PMC_SCENE_BUFFERS (gpu/kernels/pmc_scene_args.h), in the kernel's
-// argument order. The wave loop never touches them after the upload (the
+// Everything the shade kernel reads about the scene (geometry as one record
+// per triangle, materials' bytecode and textures, the light table) lives
+// here, one buffer per entry of PMC_SCENE_BUFFERS
+// (gpu/kernels/pmc_scene_args.h), in the kernel's argument order. The wave loop never touches them after the upload (the
 // lights once per render); the shade launcher passes them as a block.
 // The scene's and materials' buffers are ClContext::shared_buffer()s: on CPU
 // devices and integrated GPUs they are the host vectors themselves (no copy of
@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/lights.h"
 #include "core/scene.h"
@@ -31,7 +32,14 @@ enum SceneBuffer : unsigned {
       kSceneBufferCount
 };
 
+// The scene's triangles as PmcTriangleRecords (corners copied out of the
+// indexed position, normal and uv arrays).
+std::vector<PmcTriangleRecord> triangle_records_of(const Scene& scene);
+
 struct SceneBuffers {
+  // One record per scene triangle (PmcTriangleRecord); before `buffers`,
+  // which may be this vector itself (shared) and must be released first.
+  std::vector<PmcTriangleRecord> triangle_records;
   std::array<ClBuffer, kSceneBufferCount> buffers;
   LightTable lights;            // set by upload_lights()
   std::vector<float> emission;  // per material, rgb: its emissive triangles are lights

@@ -14,6 +14,7 @@
   X(PmcPathState)             \
   X(PmcShadowLoad)            \
   X(PmcTriangle)              \
+  X(PmcTriangleRecord)        \
   X(PmcFilmPixel)             \
   X(PmcTexture)               \
   X(PmcMaterialInfo)          \
@@ -51,6 +52,11 @@
   X(PmcTriangle, n)                \
   X(PmcTriangle, t)                \
   X(PmcTriangle, material)         \
+  X(PmcTriangleRecord, p)          \
+  X(PmcTriangleRecord, n)          \
+  X(PmcTriangleRecord, t)          \
+  X(PmcTriangleRecord, material)   \
+  X(PmcTriangleRecord, flags)      \
   X(PmcFilmPixel, sum)             \
   X(PmcFilmPixel, bad_samples)     \
   X(PmcFilmPixel, cache_hits)      \

@@ -72,8 +72,8 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
 }
 
-static inline float3 pmc_vertex(__global const float* a, int i) {
-  return make_float3(a[3 * i], a[3 * i + 1], a[3 * i + 2]);
+static inline float3 pmc_corner(__global const float* a, int k) {
+  return make_float3(a[3 * k], a[3 * k + 1], a[3 * k + 2]);
 }
 
 static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float3 d, float tfar, uint id) {
@@ -153,10 +153,10 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   }
   if (!hp->surface) return;
 
-  PmcTriangle tri = scene->triangles[hit.prim];
-  float3 p0 = pmc_vertex(scene->positions, tri.v[0]);
-  float3 p1 = pmc_vertex(scene->positions, tri.v[1]);
-  float3 p2 = pmc_vertex(scene->positions, tri.v[2]);
+  __global const PmcTriangleRecord* tri = &scene->triangles[hit.prim];
+  float3 p0 = pmc_corner(tri->p, 0);
+  float3 p1 = pmc_corner(tri->p, 1);
+  float3 p2 = pmc_corner(tri->p, 2);
   float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
   float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
   float3 ng = cross(p1 - p0, p2 - p0);
@@ -164,9 +164,8 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
   if (dot(ng, dir) > 0.0f) ng = -ng; /* every surface is two-sided */
   float3 ns = ng;
-  if (tri.n[0] >= 0) {
-    float3 n = pmc_vertex(scene->normals, tri.n[0]) * b0 + pmc_vertex(scene->normals, tri.n[1]) * b1 +
-               pmc_vertex(scene->normals, tri.n[2]) * b2;
+  if (tri->flags & PMC_TRI_NORMALS) {
+    float3 n = pmc_corner(tri->n, 0) * b0 + pmc_corner(tri->n, 1) * b1 + pmc_corner(tri->n, 2) * b2;
     float nl = length(n);
     if (nl > 0.0f && isfinite(nl)) {
       n = n * (1.0f / nl);
@@ -175,11 +174,10 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   }
   float2 uv = make_float2(b1, b2);
   float2 t0 = make_float2(0.0f, 0.0f), t1 = make_float2(1.0f, 0.0f), t2 = make_float2(0.0f, 1.0f);
-  if (tri.t[0] >= 0) {
-    __global const float* uvs = scene->uvs;
-    t0 = make_float2(uvs[2 * tri.t[0]], uvs[2 * tri.t[0] + 1]);
-    t1 = make_float2(uvs[2 * tri.t[1]], uvs[2 * tri.t[1] + 1]);
-    t2 = make_float2(uvs[2 * tri.t[2]], uvs[2 * tri.t[2] + 1]);
+  if (tri->flags & PMC_TRI_UVS) {
+    t0 = make_float2(tri->t[0], tri->t[1]);
+    t1 = make_float2(tri->t[2], tri->t[3]);
+    t2 = make_float2(tri->t[4], tri->t[5]);
     uv = t0 * b0 + t1 * b1 + t2 * b2;
   }
   if (dot(ns, -dir) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
@@ -215,14 +213,14 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->area2 = area2;
   hp->cone_width = cone_width;
   hp->prim = hit.prim;
-  hp->material = tri.material;
+  hp->material = tri->material;
   hp->cache_jitter = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
   hp->texel.ready = 0u;
   hp->cell.ready = 0u;
   hp->cache_points = 0u;
   hp->cache_position_mask = 0u;
   if (frame->cache_on) {
-    __global const PmcMaterialInfo* info = &scene->materials[tri.material];
+    __global const PmcMaterialInfo* info = &scene->materials[tri->material];
     hp->cache_points = info->cache_points;
     hp->cache_position_mask = info->cache_position_mask;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
@@ -234,11 +232,11 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     if ((all & ~hp->cache_position_mask) != 0u)
       hp->texel = pmc_cache_texel_floored(
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
-          (uint)tri.material, info->cache_level_floor_uv, frame->cache_max_refine);
+          (uint)tri->material, info->cache_level_floor_uv, frame->cache_max_refine);
     if (hp->cache_position_mask != 0u)
       hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias,
                                         pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
-                                        (uint)tri.material, info->cache_level_floor_position,
+                                        (uint)tri->material, info->cache_level_floor_position,
                                         frame->cache_max_refine);
   }
 }
@@ -384,41 +382,22 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   path->radiance[2] = radiance.z;
 }
 
-/* Starts the loads of a hit's triangle record and path state without
- * waiting for them (volatile: the compiler keeps loads whose values are
- * unused). */
+/* Starts the loads of a hit's triangle record (both of its cache lines) and
+ * path state without waiting for them (volatile: the compiler keeps loads
+ * whose values are unused). */
 static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const PmcHit* hits,
                                       __global const PmcRay* rays, __global PmcPathState* paths, uint i) {
   int prim = hits[i].prim;
-  if (prim >= 0) (void)*(__global volatile const int*)&scene->triangles[prim];
-  /* first and last word: a record can straddle two cache lines */
+  if (prim >= 0) {
+    __global volatile const float* r = (__global volatile const float*)&scene->triangles[prim];
+    (void)r[0]; /* its two cache lines */
+    (void)r[16];
+  }
+  /* a path state's first and last word: it can straddle two cache lines */
   __global const PmcPathState* path = &paths[rays[i].id];
   (void)*(__global volatile const float*)&path->throughput[0];
   (void)*(__global volatile const float*)&path->env_pdf;
   (void)*(__global volatile const float*)&rays[i].org_x;
-}
-
-/* Starts the loads of the vertex data a hit's triangle names. */
-static inline void pmc_touch_vertices(const PmcSceneData* scene, __global const PmcHit* hits, uint i) {
-  int prim = hits[i].prim;
-  if (prim < 0) return;
-  PmcTriangle tri = scene->triangles[prim];
-  __global volatile const float* p = (__global volatile const float*)scene->positions;
-  (void)p[3 * tri.v[0]];
-  (void)p[3 * tri.v[1]];
-  (void)p[3 * tri.v[2]];
-  if (tri.n[0] >= 0) {
-    __global volatile const float* n = (__global volatile const float*)scene->normals;
-    (void)n[3 * tri.n[0]];
-    (void)n[3 * tri.n[1]];
-    (void)n[3 * tri.n[2]];
-  }
-  if (tri.t[0] >= 0) {
-    __global volatile const float* t = (__global volatile const float*)scene->uvs;
-    (void)t[2 * tri.t[0]];
-    (void)t[2 * tri.t[1]];
-    (void)t[2 * tri.t[2]];
-  }
 }
 
 /* The materials of one batch of hits, then the rest of their shading. The
@@ -461,12 +440,10 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
 /* Shades one queue of hits. Each work-item takes one batch of up to
  * PMC_LANES hits from the host's material-sorted order (order[first + b *
  * PMC_LANES + lane], PMC_NO_RAY for padding), in passes over its lanes:
- *   0-1. prefetch its scene data: first the triangle records and path states
- *      its hits name, then the vertex positions, normals and uvs those
- *      triangles name. A hit's data sits at random addresses, one miss
- *      depending on the other (hit -> triangle -> vertices); these short
- *      loops have the batch's misses in flight at once instead of waiting
- *      for each in turn;
+ *   1. prefetch its scene data: the triangle records (corners inline, two
+ *      cache lines each) and path states its hits name. A hit's data sits
+ *      at random addresses; this short loop has the batch's misses in
+ *      flight at once instead of waiting for each in turn;
  *   2. geometry and the cache texel of every hit (pmc_hit_point);
  *   3. the same prefetch for the cache cells its material will look up;
  *   4. the material for the whole batch (one interpreter pass over all its
@@ -509,7 +486,6 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
       if (i != PMC_NO_RAY) idx[n++] = i;
     }
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
-  for (int k = 0; k < n; ++k) pmc_touch_vertices(scene, hits, idx[k]);
   PmcHitPoint hp[PMC_LANES];
   for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k]);
   if (frame->cache_on) {

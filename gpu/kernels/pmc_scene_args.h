@@ -14,10 +14,7 @@
 
 // clang-format off
 #define PMC_SCENE_BUFFERS(X)                          \
-  X(positions, __global const float*)   /* xyz */    \
-  X(normals, __global const float*)     /* xyz */    \
-  X(uvs, __global const float*)         /* uv */     \
-  X(triangles, __global const PmcTriangle*)           \
+  X(triangles, __global const PmcTriangleRecord*)     \
   X(code, __global const pmc_u32*)      /* bytecode */ \
   X(materials, __global const PmcMaterialInfo*)       \
   X(textures, __global const PmcTexture*)             \
