@@ -413,6 +413,26 @@ Notes:
   order in which the shade kernel queued them (by material), made the trace
   stage slower, 2.28 s against 2.11 s: Embree's incoherent traversal gains
   nothing from neighbouring pixels' bounces being traced together. Not kept.
+  (Measured again on 2026-11-26 with the rays gathered in path order inside
+  the tracer: render 1.02x. Still not kept.)
+- The shade kernel reads each hit's triangle as one 128-byte record with its
+  corners' positions, normals and uvs inline (`PmcTriangleRecord`), not
+  through the OBJ's indices: a hit's geometry is two cache lines instead of up
+  to ten scattered ones. On 2026-11-26 this made the shade stage 1.58 s
+  instead of 1.77 s and the render 0.956x (5 interleaved rounds, identical
+  pixels), for 128 bytes per triangle (peak memory 352 to 391 MB here).
+- Measured on 2026-11-26 and not kept (interleaved rounds, identical pixels
+  unless said): a pass that touches each lane's texels before any lane
+  filters them (render 1.048x: the texel loads are mostly cache hits at the
+  mip levels the ray cones pick); path states padded to 64 bytes so none
+  straddles two cache lines (1.029x); waves of 65536 or 131072 paths instead
+  of the whole image (1.049x, 1.007x); `-cl-mad-enable -cl-denorms-are-zero`
+  (1.009x; same pixels: PoCL already fuses multiply-adds); transparent huge
+  pages for every buffer (no difference). Treating every cut-out as opaque
+  would save about 3% of the render (0.971x).
+- Outputs: the EXR is written with zlib level 1 on OpenEXR's thread pool
+  (sized to pmc's thread budget) and the PNG at zlib level 3; Sponza's time
+  outside setup and render fell from 0.105 s to 0.076 s, same pixels.
 - Process start: pmc does not link OpenImageIO (core/image_backend.h). It
   reads and writes OpenEXR and 8-bit PNG itself (libOpenEXR, libpng) and
   loads OpenImageIO as a plugin only for other formats; Debian's OpenImageIO
