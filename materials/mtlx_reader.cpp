@@ -401,6 +401,16 @@ class Reader {
       in.node = instantiate(scope, src, output);
       return;
     }
+    if (!output.empty() && std::string(el.name()) == "input") {
+      // Only `output`: a top-level <output> of the document, as MaterialX
+      // reads it (Input::getConnectedOutput).
+      pugi::xml_node out = root_.find_child_by_attribute("output", "name", output.c_str());
+      if (!out)
+        fail(context, ": refers to output '", output,
+             "', which the document does not have (dangling reference)");
+      connect(Scope{root_, 0, nullptr, ""}, out, in, path_ + ": output '" + output + "'");
+      return;
+    }
     if (std::string(el.name()) == "output") fail(context, ": output is not connected to anything");
     in.linked = false;
     ValueType t = in.type;

@@ -262,6 +262,36 @@ TEST(MtlxReader, InlinesNodegraphsWithInterfaceValues) {
   EXPECT_NEAR(params[PMC_P_BASE_COLOR + 2], 0.125f, 1e-6f);
 }
 
+// An input with only `output="NAME"` reads the document's top-level output
+// NAME (MaterialX's Input::getConnectedOutput; its PostShaderComposite
+// example wires a custom shader's mix amount this way).
+TEST(MtlxReader, OutputAloneConnectsToTheDocumentsTopLevelOutput) {
+  const std::string top =
+      "<ramplr name=\"ramp\" type=\"color3\">\n"
+      "  <input name=\"valuel\" type=\"color3\" value=\"1, 0.5, 0\"/>\n"
+      "  <input name=\"valuer\" type=\"color3\" value=\"0, 0, 1\"/>\n"
+      "</ramplr>\n"
+      "<output name=\"o_ramp\" type=\"color3\" nodename=\"ramp\"/>";
+  std::vector<Graph> graphs =
+      read_mtlx_string(doc(top, "<input name=\"base_color\" type=\"color3\" output=\"o_ramp\"/>"), kPath);
+  ASSERT_EQ(graphs.size(), 1u);
+  TexturePool tex;
+  MaterialProgram prog;
+  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
+  float params[PMC_P_COUNT];
+  evaluate(prog, cm, 0.25f, 0.5f, params);  // (1, 0.5, 0) + ((0, 0, 1) - (1, 0.5, 0)) * 0.25
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 0], 0.75f, 1e-6f);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 1], 0.375f, 1e-6f);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 2], 0.25f, 1e-6f);
+
+  std::string e = error_of([&] {
+    read_and_compile(doc(top, "<input name=\"base_color\" type=\"color3\" output=\"o_missing\"/>"));
+  });
+  EXPECT_MENTIONS(e, kPath);
+  EXPECT_MENTIONS(e, "'o_missing'");
+  EXPECT_MENTIONS(e, "dangling reference");
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"
