@@ -75,7 +75,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
         warn(file + ": material '" + g.material + "' also defined earlier; the later one wins");
       mtlx[g.material] = std::move(g);
     }
-    std::vector<MtlxAssignment> a = read_mtlx_assignments(file);
+    std::vector<MtlxAssignment> a = read_mtlx_assignments(file, options.mtlx);
     assignments.insert(assignments.end(), a.begin(), a.end());
   }
   if (!options.override_material.empty()) {

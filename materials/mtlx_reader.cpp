@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "materials/emit.h"
+#include "materials/mtlx_include.h"
 #include "materials/mtlx_library.h"
 #include "materials/mtlx_matrix.h"
 #include "materials/mtlx_upgrade.h"
@@ -18,6 +19,23 @@
 
 namespace pmc {
 namespace {
+
+// MATERIALX_SEARCH_PATH's folders (':' or ';' separated), then the options'.
+std::vector<std::string> mtlx_search_paths(const MtlxReadOptions& options) {
+  std::vector<std::string> search;
+  if (const char* env = std::getenv("MATERIALX_SEARCH_PATH")) {
+    std::string s = env;
+    size_t start = 0;
+    while (start <= s.size()) {
+      size_t end = s.find_first_of(":;", start);
+      if (end == std::string::npos) end = s.size();
+      if (end > start) search.push_back(s.substr(start, end - start));
+      start = end + 1;
+    }
+  }
+  search.insert(search.end(), options.search_paths.begin(), options.search_paths.end());
+  return search;
+}
 
 std::string dirname_of(const std::string& path) {
   size_t slash = path.find_last_of('/');
@@ -73,24 +91,13 @@ struct Scope {
 class Reader {
  public:
   Reader(const std::string& path, const MtlxReadOptions& options)
-      : path_(path), dir_(dirname_of(path)), options_(options) {
-    if (const char* env = std::getenv("MATERIALX_SEARCH_PATH")) {
-      std::string s = env;
-      size_t start = 0;
-      while (start <= s.size()) {
-        size_t end = s.find_first_of(":;", start);
-        if (end == std::string::npos) end = s.size();
-        if (end > start) search_.push_back(s.substr(start, end - start));
-        start = end + 1;
-      }
-    }
-    search_.insert(search_.end(), options.search_paths.begin(), options.search_paths.end());
-  }
+      : path_(path), dir_(dirname_of(path)), options_(options), search_(mtlx_search_paths(options)) {}
 
   std::vector<Graph> read(pugi::xml_document& doc) {
     root_ = doc.child("materialx");
     if (!root_) fail(path_, ": not a MaterialX document (no <materialx> root element)");
     upgrade_mtlx_document(root_, path_);
+    expand_mtlx_includes(root_, path_, search_);
     doc_defs_.add(root_);
     std::vector<Graph> out;
     Scope top{root_, 0, nullptr, ""};
@@ -307,12 +314,16 @@ class Reader {
     return "";
   }
 
-  // fileprefix, then the document's folder, then the search paths.
+  // fileprefix, then the folder of the file the element came from (an
+  // included one's, mtlx_include.h), the document's folder, the search paths.
   std::string resolve_file(pugi::xml_node el, const std::string& f) {
     if (f.empty()) return f;
     std::string name = inherited(el, "fileprefix") + f;
     if (name[0] == '/') return name;
     std::error_code ec;
+    const std::string included_from = inherited(el, kIncludeDirAttr);
+    if (!included_from.empty() && std::filesystem::exists(included_from + name, ec))
+      return included_from + name;
     if (std::filesystem::exists(dir_ + name, ec)) return dir_ + name;
     for (const std::string& sp : search_) {
       std::string candidate = sp + (sp.back() == '/' ? "" : "/") + name;
@@ -328,6 +339,26 @@ class Reader {
     in.value.text = resolve_file(el, in.value.text);
     std::string cs = inherited(el, "colorspace");
     in.value.f[0] = cs == "srgb_texture" ? 1.0f : 0.0f;
+  }
+
+  // MaterialX reads a nodename= that names a nodegraph of the document, not
+  // a node, as no connection at all (Input::getConnectedOutput is null): the
+  // input keeps its value, or else its definition's default. Older
+  // documents do this (MaterialX's usd_preview_surface_brick_procedural).
+  bool names_graph_not_node(const Scope& scope, pugi::xml_node el) {
+    const std::string nodename = el.attribute("nodename").as_string();
+    if (nodename.empty() || el.attribute("nodegraph") || el.attribute("interfacename")) return false;
+    return scope.graph == root_ && !find_node(root_, nodename) &&
+           root_.find_child_by_attribute("nodegraph", "name", nodename.c_str());
+  }
+
+  // An input element that names a nodegraph as its node and has no value
+  // stands for nothing: the caller uses the definition's default.
+  bool stands_for_default(const Scope& scope, pugi::xml_node el, const std::string& context) {
+    if (!names_graph_not_node(scope, el) || el.attribute("value")) return false;
+    warn(context + ": nodename '" + el.attribute("nodename").as_string() +
+         "' names a nodegraph, not a node: not a connection (as in MaterialX); the input keeps its default");
+    return true;
   }
 
   // Resolves an <input> (or <output>) element found in `scope` into `in`.
@@ -389,6 +420,16 @@ class Reader {
     }
     if (!nodename.empty()) {
       pugi::xml_node src = find_node(scope.graph, nodename);
+      if (names_graph_not_node(scope, el)) {  // no connection, as MaterialX reads it
+        warn(
+            context + ": nodename '" + nodename +
+            "' names a nodegraph, not a node: not a connection (as in MaterialX); the input keeps its value");
+        in.linked = false;
+        ValueType t = in.type != ValueType::None ? in.type : parse_type(el.attribute("type").as_string());
+        in.value = parse_value(el.attribute("value").as_string(), t, context);
+        finish_filename(el, in);
+        return;
+      }
       if (!src) {
         std::string in_scope =
             scope.graph == root_
@@ -762,6 +803,7 @@ class Reader {
           !(type_width(declared) == type_width(in->type) && is_numeric(declared)))
         fail(context, ": input '", name, "' must be ", type_name(in->type), ", the document says ",
              type_name(declared), " (type mismatch)");
+      if (stands_for_default(scope, c, context + " input '" + name + "'")) continue;
       connect(scope, c, *in, context + " input '" + name + "'");
     }
     if (node.category == "gltf_pbr") {  // alpha is the opacity only in alpha_mode MASK (1) or BLEND (2)
@@ -808,6 +850,7 @@ class Reader {
       in.name = d.name;
       in.type = resolve_input_type(d, node.type);
       pugi::xml_node c = el.find_child_by_attribute("input", "name", d.name.c_str());
+      if (c && stands_for_default(scope, c, context + " input '" + d.name + "'")) c = pugi::xml_node();
       if (c) {
         ValueType declared = parse_type(c.attribute("type").as_string());
         if (in.type == ValueType::None) {
@@ -968,10 +1011,13 @@ bool mtlx_geom_matches(const std::string& pattern, const std::string& path) {
   return true;
 }
 
-std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path) {
+std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path, const MtlxReadOptions& options) {
   pugi::xml_document doc;
   if (!doc.load_file(path.c_str())) return {};  // read_mtlx_file reports unreadable documents
   pugi::xml_node root = doc.child("materialx");
+  if (!root) return {};
+  upgrade_mtlx_document(root, path);
+  expand_mtlx_includes(root, path, mtlx_search_paths(options));
   std::vector<MtlxAssignment> out;
   for (pugi::xml_node look : root.children("look"))
     for (pugi::xml_node a : look.children("materialassign")) {

@@ -14,7 +14,8 @@
 // gltf_pbr, disney_principled, surface_unlit) map onto pmc's BSDF parameters
 // (node_table.h: surface_params); inputs that cannot be modelled are named in
 // one warning per material. Documents older than 1.39 are upgraded on load
-// (mtlx_upgrade.h). A document without materials (test documents with
+// (mtlx_upgrade.h), and root-level <xi:include>s are expanded
+// (mtlx_include.h). A document without materials (test documents with
 // top-level outputs) yields one preview material per output: a data output
 // is shown as base colour, a surfaceshader output is a material.
 // Filenames resolve against `fileprefix`, then the document's folder, then
@@ -50,7 +51,8 @@ struct MtlxAssignment {
 };
 // Every materialassign of every <look> of the document at `path`, in
 // document order (a later one overrides an earlier one for the same geometry).
-std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path);
+std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path,
+                                                  const MtlxReadOptions& options = {});
 // Does geometry `path` ("/name") match `pattern` (one geometry name of a geom
 // list)? "/" matches everything, `*` any characters within a path component,
 // `?` one character, and a pattern that names an ancestor matches its

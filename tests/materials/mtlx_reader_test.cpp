@@ -292,6 +292,35 @@ TEST(MtlxReader, OutputAloneConnectsToTheDocumentsTopLevelOutput) {
   EXPECT_MENTIONS(e, "dangling reference");
 }
 
+// nodename= naming a nodegraph is no connection to MaterialX
+// (Input::getConnectedOutput is null), so the input keeps its value or its
+// definition's default; pmc reads it the same way, with a warning.
+TEST(MtlxReader, NodenameNamingANodegraphIsNoConnection) {
+  const std::string graph =
+      "<nodegraph name=\"NG\">\n"
+      "  <constant name=\"c\" type=\"color3\"><input name=\"value\" type=\"color3\" value=\"0, 1, "
+      "0\"/></constant>\n"
+      "  <output name=\"out\" type=\"color3\" nodename=\"c\"/>\n"
+      "</nodegraph>";
+  for (const std::string& input :
+       {std::string("<input name=\"base_color\" type=\"color3\" nodename=\"NG\"/>"),
+        std::string("<input name=\"base_color\" type=\"color3\" nodename=\"NG\" "
+                    "value=\"0.1, 0.2, 0.3\"/>")}) {
+    SCOPED_TRACE(input);
+    std::vector<Graph> graphs = read_mtlx_string(doc(graph, input), kPath);
+    ASSERT_EQ(graphs.size(), 1u);
+    TexturePool tex;
+    MaterialProgram prog;
+    const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
+    float params[PMC_P_COUNT];
+    evaluate(prog, cm, 0.5f, 0.5f, params);
+    const bool has_value = input.find("value=") != std::string::npos;
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 0], has_value ? 0.1f : 0.8f, 1e-6f);  // standard_surface's 0.8
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 1], has_value ? 0.2f : 0.8f, 1e-6f);
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 2], has_value ? 0.3f : 0.8f, 1e-6f);
+  }
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"

@@ -62,8 +62,13 @@ std::string temp_dir() {
 }
 
 void write_file(const std::string& path, const std::string& text) {
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (!parent.empty()) std::filesystem::create_directories(parent, ec);
   std::ofstream out(path, std::ios::binary);
   out << text;
+  out.close();
+  if (!out) ADD_FAILURE() << "cannot write test file " << path;
 }
 
 std::string read_file(const std::string& path) {

@@ -34,6 +34,7 @@ std::string source_path(const std::string& rel);
 std::string temp_root();
 // A fresh empty directory under temp_root(), named after the test.
 std::string temp_dir();
+// Writes `text` to `path`, creating its folders; a failed write fails the test.
 void write_file(const std::string& path, const std::string& text);
 // The whole file as bytes (empty when it cannot be read).
 std::string read_file(const std::string& path);
