@@ -133,6 +133,47 @@ void upgrade_channels(pugi::xml_node root) {
   }
 }
 
+// 1.37 -> 1.38: the color2 type became vector2. A color2's channels were r
+// and a, so separate2's outputs outr/outa become outx/outy, and channel
+// strings (a swizzle's `channels`, an input's `channels` attribute) read from
+// a color2 turn r/a into x/y.
+void upgrade_color2(pugi::xml_node root) {
+  auto source_is_color2 = [](pugi::xml_node in) {
+    if (std::string(in.attribute("type").as_string()) == "color2") return true;
+    pugi::xml_node graph = in.parent().parent();
+    const std::string nodename = in.attribute("nodename").as_string();
+    if (!graph || nodename.empty()) return false;
+    pugi::xml_node src = graph.find_child_by_attribute("name", nodename.c_str());
+    return src && std::string(src.attribute("type").as_string()) == "color2";
+  };
+  auto to_xy = [](std::string channels) {
+    for (char& c : channels) c = c == 'r' ? 'x' : (c == 'a' ? 'y' : c);
+    return channels;
+  };
+  std::vector<pugi::xml_node> elements;
+  for_each_element(root, [&](pugi::xml_node e) { elements.push_back(e); });
+  // Channel strings first, while the types still say color2.
+  for (pugi::xml_node e : elements) {
+    if (std::string(e.name()) != "input") continue;
+    pugi::xml_node node = e.parent();
+    if (e.attribute("channels") && source_is_color2(e))
+      e.attribute("channels").set_value(to_xy(e.attribute("channels").as_string()).c_str());
+    if (std::string(node.name()) == "swizzle" && std::string(e.attribute("name").as_string()) == "channels") {
+      pugi::xml_node from = node.find_child_by_attribute("input", "name", "in");
+      if (from && source_is_color2(from))
+        e.attribute("value").set_value(to_xy(e.attribute("value").as_string()).c_str());
+    }
+    const std::string out = e.attribute("output").as_string();
+    const std::string nodename = e.attribute("nodename").as_string();
+    if ((out == "outr" || out == "outa") && !nodename.empty() && node.parent()) {
+      pugi::xml_node src = node.parent().find_child_by_attribute("separate2", "name", nodename.c_str());
+      if (src) e.attribute("output").set_value(out == "outr" ? "outx" : "outy");
+    }
+  }
+  for (pugi::xml_node e : elements)
+    if (std::string(e.attribute("type").as_string()) == "color2") e.attribute("type").set_value("vector2");
+}
+
 }  // namespace
 
 void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
@@ -147,6 +188,7 @@ void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
   for_each_element(root, [](pugi::xml_node e) {
     if (std::string(e.name()) == "parameter") e.set_name("input");
   });
+  if (version < 138) upgrade_color2(root);
   upgrade_materials(root, path);
   upgrade_channels(root);
   // atan2's inputs: 1.38 swapped in1 and in2, 1.39 named them iny and inx

@@ -512,6 +512,51 @@ TEST(MtlxLibrary, OldDocumentsUpgradeLikeMaterialXDoes) {
   for (int k = 0; k < PMC_P_COUNT; ++k) EXPECT_EQ(a[k], b[k]) << "1.38 parameter " << k;
   EXPECT_NEAR(a[PMC_P_METALNESS], 0.5f, 1e-6f);
   EXPECT_NEAR(a[PMC_P_SPECULAR_ROUGHNESS], 0.25f, 1e-6f);
+
+  // 1.37's color2 (channels r and a) became vector2: separate2's outputs, a
+  // swizzle's channels and an input's `channels` follow.
+  const std::string old37 = dir + "/old37.mtlx", upgraded37 = dir + "/upgraded37.mtlx";
+  test::write_file(
+      old37,
+      "<?xml version=\"1.0\"?>\n<materialx version=\"1.37\">\n"
+      "  <nodegraph name=\"NG\">\n"
+      "    <constant name=\"c\" type=\"color2\"><parameter name=\"value\" type=\"color2\" "
+      "value=\"0.25, 0.75\"/></constant>\n"
+      "    <separate2 name=\"s\" type=\"multioutput\"><input name=\"in\" type=\"color2\" "
+      "nodename=\"c\"/></separate2>\n"
+      "    <combine3 name=\"k\" type=\"color3\"><input name=\"in1\" type=\"float\" nodename=\"s\" "
+      "output=\"outa\"/><input name=\"in2\" type=\"float\" nodename=\"s\" output=\"outr\"/>"
+      "<input name=\"in3\" type=\"float\" value=\"0.5\"/></combine3>\n"
+      "    <swizzle name=\"w\" type=\"color3\"><input name=\"in\" type=\"color2\" nodename=\"c\"/>"
+      "<parameter name=\"channels\" type=\"string\" value=\"arr\"/></swizzle>\n"
+      "    <multiply name=\"m\" type=\"float\"><input name=\"in1\" type=\"float\" nodename=\"c\" "
+      "channels=\"a\"/><input name=\"in2\" type=\"float\" value=\"0.5\"/></multiply>\n"
+      "    <output name=\"out\" type=\"color3\" nodename=\"k\"/>\n"
+      "    <output name=\"out2\" type=\"color3\" nodename=\"w\"/>\n"
+      "    <output name=\"out3\" type=\"float\" nodename=\"m\"/>\n"
+      "  </nodegraph>\n"
+      "  <standard_surface name=\"SR\" type=\"surfaceshader\">\n"
+      "    <input name=\"base_color\" type=\"color3\" nodegraph=\"NG\" output=\"out\"/>\n"
+      "    <input name=\"specular_color\" type=\"color3\" nodegraph=\"NG\" output=\"out2\"/>\n"
+      "    <input name=\"specular_roughness\" type=\"float\" nodegraph=\"NG\" output=\"out3\"/>\n"
+      "  </standard_surface>\n"
+      "  <surfacematerial name=\"M37\" type=\"material\"><input name=\"surfaceshader\" "
+      "type=\"surfaceshader\" nodename=\"SR\"/></surfacematerial>\n"
+      "</materialx>\n");
+  const std::string cmd37 = test::source_path("scripts/python") +
+                            " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
+                            "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
+                            old37 + " " + upgraded37;
+  ASSERT_EQ(std::system(cmd37.c_str()), 0) << cmd37;
+  ASSERT_EQ(test::read_file(upgraded37).find("color2"), std::string::npos) << "MaterialX kept a color2";
+  evaluate(only(read_mtlx_file(old37)), 0.3f, 0.6f, a);
+  evaluate(only(read_mtlx_file(upgraded37)), 0.3f, 0.6f, b);
+  for (int k = 0; k < PMC_P_COUNT; ++k) EXPECT_EQ(a[k], b[k]) << "1.37 color2 parameter " << k;
+  EXPECT_NEAR(a[PMC_P_BASE_COLOR + 0], 0.75f, 1e-6f);      // outa
+  EXPECT_NEAR(a[PMC_P_BASE_COLOR + 1], 0.25f, 1e-6f);      // outr
+  EXPECT_NEAR(a[PMC_P_SPECULAR_COLOR + 0], 0.75f, 1e-6f);  // "arr"
+  EXPECT_NEAR(a[PMC_P_SPECULAR_COLOR + 1], 0.25f, 1e-6f);
+  EXPECT_NEAR(a[PMC_P_SPECULAR_ROUGHNESS], 0.375f, 1e-6f);  // channels "a" x 0.5
 }
 
 // A version number too large for an int (a fuzzer's find) is a future
