@@ -85,7 +85,8 @@ struct Scope {
   pugi::xml_node graph;
   int id = 0;
   const std::map<std::string, Input>* iface = nullptr;
-  std::string origin;  // what expansion messages name
+  std::string origin;             // what expansion messages name
+  const Scope* parent = nullptr;  // a nested nodegraph's enclosing scope
 };
 
 class Reader {
@@ -195,9 +196,13 @@ class Reader {
     return s.node;
   }
 
+  // The scope's id and its graph's path below the root ("outer/inner" for a
+  // nested nodegraph).
   std::string scope_name(const Scope& scope) const {
-    return std::to_string(scope.id) + ":" +
-           (scope.graph == root_ ? std::string() : std::string(scope.graph.attribute("name").as_string()));
+    std::string path;
+    for (pugi::xml_node g = scope.graph; g && g != root_; g = g.parent())
+      path = std::string(g.attribute("name").as_string()) + (path.empty() ? "" : "/" + path);
+    return std::to_string(scope.id) + ":" + path;
   }
 
   std::string where(pugi::xml_node el) const {
@@ -368,15 +373,25 @@ class Reader {
     std::string iface = el.attribute("interfacename").as_string();
     std::string output = el.attribute("output").as_string();
     if (!nodegraph.empty()) {
-      pugi::xml_node ng = root_.find_child_by_attribute("nodegraph", "name", nodegraph.c_str());
+      // A nodegraph nested in the enclosing one (its interface reads the
+      // enclosing graph's), else one of the document's.
+      pugi::xml_node nested =
+          scope.graph == root_ ? pugi::xml_node()
+                               : scope.graph.find_child_by_attribute("nodegraph", "name", nodegraph.c_str());
+      pugi::xml_node ng =
+          nested ? nested : root_.find_child_by_attribute("nodegraph", "name", nodegraph.c_str());
       if (!ng)
         fail(context, ": refers to nodegraph '", nodegraph, "', which does not exist (dangling reference)");
       pugi::xml_node out =
           output.empty() ? ng.child("output") : ng.find_child_by_attribute("output", "name", output.c_str());
       if (!out)
         fail(context, ": nodegraph '", nodegraph, "' has no output '", output, "' (dangling reference)");
-      connect(Scope{ng, 0, nullptr, ""}, out, in,
-              path_ + ": nodegraph '" + nodegraph + "' output '" + out.attribute("name").as_string() + "'");
+      const std::string out_context =
+          path_ + ": nodegraph '" + nodegraph + "' output '" + out.attribute("name").as_string() + "'";
+      if (nested)
+        connect(Scope{ng, scope.id, nullptr, scope.origin, &scope}, out, in, out_context);
+      else
+        connect(Scope{ng, 0, nullptr, ""}, out, in, out_context);
       return;
     }
     if (!iface.empty()) {
@@ -404,6 +419,11 @@ class Reader {
         ValueType t = in.type != ValueType::None ? in.type : parse_type(el.attribute("type").as_string());
         in.value = parse_value(el.attribute("value").as_string(), t, context);
         finish_filename(el, in);
+        return;
+      }
+      if (scope.parent && (decl.attribute("interfacename") || decl.attribute("nodename") ||
+                           decl.attribute("nodegraph"))) {  // a nested graph's input: the enclosing scope's
+        connect(*scope.parent, decl, in, context);
         return;
       }
       if (decl.attribute("nodename") || decl.attribute("nodegraph")) {

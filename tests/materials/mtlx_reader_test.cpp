@@ -321,6 +321,54 @@ TEST(MtlxReader, NodenameNamingANodegraphIsNoConnection) {
   }
 }
 
+// A nodegraph nested in another: its inputs read the enclosing graph's
+// interface, and the enclosing graph's nodes and outputs read its outputs
+// (MaterialX's test suite, nodegraph_inputs/nested_nodegraph.mtlx).
+TEST(MtlxReader, NestedNodegraphsReadTheEnclosingInterface) {
+  const std::string graph =
+      "<nodegraph name=\"outer\">\n"
+      "  <input name=\"a\" type=\"color3\" value=\"1, 1, 0.2\"/>\n"
+      "  <input name=\"b\" type=\"color3\" value=\"0.2, 1, 1\"/>\n"
+      "  <input name=\"c\" type=\"color3\" value=\"1, 0.5, 1\"/>\n"
+      "  <nodegraph name=\"inner\">\n"
+      "    <input name=\"x\" type=\"color3\" interfacename=\"a\"/>\n"
+      "    <input name=\"y\" type=\"color3\" interfacename=\"b\"/>\n"
+      "    <multiply name=\"m\" type=\"color3\">\n"
+      "      <input name=\"in1\" type=\"color3\" interfacename=\"x\"/>\n"
+      "      <input name=\"in2\" type=\"color3\" interfacename=\"y\"/>\n"
+      "    </multiply>\n"
+      "    <output name=\"product\" type=\"color3\" nodename=\"m\"/>\n"
+      "  </nodegraph>\n"
+      "  <multiply name=\"m\" type=\"color3\">\n"  // same name as the inner node
+      "    <input name=\"in1\" type=\"color3\" nodegraph=\"inner\" output=\"product\"/>\n"
+      "    <input name=\"in2\" type=\"color3\" interfacename=\"c\"/>\n"
+      "  </multiply>\n"
+      "  <output name=\"direct\" type=\"color3\" nodegraph=\"inner\"/>\n"
+      "  <output name=\"scaled\" type=\"color3\" nodename=\"m\"/>\n"
+      "</nodegraph>";
+  struct Case {
+    const char* output;
+    float r, g, b;
+  };
+  for (const Case& c : {Case{"direct", 0.2f, 1.0f, 0.2f}, Case{"scaled", 0.2f, 0.5f, 0.2f}}) {
+    SCOPED_TRACE(c.output);
+    std::vector<Graph> graphs = read_mtlx_string(
+        doc(graph, std::string("<input name=\"base_color\" type=\"color3\" nodegraph=\"outer\" output=\"") +
+                       c.output + "\"/>"),
+        kPath);
+    ASSERT_EQ(graphs.size(), 1u);
+    ASSERT_TRUE(graphs[0].error.empty()) << graphs[0].error;
+    TexturePool tex;
+    MaterialProgram prog;
+    const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
+    float params[PMC_P_COUNT];
+    evaluate(prog, cm, 0.5f, 0.5f, params);
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 0], c.r, 1e-6f);
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 1], c.g, 1e-6f);
+    EXPECT_NEAR(params[PMC_P_BASE_COLOR + 2], c.b, 1e-6f);
+  }
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"
