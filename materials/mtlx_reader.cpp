@@ -87,6 +87,8 @@ struct Scope {
   const std::map<std::string, Input>* iface = nullptr;
   std::string origin;             // what expansion messages name
   const Scope* parent = nullptr;  // a nested nodegraph's enclosing scope
+  pugi::xml_node instance;        // an expansion's node (its <token>s fill filenames)
+  pugi::xml_node nodedef;         // and that node's definition (token defaults)
 };
 
 class Reader {
@@ -337,11 +339,57 @@ class Reader {
     return dir_ + name;  // not found: the texture loader names it
   }
 
-  // A filename input's value: resolved path, and the sRGB decode flag (f[0])
-  // from its (inherited) colorspace.
-  void finish_filename(pugi::xml_node el, Input& in) {
+  // The value of interface token `name` for a filename on `el`: a <token> of
+  // el's node or of an enclosing nodegraph (the nearest; not the document's:
+  // MaterialX ignores top-level tokens), then the expanded instance's, then
+  // its definition's default, then that of the definition a functional
+  // nodegraph names. A token may pass the lookup on with `interfacename`.
+  bool token_value(const Scope* scope, pugi::xml_node el, std::string name, std::string* value) {
+    auto from = [&](pugi::xml_node holder) {
+      pugi::xml_node t =
+          holder ? holder.find_child_by_attribute("token", "name", name.c_str()) : pugi::xml_node();
+      if (!t) return false;
+      if (t.attribute("interfacename")) {
+        name = t.attribute("interfacename").as_string();
+        return false;
+      }
+      *value = t.attribute("value").as_string();
+      return true;
+    };
+    for (pugi::xml_node e = el.parent(); e && e != root_; e = e.parent())
+      if (from(e)) return true;
+    if (scope && (from(scope->instance) || from(scope->nodedef))) return true;
+    if (scope && scope->graph != root_ && scope->graph.attribute("nodedef")) {
+      pugi::xml_node nd =
+          root_.find_child_by_attribute("nodedef", "name", scope->graph.attribute("nodedef").as_string());
+      if (from(nd)) return true;
+    }
+    return false;
+  }
+
+  // Filename substitutions (the specification's "[interface token]"):
+  // each [name] whose token is found becomes its value; others stay.
+  std::string substitute_tokens(const Scope* scope, pugi::xml_node el, const std::string& text) {
+    std::string out;
+    size_t at = 0;
+    while (at < text.size()) {
+      size_t open = text.find('[', at), close = open == std::string::npos ? open : text.find(']', open);
+      if (close == std::string::npos) break;
+      std::string value;
+      out += text.substr(at, open - at);
+      out += token_value(scope, el, text.substr(open + 1, close - open - 1), &value)
+                 ? value
+                 : text.substr(open, close - open + 1);
+      at = close + 1;
+    }
+    return out + text.substr(std::min(at, text.size()));
+  }
+
+  // A filename input's value: tokens substituted, resolved path, and the
+  // sRGB decode flag (f[0]) from its (inherited) colorspace.
+  void finish_filename(pugi::xml_node el, Input& in, const Scope* scope = nullptr) {
     if (in.type != ValueType::Filename || in.linked) return;
-    in.value.text = resolve_file(el, in.value.text);
+    in.value.text = resolve_file(el, substitute_tokens(scope, el, in.value.text));
     std::string cs = inherited(el, "colorspace");
     in.value.f[0] = cs == "srgb_texture" ? 1.0f : 0.0f;
   }
@@ -418,7 +466,7 @@ class Reader {
         in.linked = false;
         ValueType t = in.type != ValueType::None ? in.type : parse_type(el.attribute("type").as_string());
         in.value = parse_value(el.attribute("value").as_string(), t, context);
-        finish_filename(el, in);
+        finish_filename(el, in, &scope);
         return;
       }
       if (scope.parent && (decl.attribute("interfacename") || decl.attribute("nodename") ||
@@ -435,7 +483,7 @@ class Reader {
       in.value =
           parse_value(decl.attribute("value").as_string(), t, context + " (interface '" + iface + "')");
       if (in.type == ValueType::None) in.type = t;
-      finish_filename(decl, in);
+      finish_filename(decl, in, &scope);
       return;
     }
     if (!nodename.empty()) {
@@ -447,7 +495,7 @@ class Reader {
         in.linked = false;
         ValueType t = in.type != ValueType::None ? in.type : parse_type(el.attribute("type").as_string());
         in.value = parse_value(el.attribute("value").as_string(), t, context);
-        finish_filename(el, in);
+        finish_filename(el, in, &scope);
         return;
       }
       if (!src) {
@@ -477,7 +525,7 @@ class Reader {
     ValueType t = in.type;
     if (t == ValueType::None) t = parse_type(el.attribute("type").as_string());
     in.value = parse_value(el.attribute("value").as_string(), t, context);
-    finish_filename(el, in);
+    finish_filename(el, in, &scope);
   }
 
   int instantiate(const Scope& scope, pugi::xml_node el, const std::string& output) {
@@ -730,6 +778,8 @@ class Reader {
     Expansion e;
     e.scope = Scope{ng, ++next_scope_, &iface,
                     context + " (expanded from " + ng.attribute("name").as_string() + ")"};
+    e.scope.instance = el;
+    e.scope.nodedef = nd;
     e.nodedef = nd;
     e.context = context;
     return e;

@@ -369,6 +369,65 @@ TEST(MtlxReader, NestedNodegraphsReadTheEnclosingInterface) {
   }
 }
 
+// Filename substitutions: "[token]" takes the nearest <token> of the
+// filename's node or enclosing nodegraphs (not the document's), else the
+// expanded instance's, else its definition's default (the specification's
+// "Filename Substitutions"; MaterialX's test suite texture/token_graph.mtlx).
+TEST(MtlxReader, FilenameTokensComeFromTheNearestInterface) {
+  const std::string xml = R"(<?xml version="1.0"?>
+<materialx version="1.39">
+  <token name="ext" type="string" value="jpg"/>
+  <nodegraph name="NG_own">
+    <image name="own" type="color3">
+      <token name="name" type="string" value="wood"/>
+      <token name="ext" type="string" value="png"/>
+      <input name="file" type="filename" value="tex/[name].[ext]"/>
+    </image>
+    <output name="out" type="color3" nodename="own"/>
+  </nodegraph>
+  <nodegraph name="NG_graph">
+    <token name="name" type="string" value="cloth"/>
+    <token name="ext" type="string" value="exr"/>
+    <input name="file" type="filename" value="tex/[name].[ext]"/>
+    <image name="graph" type="color3"><input name="file" type="filename" interfacename="file"/></image>
+    <output name="out" type="color3" nodename="graph"/>
+  </nodegraph>
+  <nodegraph name="NG_top">
+    <image name="top" type="color3"><input name="file" type="filename" value="tex/grid.[ext]"/></image>
+    <output name="out" type="color3" nodename="top"/>
+  </nodegraph>
+  <nodedef name="ND_tokened" node="tokened">
+    <token name="name" type="string" value="grid"/>
+    <output name="out" type="color3"/>
+  </nodedef>
+  <nodegraph name="NG_tokened" nodedef="ND_tokened">
+    <image name="def" type="color3"><input name="file" type="filename" value="tex/[name].png"/></image>
+    <output name="out" type="color3" nodename="def"/>
+  </nodegraph>
+  <tokened name="by_default" type="color3"/>
+  <tokened name="by_instance" type="color3"><token name="name" type="string" value="brick"/></tokened>
+  <output name="o_own" type="color3" nodegraph="NG_own"/>
+  <output name="o_graph" type="color3" nodegraph="NG_graph"/>
+  <output name="o_top" type="color3" nodegraph="NG_top"/>
+  <output name="o_default" type="color3" nodename="by_default"/>
+  <output name="o_instance" type="color3" nodename="by_instance"/>
+</materialx>
+)";
+  std::vector<Graph> graphs = read_mtlx_string(xml, kPath);
+  auto file_of = [&](const std::string& material) {
+    for (const Graph& g : graphs)
+      if (g.material == material)
+        for (const Node& n : g.nodes)
+          if (n.category == "image") return n.input("file")->value.text;
+    return std::string("(no image in " + material + ")");
+  };
+  EXPECT_EQ(file_of("o_own"), "/docs/looks/tex/wood.png");
+  EXPECT_EQ(file_of("o_graph"), "/docs/looks/tex/cloth.exr");
+  EXPECT_EQ(file_of("o_top"), "/docs/looks/tex/grid.[ext]") << "top-level tokens do not apply";
+  EXPECT_EQ(file_of("o_default"), "/docs/looks/tex/grid.png");
+  EXPECT_EQ(file_of("o_instance"), "/docs/looks/tex/brick.png");
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"
