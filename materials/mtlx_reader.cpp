@@ -405,10 +405,17 @@ class Reader {
            root_.find_child_by_attribute("nodegraph", "name", nodename.c_str());
   }
 
-  // An input element that names a nodegraph as its node and has no value
-  // stands for nothing: the caller uses the definition's default.
+  // An input element with no value and no connection, or one that names a
+  // nodegraph as its node and has no value, stands for nothing: the caller
+  // uses the definition's default, as MaterialX does for an unset input.
   bool stands_for_default(const Scope& scope, pugi::xml_node el, const std::string& context) {
-    if (!names_graph_not_node(scope, el) || el.attribute("value")) return false;
+    if (el.attribute("value")) return false;
+    if (!el.attribute("nodename") && !el.attribute("nodegraph") && !el.attribute("interfacename") &&
+        !el.attribute("output")) {
+      warn(context + ": no value and no connection; its default is used");
+      return true;
+    }
+    if (!names_graph_not_node(scope, el)) return false;
     warn(context + ": nodename '" + el.attribute("nodename").as_string() +
          "' names a nodegraph, not a node: not a connection (as in MaterialX); the input keeps its default");
     return true;
@@ -456,8 +463,10 @@ class Reader {
           for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
         return;
       }
+      // The enclosing nodegraph's interface input (at the document's root: a
+      // top-level <input>, which MaterialX's test suite also uses).
       pugi::xml_node decl = scope.graph.find_child_by_attribute("input", "name", iface.c_str());
-      if (!decl || scope.graph == root_) {
+      if (!decl) {
         if (!el.attribute("value"))
           fail(context, ": interfacename '", iface,
                "' is not an input of the enclosing nodegraph (dangling reference)");
@@ -479,6 +488,16 @@ class Reader {
         return;
       }
       ValueType t = parse_type(decl.attribute("type").as_string());
+      if (!decl.attribute("value") && decl.attribute("defaultgeomprop")) {  // e.g. texcoord = UV0
+        GeomDefault g = geom_default(decl.attribute("defaultgeomprop").as_string());
+        if (g == GeomDefault::None)
+          fail(context, " (interface '", iface, "'): unknown defaultgeomprop '",
+               decl.attribute("defaultgeomprop").as_string(), "'");
+        in.linked = true;
+        in.node = geom_node(g);
+        if (in.type == ValueType::None) in.type = t;
+        return;
+      }
       in.linked = false;
       in.value =
           parse_value(decl.attribute("value").as_string(), t, context + " (interface '" + iface + "')");
@@ -800,6 +819,7 @@ class Reader {
       if (in.type == ValueType::None && !c) continue;  // a type pmc does not read, unset
       if (in.type == ValueType::None)
         fail(ctx, ": inputs of type ", d.attribute("type").as_string(), " are not supported");
+      if (c && stands_for_default(scope, c, ctx)) c = pugi::xml_node();
       if (c) {
         connect(scope, c, in, ctx);
       } else if (d.attribute("defaultgeomprop")) {

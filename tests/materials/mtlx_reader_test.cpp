@@ -428,6 +428,55 @@ TEST(MtlxReader, FilenameTokensComeFromTheNearestInterface) {
   EXPECT_EQ(file_of("o_instance"), "/docs/looks/tex/brick.png");
 }
 
+// An interface input may stand for a geometric property (defaultgeomprop
+// on a nodegraph's <input>), and a top-level node's interfacename may name a
+// top-level <input> (MaterialX's test suite: defaultgeomprop.mtlx,
+// nodegraphs/top_level_input.mtlx).
+TEST(MtlxReader, InterfaceInputsWithGeomDefaultsAndAtTheTopLevel) {
+  const std::string graph =
+      "<input name=\"tint\" type=\"color3\" value=\"0, 0.25, 1\"/>\n"
+      "<nodegraph name=\"NG\">\n"
+      "  <input name=\"tc\" type=\"vector2\" defaultgeomprop=\"UV0\"/>\n"
+      "  <extract name=\"x\" type=\"float\"><input name=\"in\" type=\"vector2\" interfacename=\"tc\"/>"
+      "<input name=\"index\" type=\"integer\" value=\"0\"/></extract>\n"
+      "  <output name=\"out\" type=\"float\" nodename=\"x\"/>\n"
+      "</nodegraph>";
+  std::vector<Graph> graphs =
+      read_mtlx_string(doc(graph,
+                           "<input name=\"base_color\" type=\"color3\" interfacename=\"tint\"/>\n"
+                           "<input name=\"specular_roughness\" type=\"float\" nodegraph=\"NG\"/>"),
+                       kPath);
+  ASSERT_EQ(graphs.size(), 1u);
+  TexturePool tex;
+  MaterialProgram prog;
+  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
+  float params[PMC_P_COUNT];
+  evaluate(prog, cm, 0.375f, 0.5f, params);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 0], 0.0f, 1e-6f);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 1], 0.25f, 1e-6f);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 2], 1.0f, 1e-6f);
+  EXPECT_NEAR(params[PMC_P_SPECULAR_ROUGHNESS], 0.375f, 1e-6f);  // u
+}
+
+// An input with neither a value nor a connection (a typo such as
+// "nodnname" in MaterialX's own geomattrvalue.mtlx) is unset: its
+// definition's default, as MaterialX reads it.
+TEST(MtlxReader, InputWithoutValueOrConnectionTakesItsDefault) {
+  std::vector<Graph> graphs =
+      read_mtlx_string(doc("",
+                           "<input name=\"base_color\" type=\"color3\" nodnname=\"typo\"/>\n"
+                           "<input name=\"specular_roughness\" type=\"float\"/>"),
+                       kPath);
+  ASSERT_EQ(graphs.size(), 1u);
+  TexturePool tex;
+  MaterialProgram prog;
+  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
+  float params[PMC_P_COUNT];
+  evaluate(prog, cm, 0.5f, 0.5f, params);
+  EXPECT_NEAR(params[PMC_P_BASE_COLOR + 0], 0.8f, 1e-6f);  // standard_surface's defaults
+  EXPECT_NEAR(params[PMC_P_SPECULAR_ROUGHNESS], 0.2f, 1e-6f);
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"
