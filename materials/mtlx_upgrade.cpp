@@ -181,11 +181,7 @@ void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
   if (version == 0 || version >= 139) return;
   if (version < 138) {
     for_each_element(root, [](pugi::xml_node e) {
-      if (std::string(e.name()) != "geomattrvalue") return;
-      e.set_name("geompropvalue");
-      for (pugi::xml_node in : e.children())  // its attrname is geomprop
-        if (std::string(in.attribute("name").as_string()) == "attrname")
-          in.attribute("name").set_value("geomprop");
+      if (std::string(e.name()) == "geomattrvalue") e.set_name("geompropvalue");
     });
   }
   // 1.38: parameters are inputs; materials are surfacematerial nodes; channels are swizzles.

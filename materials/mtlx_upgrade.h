@@ -8,7 +8,8 @@
 //    shader node with those inputs plus a <surfacematerial> (1.38);
 //  - an input's `channels` attribute becomes a swizzle node in front of it (1.38);
 //  - atan2's inputs in1/in2 become inx/iny (1.36-1.37) or iny/inx (1.38);
-//  - geomattrvalue becomes geompropvalue, its attrname geomprop (1.37);
+//  - geomattrvalue becomes geompropvalue (1.37; its attrname input stays, as
+//    MaterialX's own upgrade leaves it);
 //  - color2 becomes vector2, with separate2's outr/outa and channel letters
 //    r/a read from a color2 becoming x/y (1.37).
 // The version attribute is then 1.39. Documents already at 1.39 are untouched.
