@@ -112,6 +112,30 @@ class Reader {
         graph_.surface = shader_of(top, in, where(el) + " input 'surfaceshader'");
       });
     }
+    // Materials that are not surfacematerial nodes: custom nodes of type
+    // material, and nodegraphs whose outputs are materials (named like
+    // previews: the nodegraph, or nodegraph/output when it has several).
+    for (pugi::xml_node el : root_.children()) {
+      if (std::string(el.attribute("type").as_string()) != "material" || is_structural(el.name()) ||
+          std::string(el.name()) == "surfacematerial" || std::string(el.name()) == "output")
+        continue;
+      begin(el.attribute("name").as_string());
+      attempt(out, [&] { graph_.surface = material_node_surface(top, el, where(el)); });
+    }
+    for (pugi::xml_node ng : root_.children("nodegraph")) {
+      if (ng.attribute("nodedef")) continue;  // an implementation of a custom node
+      std::vector<pugi::xml_node> materials;
+      int outputs = 0;
+      for (pugi::xml_node o : ng.children("output")) {
+        ++outputs;
+        if (std::string(o.attribute("type").as_string()) == "material") materials.push_back(o);
+      }
+      for (pugi::xml_node o : materials) {
+        const std::string ng_name = ng.attribute("name").as_string();
+        begin(outputs == 1 ? ng_name : ng_name + "/" + o.attribute("name").as_string());
+        attempt(out, [&] { graph_.surface = material_surface(Scope{ng, 0, nullptr, ""}, o, where(o)); });
+      }
+    }
     if (out.empty()) preview_outputs(out);
     if (out.empty()) fail(path_, ": no surfacematerial and no outputs: nothing to render");
     for (const Graph& g : out)
@@ -196,6 +220,45 @@ class Reader {
            "' is not a supported surface shader (pmc supports standard_surface, UsdPreviewSurface, "
            "open_pbr_surface, gltf_pbr, disney_principled and surface_unlit)");
     return s.node;
+  }
+
+  // The surface shader of a material node: a surfacematerial's
+  // 'surfaceshader' input, or, for a custom node of type material (a
+  // nodedef whose nodegraph outputs a material), the material its
+  // implementation graph outputs.
+  int material_node_surface(const Scope& scope, pugi::xml_node node, const std::string& context,
+                            int depth = 0) {
+    if (depth > 16) fail(context, ": materials nested deeper than 16 definitions");
+    if (std::string(node.name()) == "surfacematerial") {
+      pugi::xml_node in = node.find_child_by_attribute("input", "name", "surfaceshader");
+      if (!in) fail(where(scope, node), ": surfacematerial has no 'surfaceshader' input");
+      return shader_of(scope, in, where(scope, node) + " input 'surfaceshader'");
+    }
+    Node n;
+    n.name = node.attribute("name").as_string();
+    n.category = node.name();
+    n.type = ValueType::None;
+    const Expansion e = expand(scope, node, n, nullptr, where(scope, node));
+    pugi::xml_node out = e.scope.graph.find_child_by_attribute("output", "type", "material");
+    if (!out) fail(e.context, ": its definition's nodegraph outputs no material");
+    return material_surface(e.scope, out, e.context, depth + 1);
+  }
+
+  // The surface shader behind an element of type material (a nodegraph's or
+  // the document's <output>) that names a material node.
+  int material_surface(const Scope& scope, pugi::xml_node el, const std::string& context, int depth = 0) {
+    if (el.attribute("nodegraph")) {
+      pugi::xml_node ng =
+          root_.find_child_by_attribute("nodegraph", "name", el.attribute("nodegraph").as_string());
+      pugi::xml_node out = ng ? ng.find_child_by_attribute("output", "type", "material") : pugi::xml_node();
+      if (!out)
+        fail(context, ": nodegraph '", el.attribute("nodegraph").as_string(), "' outputs no material");
+      return material_surface(Scope{ng, 0, nullptr, ""}, out, context, depth + 1);
+    }
+    const std::string nodename = el.attribute("nodename").as_string();
+    pugi::xml_node node = nodename.empty() ? pugi::xml_node() : find_node(scope.graph, nodename);
+    if (!node) fail(context, ": is not connected to a material node");
+    return material_node_surface(scope, node, context, depth);
   }
 
   // The scope's id and its graph's path below the root ("outer/inner" for a
@@ -989,6 +1052,10 @@ class Reader {
         const std::string type = output.attribute("type").as_string();
         if (type == "surfaceshader") {  // a shader output is a material
           graph_.surface = shader_of(scope, output, origin);
+          return;
+        }
+        if (type == "material") {
+          graph_.surface = material_surface(scope, output, origin);
           return;
         }
         Node conv;

@@ -477,6 +477,59 @@ TEST(MtlxReader, InputWithoutValueOrConnectionTakesItsDefault) {
   EXPECT_NEAR(params[PMC_P_SPECULAR_ROUGHNESS], 0.2f, 1e-6f);
 }
 
+// Materials that are not top-level surfacematerial nodes: a nodegraph that
+// outputs a material (named after the nodegraph, so a look can assign it),
+// and an instance of a custom node of type material whose definition's
+// nodegraph builds one from the instance's inputs (MaterialX's test suite:
+// materials/material_node_discovery.mtlx, definition/surfacematerial_definition.mtlx).
+TEST(MtlxReader, NodegraphAndCustomNodeMaterials) {
+  const std::string xml = R"(<?xml version="1.0"?>
+<materialx version="1.39">
+  <nodegraph name="NG_mat">
+    <standard_surface name="sr" type="surfaceshader">
+      <input name="base_color" type="color3" value="0.1, 0.2, 0.3"/>
+    </standard_surface>
+    <surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" nodename="sr"/></surfacematerial>
+    <output name="out" type="material" nodename="m"/>
+  </nodegraph>
+  <nodedef name="ND_tinted" node="tinted">
+    <input name="tint" type="color3" value="0.5, 0.5, 0.5"/>
+    <output name="out" type="material"/>
+  </nodedef>
+  <nodegraph name="NG_tinted" nodedef="ND_tinted">
+    <standard_surface name="sr" type="surfaceshader">
+      <input name="base_color" type="color3" interfacename="tint"/>
+    </standard_surface>
+    <surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" nodename="sr"/></surfacematerial>
+    <output name="out" type="material" nodename="m"/>
+  </nodegraph>
+  <tinted name="green" type="material"><input name="tint" type="color3" value="0, 1, 0"/></tinted>
+  <tinted name="grey" type="material"/>
+  <standard_surface name="SR" type="surfaceshader"/>
+  <surfacematerial name="plain" type="material"><input name="surfaceshader" type="surfaceshader" nodename="SR"/></surfacematerial>
+</materialx>
+)";
+  std::vector<Graph> graphs = read_mtlx_string(xml, kPath);
+  auto base_color = [&](const std::string& material) {
+    for (Graph& g : graphs)
+      if (g.material == material) {
+        EXPECT_TRUE(g.error.empty()) << g.error;
+        TexturePool tex;
+        MaterialProgram prog;
+        const CompiledMaterial& cm = compile_material(g, tex, prog);
+        float params[PMC_P_COUNT];
+        evaluate(prog, cm, 0.5f, 0.5f, params);
+        return std::vector<float>(params + PMC_P_BASE_COLOR, params + PMC_P_BASE_COLOR + 3);
+      }
+    ADD_FAILURE() << "no material " << material;
+    return std::vector<float>();
+  };
+  EXPECT_EQ(base_color("NG_mat"), (std::vector<float>{0.1f, 0.2f, 0.3f}));
+  EXPECT_EQ(base_color("green"), (std::vector<float>{0.0f, 1.0f, 0.0f}));
+  EXPECT_EQ(base_color("grey"), (std::vector<float>{0.5f, 0.5f, 0.5f}));
+  EXPECT_EQ(base_color("plain"), (std::vector<float>{0.8f, 0.8f, 0.8f}));
+}
+
 TEST(MtlxReader, UnconnectedInputsTakeLibraryDefaults) {
   std::string xml =
       doc("<ramplr name=\"ramp\" type=\"color3\">\n"
