@@ -32,6 +32,7 @@
 #include "materials/node_graph.h"
 #include "materials/node_table.h"
 #include "tests/support/graph_builder.h"
+#include "tests/support/material_eval.h"
 
 namespace pmc {
 namespace {
@@ -92,16 +93,7 @@ std::vector<uint32_t> instructions(const MaterialProgram& p, const CompiledMater
 // The host interpreter on one compiled material.
 void run_host(const MaterialProgram& p, const CompiledMaterial& m, float u, float v,
               float params[PMC_P_COUNT], const float3& pos = make_float3(0.3f, -0.2f, 0.7f)) {
-  PmcShadingInputs in{};
-  in.uv = make_float2(u, v);
-  in.position = pos;
-  in.normal = make_float3(0, 0, 1);
-  in.tangent = make_float3(1, 0, 0);
-  in.bitangent = make_float3(0, 1, 0);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
-  pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(p.code.data(), m.entry, &in, &ts, stack, params, nullptr);
+  test::run_program_at(p, m, u, v, params, pos);
 }
 
 TEST(Compiler, FreesStackSlotsAfterLastUse) {

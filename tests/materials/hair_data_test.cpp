@@ -15,6 +15,7 @@
 #include "core/device/pmc_interp.h"
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
+#include "tests/support/material_eval.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -34,17 +35,8 @@ Params evaluate(const std::string& body, const std::string& inputs) {
                           "</surfacematerial>\n</materialx>\n";
   std::vector<Graph> graphs = read_mtlx_string(xml, kPath);
   EXPECT_EQ(graphs[0].error, "");
-  TexturePool tex;
-  MaterialProgram prog;
-  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
-  PmcShadingInputs in{};
-  in.uv = make_float2(0.5f, 0.5f);
-  in.normal = make_float3(0, 0, 1);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
   float p[PMC_P_COUNT];
-  pmc_surface_defaults(p, in.normal);
-  pmc_interp_run(prog.code.data(), cm.entry, &in, &ts, stack, p, nullptr);
+  test::surface_params_at(graphs[0], 0.5f, 0.5f, p);
   return {p[PMC_P_METALNESS], {p[PMC_P_BASE_COLOR], p[PMC_P_BASE_COLOR + 1], p[PMC_P_BASE_COLOR + 2]}};
 }
 

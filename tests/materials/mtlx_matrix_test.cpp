@@ -22,6 +22,7 @@
 #include "core/error.h"
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
+#include "tests/support/material_eval.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -69,19 +70,8 @@ Result evaluate(const std::string& xml, float u = 0.5f, float v = 0.5f) {
   std::vector<Graph> graphs = read_mtlx_string(xml, kPath);
   EXPECT_EQ(graphs.size(), 1u);
   EXPECT_EQ(graphs[0].error, "");
-  TexturePool tex;
-  MaterialProgram prog;
-  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
-  PmcShadingInputs in{};
-  in.uv = make_float2(u, v);
-  in.normal = make_float3(0, 0, 1);
-  in.tangent = make_float3(1, 0, 0);
-  in.bitangent = make_float3(0, 1, 0);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
   float p[PMC_P_COUNT];
-  pmc_surface_defaults(p, in.normal);
-  pmc_interp_run(prog.code.data(), cm.entry, &in, &ts, stack, p, nullptr);
+  test::surface_params_at(graphs[0], u, v, p);
   return {{p[PMC_P_BASE_COLOR], p[PMC_P_BASE_COLOR + 1], p[PMC_P_BASE_COLOR + 2]}, p[PMC_P_METALNESS]};
 }
 

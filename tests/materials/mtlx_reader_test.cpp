@@ -31,6 +31,7 @@
 #include "materials/compiler.h"
 #include "materials/cpu_interpreter.h"
 #include "materials/material_set.h"
+#include "tests/support/material_eval.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -210,15 +211,7 @@ TEST(MtlxReader, CycleNamesTheNodesOnIt) {
 // Runs a compiled material on the host at uv (u, v).
 void evaluate(const MaterialProgram& p, const CompiledMaterial& m, float u, float v,
               float params[PMC_P_COUNT]) {
-  PmcShadingInputs in{};
-  in.uv = make_float2(u, v);
-  in.normal = make_float3(0, 0, 1);
-  in.tangent = make_float3(1, 0, 0);
-  in.bitangent = make_float3(0, 1, 0);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
-  pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(p.code.data(), m.entry, &in, &ts, stack, params, nullptr);
+  test::run_program_at(p, m, u, v, params);
 }
 
 TEST(MtlxReader, InlinesNodegraphsWithInterfaceValues) {

@@ -16,6 +16,7 @@
 #include "materials/compiler.h"
 #include "materials/mtlx_library.h"
 #include "materials/mtlx_reader.h"
+#include "tests/support/material_eval.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -67,16 +68,8 @@ void gltf_of(const std::string& inputs, float color[3], float* metal) {
       "nodename=\"SR\"/></surfacematerial></materialx>";
   std::vector<Graph> graphs = read_mtlx_string(xml, kPath);
   ASSERT_EQ(graphs[0].error, "");
-  TexturePool tex;
-  MaterialProgram prog;
-  const CompiledMaterial& cm = compile_material(graphs[0], tex, prog);
-  PmcShadingInputs in{};
-  in.normal = make_float3(0, 0, 1);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
   float p[PMC_P_COUNT];
-  pmc_surface_defaults(p, in.normal);
-  pmc_interp_run(prog.code.data(), cm.entry, &in, &ts, stack, p, nullptr);
+  test::surface_params_at(graphs[0], 0.0f, 0.0f, p);
   for (int i = 0; i < 3; ++i) color[i] = p[PMC_P_BASE_COLOR + i];
   *metal = p[PMC_P_METALNESS];
 }
