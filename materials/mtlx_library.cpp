@@ -80,8 +80,9 @@ const MtlxLibrary& MtlxLibrary::load(const std::string& dir) {
   lib->dir_ = dir;
   std::vector<fs::path> files;
   // bxdf/translation holds the shader-translation nodes
-  // (standard_surface_to_open_pbr_surface ...): data nodes with many outputs.
-  for (const char* sub : {"stdlib", "pbrlib", "bxdf", "bxdf/translation", "nprlib", "cmlib"}) {
+  // (standard_surface_to_open_pbr_surface ...): data nodes with many outputs;
+  // bxdf/lama holds closure nodes built from pbrlib closures (LamaConductor ...).
+  for (const char* sub : {"stdlib", "pbrlib", "bxdf", "bxdf/translation", "bxdf/lama", "nprlib", "cmlib"}) {
     std::error_code ec;
     for (const auto& e : fs::directory_iterator(fs::path(dir) / sub, ec))
       if (e.is_regular_file() && e.path().extension() == ".mtlx") files.push_back(e.path());

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "core/error.h"
+#include "materials/closure_flatten.h"
 #include "materials/emit.h"
 #include "materials/mtlx_include.h"
 #include "materials/mtlx_library.h"
@@ -166,6 +167,7 @@ class Reader {
   std::vector<std::string> active_path_;
   std::map<int, int> geom_nodes_;  // GeomDefault -> node index
   std::map<int, Value> folded_;    // node index -> its folded value (inputs of matrix nodes)
+  std::set<int> closure_nodes_;    // closure nodes kept for flattening
 
   [[noreturn]] static void fail_with(const std::string& message) { throw Error(message); }
 
@@ -180,6 +182,7 @@ class Reader {
     active_path_.clear();
     geom_nodes_.clear();
     folded_.clear();
+    closure_nodes_.clear();
   }
 
   // Builds the current material with `build`; an error makes it a failed
@@ -215,11 +218,20 @@ class Reader {
     connect(scope, in, s, context);
     if (!s.linked) fail(context, ": is not connected to a shader");
     const Node& shader = graph_.nodes[size_t(s.node)];
-    if (!is_surface(shader.category))
+    if (is_surface(shader.category)) return s.node;
+    if (!closure_nodes_.count(s.node))
       fail(shader.origin, ": '", shader.category,
            "' is not a supported surface shader (pmc supports standard_surface, UsdPreviewSurface, "
-           "open_pbr_surface, gltf_pbr, disney_principled and surface_unlit)");
-    return s.node;
+           "open_pbr_surface, gltf_pbr, disney_principled, surface_unlit, and pbrlib closure graphs)");
+    const std::string origin = shader.origin;  // flattening adds nodes: `shader` may move
+    std::vector<std::string> unmodelled;
+    const int flat = flatten_closure_shader(graph_, s.node, unmodelled);
+    if (!unmodelled.empty()) {
+      std::string list;
+      for (const std::string& u : unmodelled) list += (list.empty() ? "" : "; ") + u;
+      warn(origin + ": closure graph flattened onto pmc's BSDF; not modelled: " + list);
+    }
+    return flat;
   }
 
   // The surface shader of a material node: a surfacematerial's
@@ -317,6 +329,10 @@ class Reader {
       if (v.matrix.size() != count)
         fail(context, ": '", s, "' is not a ", type_name(t), " value (", count, " numbers expected, ",
              v.matrix.size(), " given)");
+      return v;
+    }
+    if (is_closure_type(t)) {  // a closure input holds no value: "" is "not connected"
+      if (!s.empty()) fail(context, ": a ", type_name(t), " input cannot hold the value '", s, "'");
       return v;
     }
     int n = type_width(t);
@@ -666,6 +682,16 @@ class Reader {
       build_node(scope, el, *def, node, context);
       id = graph_.add(std::move(node));
       memo_[memo_key] = id;
+    } else if (pugi::xml_node cd = closure_nodedef(el, node)) {
+      // A pbrlib closure (a *_bsdf, surface, layer, mix of closures ...):
+      // kept as written, with its definition's inputs; shader_of flattens.
+      std::map<std::string, Input> ins = instance_inputs(scope, el, cd, context);
+      for (auto& kv : ins) node.inputs.push_back(kv.second);
+      if (node.type == ValueType::None)
+        node.type = parse_type(cd.child("output").attribute("type").as_string());
+      id = graph_.add(std::move(node));
+      closure_nodes_.insert(id);
+      memo_[memo_key] = id;
     } else if (pugi::xml_node nd = matrix_nodedef(el, node.category)) {
       id = fold_matrix(scope, el, nd, node, context);
       memo_[memo_key] = id;
@@ -677,6 +703,19 @@ class Reader {
     active_.erase(key);
     active_path_.pop_back();
     return id;
+  }
+
+  // The definition of a closure node pmc flattens (closure_flatten.h): one
+  // whose output is a closure and that MaterialX implements natively (no
+  // nodegraph: a custom closure node with a graph expands as usual).
+  pugi::xml_node closure_nodedef(pugi::xml_node el, const Node& node) {
+    if (!is_closure_type(node.type) || is_surface(node.category)) return {};
+    pugi::xml_node nd = match_nodedef(el, node.category, el.attribute("type").as_string());
+    if (!nd) return {};
+    const std::string name = nd.attribute("name").as_string();
+    if (doc_defs_.implementation(name) || (library() && library()->definitions().implementation(name)))
+      return {};
+    return nd;
   }
 
   // The definition of a node on matrices that pmc folds (mtlx_matrix.h): one
@@ -848,9 +887,8 @@ class Reader {
         if (is_closure(o.attribute("type").as_string()))
           fail(context, ": node '", node.category, "' (", nd_name, ") outputs a ",
                o.attribute("type").as_string(),
-               " closure: generic BSDF/EDF graphs are not supported (pmc maps standard_surface, "
-               "UsdPreviewSurface, open_pbr_surface, gltf_pbr, disney_principled and surface_unlit onto its "
-               "BSDF)");
+               " closure, which pmc cannot render here (it flattens BSDF and EDF nodes that declare their "
+               "type under a surface shader; volume, light and displacement shaders are not supported)");
       fail(context, ": unsupported node '", node.category, "' (", nd_name,
            "): pmc has no native implementation and MaterialX defines no nodegraph for it");
     }

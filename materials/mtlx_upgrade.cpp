@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/error.h"
+#include "materials/mtlx_upgrade_bsdf.h"
 
 namespace pmc {
 namespace {
@@ -189,6 +190,8 @@ void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
     if (std::string(e.name()) == "parameter") e.set_name("input");
   });
   if (version < 138) upgrade_color2(root);
+  if (version < 138) upgrade_bsdf_nodes_137(root);
+  upgrade_thin_film_layers_138(root);
   upgrade_materials(root, path);
   upgrade_channels(root);
   // atan2's inputs: 1.38 swapped in1 and in2, 1.39 named them iny and inx

@@ -11,7 +11,9 @@
 //  - geomattrvalue becomes geompropvalue (1.37; its attrname input stays, as
 //    MaterialX's own upgrade leaves it);
 //  - color2 becomes vector2, with separate2's outr/outa and channel letters
-//    r/a read from a color2 becoming x/y (1.37).
+//    r/a read from a color2 becoming x/y (1.37);
+//  - pbrlib's BSDF nodes are renamed, nested layering becomes layer nodes,
+//    and thin-film layers become thin-film inputs (mtlx_upgrade_bsdf.h).
 // The version attribute is then 1.39. Documents already at 1.39 are untouched.
 // tests/materials/mtlx_library_test.cpp (OldDocumentsUpgradeLikeMaterialXDoes)
 // compares the result with what the materialx Python package's upgrade gives.

@@ -67,6 +67,12 @@ const char* type_name(ValueType t) {
       return "surfaceshader";
     case ValueType::Material:
       return "material";
+    case ValueType::BSDF:
+      return "BSDF";
+    case ValueType::EDF:
+      return "EDF";
+    case ValueType::VDF:
+      return "VDF";
     case ValueType::Matrix33:
       return "matrix33";
     case ValueType::Matrix44:
@@ -80,7 +86,8 @@ ValueType parse_type(const std::string& n) {
   for (ValueType t :
        {ValueType::Float, ValueType::Integer, ValueType::Boolean, ValueType::Vector2, ValueType::Vector3,
         ValueType::Vector4, ValueType::Color3, ValueType::Color4, ValueType::String, ValueType::Filename,
-        ValueType::Surface, ValueType::Material, ValueType::Matrix33, ValueType::Matrix44})
+        ValueType::Surface, ValueType::Material, ValueType::Matrix33, ValueType::Matrix44, ValueType::BSDF,
+        ValueType::EDF, ValueType::VDF})
     if (n == type_name(t)) return t;
   return ValueType::None;
 }

@@ -34,8 +34,11 @@ enum class ValueType {
   Color4,
   String,
   Filename,
-  Surface,
+  Surface,  // surfaceshader
   Material,
+  BSDF,  // closures (closure_flatten.h): only between closure nodes
+  EDF,
+  VDF,
   Matrix33,  // folded by the reader; width 0 (not a shading value)
   Matrix44
 };

@@ -26,6 +26,7 @@
 #include "materials/compiler.h"
 #include "materials/mtlx_reader.h"
 #include "materials/node_table.h"
+#include "tests/support/material_eval.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -56,19 +57,7 @@ std::string doc_with_color(const std::string& body, const std::string& color_inp
 
 // Compiles `g` and evaluates it at uv on the host.
 void evaluate(Graph g, float u, float v, float params[PMC_P_COUNT], CompiledMaterial* out = nullptr) {
-  TexturePool tex;
-  MaterialProgram prog;
-  const CompiledMaterial& cm = compile_material(g, tex, prog);
-  PmcShadingInputs in{};
-  in.uv = make_float2(u, v);
-  in.normal = make_float3(0, 0, 1);
-  in.tangent = make_float3(1, 0, 0);
-  in.bitangent = make_float3(0, 1, 0);
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE];
-  pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(prog.code.data(), cm.entry, &in, &ts, stack, params, nullptr);
-  if (out) *out = cm;
+  test::surface_params_at(std::move(g), u, v, params, out);
 }
 
 const Graph& only(const std::vector<Graph>& graphs) {
@@ -193,17 +182,20 @@ TEST(MtlxLibrary, CustomNodesExpandFromTheDocumentsOwnNodegraph) {
   EXPECT_NEAR(p[PMC_P_BASE_COLOR + 2], 0.4f, 1e-6f);
 }
 
-TEST(MtlxLibrary, ClosureGraphsAndUnknownNodesFailNamingTheNode) {
-  std::string bsdf =
+// (BSDF and EDF graphs are flattened: closure_flatten_test.cpp. A light
+// shader where a surface shader belongs is not.)
+TEST(MtlxLibrary, UnrenderableClosuresAndUnknownNodesFailNamingTheNode) {
+  std::string light =
       "<?xml version=\"1.0\"?><materialx version=\"1.39\">"
-      "<oren_nayar_diffuse_bsdf name=\"diffuse\" type=\"BSDF\"/>"
-      "<surface name=\"srf\" type=\"surfaceshader\"><input name=\"bsdf\" type=\"BSDF\" nodename=\"diffuse\"/>"
-      "</surface><surfacematerial name=\"M\" type=\"material\">"
-      "<input name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"srf\"/></surfacematerial></materialx>";
-  std::string e = error_of([&] { read_mtlx_string(bsdf, kPath); });
+      "<uniform_edf name=\"glow\" type=\"EDF\"/>"
+      "<light name=\"lamp\" type=\"lightshader\"><input name=\"edf\" type=\"EDF\" nodename=\"glow\"/>"
+      "</light><surfacematerial name=\"M\" type=\"material\">"
+      "<input name=\"surfaceshader\" type=\"surfaceshader\" "
+      "nodename=\"lamp\"/></surfacematerial></materialx>";
+  std::string e = error_of([&] { read_mtlx_string(light, kPath); });
   EXPECT_MENTIONS(e, kPath);
-  EXPECT_MENTIONS(e, "'srf'");
-  EXPECT_MENTIONS(e, "surface");
+  EXPECT_MENTIONS(e, "'lamp'");
+  EXPECT_MENTIONS(e, "lightshader");
   EXPECT_MENTIONS(e, "closure");
   e = error_of([] {
     read_mtlx_string(doc_with_color("<sparkle name=\"sp\" type=\"color3\"/>",
@@ -557,6 +549,77 @@ TEST(MtlxLibrary, OldDocumentsUpgradeLikeMaterialXDoes) {
   EXPECT_NEAR(a[PMC_P_SPECULAR_COLOR + 0], 0.75f, 1e-6f);  // "arr"
   EXPECT_NEAR(a[PMC_P_SPECULAR_COLOR + 1], 0.25f, 1e-6f);
   EXPECT_NEAR(a[PMC_P_SPECULAR_ROUGHNESS], 0.375f, 1e-6f);  // channels "a" x 0.5
+}
+
+// 1.37's BSDF nodes (renamed, nested `base` layering, conductor_brdf's
+// artistic parameters) and 1.38's thin-film layers, upgraded by pmc and by
+// the materialx package: the same closure graph, so the same parameters.
+TEST(MtlxLibrary, OldClosureGraphsUpgradeLikeMaterialXDoes) {
+  const std::string dir = test::temp_dir();
+  const char* docs[] = {
+      "<?xml version=\"1.0\"?>\n<materialx version=\"1.37\">\n"
+      "  <nodegraph name=\"NG\">\n"
+      "    <diffuse_brdf name=\"d\" type=\"BSDF\"><input name=\"color\" type=\"color3\" "
+      "value=\"0.5, 0.25, 0.125\"/></diffuse_brdf>\n"
+      "    <dielectric_brdf name=\"c\" type=\"BSDF\"><input name=\"ior\" type=\"float\" value=\"1.7\"/>"
+      "<input name=\"base\" type=\"BSDF\" nodename=\"d\"/></dielectric_brdf>\n"
+      "    <conductor_brdf name=\"m\" type=\"BSDF\"><input name=\"reflectivity\" type=\"color3\" "
+      "value=\"0.9, 0.5, 0.2\"/><input name=\"edge_color\" type=\"color3\" value=\"1, 1, "
+      "1\"/></conductor_brdf>\n"
+      "    <diffuse_btdf name=\"t\" type=\"BSDF\"/>\n"
+      "    <add name=\"a\" type=\"BSDF\"><input name=\"in1\" type=\"BSDF\" nodename=\"c\"/>"
+      "<input name=\"in2\" type=\"BSDF\" nodename=\"t\"/></add>\n"
+      "    <mix name=\"x\" type=\"BSDF\"><input name=\"fg\" type=\"BSDF\" nodename=\"m\"/>"
+      "<input name=\"bg\" type=\"BSDF\" nodename=\"a\"/><input name=\"mix\" type=\"float\" "
+      "value=\"0.25\"/></mix>\n"
+      "    <surface name=\"s\" type=\"surfaceshader\"><input name=\"bsdf\" type=\"BSDF\" nodename=\"x\"/>"
+      "<input name=\"opacity\" type=\"float\" value=\"1\"/></surface>\n"
+      "    <output name=\"out\" type=\"surfaceshader\" nodename=\"s\"/>\n"
+      "  </nodegraph>\n</materialx>\n",
+      "<?xml version=\"1.0\"?>\n<materialx version=\"1.38\">\n"
+      "  <nodegraph name=\"NG\">\n"
+      "    <oren_nayar_diffuse_bsdf name=\"d\" type=\"BSDF\"/>\n"
+      "    <dielectric_bsdf name=\"c\" type=\"BSDF\"><input name=\"ior\" type=\"float\" "
+      "value=\"1.4\"/></dielectric_bsdf>\n"
+      "    <layer name=\"l\" type=\"BSDF\"><input name=\"top\" type=\"BSDF\" nodename=\"c\"/>"
+      "<input name=\"base\" type=\"BSDF\" nodename=\"d\"/></layer>\n"
+      "    <thin_film_bsdf name=\"film\" type=\"BSDF\"><input name=\"thickness\" type=\"float\" "
+      "value=\"500\"/>"
+      "<input name=\"ior\" type=\"float\" value=\"1.3\"/></thin_film_bsdf>\n"
+      "    <layer name=\"fl\" type=\"BSDF\"><input name=\"top\" type=\"BSDF\" nodename=\"film\"/>"
+      "<input name=\"base\" type=\"BSDF\" nodename=\"l\"/></layer>\n"
+      "    <surface name=\"s\" type=\"surfaceshader\"><input name=\"bsdf\" type=\"BSDF\" "
+      "nodename=\"fl\"/></surface>\n"
+      "    <output name=\"out\" type=\"surfaceshader\" nodename=\"s\"/>\n"
+      "  </nodegraph>\n</materialx>\n"};
+  for (int i = 0; i < 2; ++i) {
+    const std::string old_doc = dir + "/old" + std::to_string(i) + ".mtlx";
+    const std::string upgraded = dir + "/upgraded" + std::to_string(i) + ".mtlx";
+    test::write_file(old_doc, docs[i]);
+    const std::string cmd = test::source_path("scripts/python") +
+                            " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
+                            "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
+                            old_doc + " " + upgraded;
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    testing::internal::CaptureStderr();  // the flattening's notes (transmission, thin film)
+    const Graph mine = only(read_mtlx_file(old_doc)), theirs = only(read_mtlx_file(upgraded));
+    const std::string notes = testing::internal::GetCapturedStderr();
+    EXPECT_NE(notes.find(i == 0 ? "translucent_bsdf" : "dielectric_bsdf thin film"), std::string::npos)
+        << notes;
+    float a[PMC_P_COUNT], b[PMC_P_COUNT];
+    evaluate(mine, 0.3f, 0.6f, a);
+    evaluate(theirs, 0.3f, 0.6f, b);
+    for (int k = 0; k < PMC_P_COUNT; ++k) EXPECT_EQ(a[k], b[k]) << "document " << i << " parameter " << k;
+  }
+  // By hand, the 1.37 document: mix 0.25 of the conductor (F0 = reflectivity)
+  // over the coated diffuse (F0(1.7) over a base that keeps 1 - F0).
+  float p[PMC_P_COUNT];
+  testing::internal::CaptureStderr();
+  evaluate(only(read_mtlx_file(dir + "/old0.mtlx")), 0.3f, 0.6f, p);
+  testing::internal::GetCapturedStderr();
+  const float f0 = std::pow(0.7f / 2.7f, 2.0f);
+  EXPECT_NEAR(p[PMC_P_SPECULAR_COLOR], 0.25f * 0.9f + 0.75f * f0, 1e-6f);
+  EXPECT_NEAR(p[PMC_P_BASE_COLOR + 1], 0.75f * 0.25f * (1 - f0), 1e-6f);
 }
 
 // A version number too large for an int (a fuzzer's find) is a future
