@@ -338,6 +338,7 @@ class Flattener {
       note("generalized_schlick_edf (its colour at normal incidence everywhere)");
       return l;
     }
+    if (c == "dot") return closure_input(n, "in");  // an organisational pass-through
     if (c == "layer") {
       Lobes top = closure_input(n, "top"), base = closure_input(n, "base");
       Lobes l = empty();

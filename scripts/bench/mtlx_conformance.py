@@ -1,7 +1,7 @@
 """bench.mtlx_conformance — how many MaterialX documents pmc renders, and why
 the others do not. Not a timing benchmark: a count (issue 13 item 2).
 
-    scripts/python -m bench.mtlx_conformance                  local documents + the node suite
+    scripts/python -m bench.mtlx_conformance                  local documents + the node and closure suites
     scripts/python -m bench.mtlx_conformance --no-node-suite  local documents only
     scripts/python -m bench.mtlx_conformance --docs DIR_OR_FILE ...   other documents (repeatable)
 
@@ -20,6 +20,12 @@ Method (also written into the section):
               of the category (its `nodedef` named, every input left at its
               default) with a top-level output per node output. This stands in
               for MaterialX's own test suite, which is not installed here.
+  closure     one generated document per library definition whose output is
+  suite       a BSDF or EDF (pbrlib's closures and operators, bxdf's lama
+              nodes): the node with its defaults, each closure input fed by a
+              default oren_nayar_diffuse_bsdf or uniform_edf, under a
+              `surface` and a surfacematerial. pmc flattens these onto its
+              BSDF (materials/closure_flatten.h).
   tally       rendered (exit 0 and an image), failed cleanly (exit 2 with an
               error that names the document), unclear (exit 2, but the error
               does not name the document), crashed (any other exit, a signal
@@ -48,7 +54,7 @@ def parse(argv=None):
                    help="a .mtlx file or a folder searched for them (repeatable; default: "
                         + ", ".join(DEFAULT_DIRS) + " and the materialx package's resources)")
     p.add_argument("--no-node-suite", dest="node_suite", action="store_false",
-                   help="skip the generated one-document-per-node-category suite")
+                   help="skip the generated node and closure suites")
     p.add_argument("--timeout", type=common.positive_int, default=120, metavar="S",
                    help="seconds one render may take before it counts as crashed (default 120)")
     common.add_out_dir(p, "out/mtlx-conformance", "generated spheres, node-suite documents and logs")
@@ -140,6 +146,36 @@ def node_suite(out_dir):
                 if len(outs) > 1:
                     out.setOutputString(o.getName())
         path = os.path.join(out_dir, f"{cat}.mtlx")
+        MaterialX.writeToXmlFile(doc, path)
+        paths.append(path)
+    return paths
+
+
+def closure_suite(out_dir):
+    """Generates one document per BSDF- or EDF-output definition of the
+    MaterialX libraries, wrapped in a surface; returns their paths."""
+    MaterialX = mx()
+    lib = MaterialX.createDocument()
+    MaterialX.loadLibraries(["libraries"], MaterialX.FileSearchPath(os.path.dirname(MaterialX.__file__)), lib)
+    feeds = {"BSDF": "oren_nayar_diffuse_bsdf", "EDF": "uniform_edf"}
+    os.makedirs(out_dir, exist_ok=True)
+    paths = []
+    for nd in sorted(lib.getNodeDefs(), key=lambda d: d.getName()):
+        outs = nd.getOutputs()
+        if len(outs) != 1 or outs[0].getType() not in feeds:
+            continue
+        kind = outs[0].getType()
+        doc = MaterialX.createDocument()
+        node = doc.addNode(nd.getNodeString(), "closure", kind)
+        node.setNodeDefString(nd.getName())
+        for inp in nd.getActiveInputs():
+            if inp.getType() in feeds:
+                feed = doc.addNode(feeds[inp.getType()], "feed_" + inp.getName(), inp.getType())
+                node.addInput(inp.getName(), inp.getType()).setNodeName(feed.getName())
+        surface = doc.addNode("surface", "surface", "surfaceshader")
+        surface.addInput("bsdf" if kind == "BSDF" else "edf", kind).setNodeName(node.getName())
+        doc.addMaterialNode("M_" + nd.getName(), surface)
+        path = os.path.join(out_dir, f"{nd.getName()}.mtlx")
         MaterialX.writeToXmlFile(doc, path)
         paths.append(path)
     return paths
@@ -271,6 +307,8 @@ def main(argv=None):
     if a.node_suite:
         sets.append(("Node suite (one document per stdlib data-node category)",
                      node_suite(os.path.join(work, "node-suite"))))
+        sets.append(("Closure suite (one document per BSDF or EDF definition)",
+                     closure_suite(os.path.join(work, "closure-suite"))))
     section = [SECTION, "", f"`{a.command}`", "", f"{common.utc_now()}, {common.git_rev()}; "
                "32x32, 1 spp, one sphere per material. Method: the module's docstring.", ""]
     for title, docs in sets:

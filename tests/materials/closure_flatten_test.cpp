@@ -315,6 +315,19 @@ TEST(ClosureFlatten, DataWhereAClosureBelongsIsAnError) {
   }
 }
 
+TEST(ClosureFlatten, ConvertToAShaderAndDotPassThrough) {
+  // convert color3 -> surfaceshader is an unlit surface (stdlib's own graph);
+  // dot forwards its input.
+  Result r =
+      evaluate(material("<convert name=\"c\" type=\"surfaceshader\"><input name=\"in\" type=\"color3\" "
+                        "value=\"0.5, 1, 2\"/></convert>"
+                        "<dot name=\"S\" type=\"surfaceshader\"><input name=\"in\" type=\"surfaceshader\" "
+                        "nodename=\"c\"/></dot>"));
+  expect_color(r.bsdf.emission, 0.5f, 1, 2, "unlit emission");
+  expect_color(r.bsdf.diffuse, 0, 0, 0, "no diffuse");
+  expect_color(r.bsdf.specular, 0, 0, 0, "no specular");
+}
+
 TEST(ClosureFlatten, AHostileDepthIsAnErrorNotAStackOverflow) {
   std::string nodes = "<oren_nayar_diffuse_bsdf name=\"b0\" type=\"BSDF\"/>";
   for (int i = 1; i <= 300; ++i)
