@@ -228,6 +228,9 @@ class Flattener {
     const Node& src = g_.nodes[size_t(i->node)];
     if (!is_closure_type(src.type) && !is_surface_category(src.category))
       fail(n.origin, ": input '", name, "' is connected to ", type_name(src.type), " data, not a closure");
+    if (is_closure_type(i->type) && src.type != i->type)
+      fail(n.origin, ": input '", name, "' takes a ", type_name(i->type), " but node '", src.name, "' (",
+           src.origin, ") outputs a ", type_name(src.type), " (type mismatch)");
     const int from = i->node;  // `n` may be the graph's: read before the graph grows
     const std::string origin = n.origin;
     Lobes l = of(from);

@@ -298,6 +298,17 @@ TEST(ClosureFlatten, WhatCannotBeModelledIsNamedOnce) {
   expect_color(r.bsdf.diffuse, 0.18f * 0.96f, 0.18f * 0.96f, 0.18f * 0.96f, "diffuse under the coat");
 }
 
+TEST(ClosureFlatten, AnEdfWhereABsdfBelongsIsAnError) {
+  try {
+    read_mtlx_string(material("<uniform_edf name=\"glow\" type=\"EDF\"/>" + surface_of("glow")), kPath);
+    ADD_FAILURE() << "no error";
+  } catch (const Error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("input 'bsdf' takes a BSDF but node 'glow'"), std::string::npos) << what;
+    EXPECT_NE(what.find("type mismatch"), std::string::npos) << what;
+  }
+}
+
 TEST(ClosureFlatten, DataWhereAClosureBelongsIsAnError) {
   // The document's only material fails, so the document does, naming the node.
   try {
