@@ -221,7 +221,8 @@ Measured and not kept (2026-11-27, two `bench.cache_position` runs, with and wit
 instead of its nodes against `--cache-min-nodes` (a noise counts as several nodes: measured on PoCL with
 every triangle running one noise, noise3d costs 36 ns a hit, fractal3d of 3 octaves 104 ns,
 worleynoise3d 200 ns, where an add costs under 1 ns) also caches the solid floor's roughness, a 4-node
-fractal3d sub-graph. The solid room went from 1.13x to 1.22x (1.19x in a second run), but its bias from 50.3 to 47.5 dB over the
+fractal3d sub-graph. The solid room measured 1.22x and 1.19x with it, 1.13x and 1.19x without
+(separate runs: the gain is within their spread), while its bias fell from 50.3 to 47.5 dB over the
 image and from 40.8 to 38.3 dB in its worst tile: a roughness averaged over a cell moves the highlights.
 The default scene's plan did not change.
 """
