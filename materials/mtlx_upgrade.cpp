@@ -30,14 +30,6 @@ int version_of(pugi::xml_node root) {
   return static_cast<int>(major * 100 + minor);
 }
 
-void for_each_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn) {
-  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling()) {
-    if (c.type() != pugi::node_element) continue;
-    fn(c);
-    for_each_element(c, fn);
-  }
-}
-
 std::string unique_name(pugi::xml_node graph, const std::string& base) {
   std::set<std::string> names;
   for (pugi::xml_node c : graph.children()) names.insert(c.attribute("name").as_string());
@@ -86,7 +78,7 @@ void upgrade_materials(pugi::xml_node root, const std::string& path) {
 // An input with a `channels` attribute reads a swizzle of its source.
 void upgrade_channels(pugi::xml_node root) {
   std::vector<pugi::xml_node> inputs;
-  for_each_element(root, [&](pugi::xml_node e) {
+  for_each_mtlx_element(root, [&](pugi::xml_node e) {
     if (std::string(e.name()) == "input" && e.attribute("channels") &&
         (e.attribute("nodename") || e.attribute("nodegraph")))
       inputs.push_back(e);
@@ -152,7 +144,7 @@ void upgrade_color2(pugi::xml_node root) {
     return channels;
   };
   std::vector<pugi::xml_node> elements;
-  for_each_element(root, [&](pugi::xml_node e) { elements.push_back(e); });
+  for_each_mtlx_element(root, [&](pugi::xml_node e) { elements.push_back(e); });
   // Channel strings first, while the types still say color2.
   for (pugi::xml_node e : elements) {
     if (std::string(e.name()) != "input") continue;
@@ -181,12 +173,12 @@ void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
   const int version = version_of(root);
   if (version == 0 || version >= 139) return;
   if (version < 138) {
-    for_each_element(root, [](pugi::xml_node e) {
+    for_each_mtlx_element(root, [](pugi::xml_node e) {
       if (std::string(e.name()) == "geomattrvalue") e.set_name("geompropvalue");
     });
   }
   // 1.38: parameters are inputs; materials are surfacematerial nodes; channels are swizzles.
-  for_each_element(root, [](pugi::xml_node e) {
+  for_each_mtlx_element(root, [](pugi::xml_node e) {
     if (std::string(e.name()) == "parameter") e.set_name("input");
   });
   if (version < 138) upgrade_color2(root);
@@ -196,7 +188,7 @@ void upgrade_mtlx_document(pugi::xml_node root, const std::string& path) {
   upgrade_channels(root);
   // atan2's inputs: 1.38 swapped in1 and in2, 1.39 named them iny and inx
   // (so 1.36/1.37's in1 is inx, 1.38's in1 is iny).
-  for_each_element(root, [version](pugi::xml_node e) {
+  for_each_mtlx_element(root, [version](pugi::xml_node e) {
     if (std::string(e.name()) != "atan2") return;
     for (pugi::xml_node in : e.children("input")) {
       std::string n = in.attribute("name").as_string();

@@ -10,14 +10,6 @@
 namespace pmc {
 namespace {
 
-void for_each_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn) {
-  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling()) {
-    if (c.type() != pugi::node_element) continue;
-    fn(c);
-    for_each_element(c, fn);
-  }
-}
-
 bool is(pugi::xml_node e, const char* tag) { return std::string(e.name()) == tag; }
 
 pugi::xml_node input(pugi::xml_node node, const char* name) {
@@ -82,6 +74,14 @@ std::vector<pugi::xml_node> upstream(pugi::xml_node graph, pugi::xml_node start)
 
 }  // namespace
 
+void for_each_mtlx_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn) {
+  for (pugi::xml_node c = n.first_child(); c; c = c.next_sibling()) {
+    if (c.type() != pugi::node_element) continue;
+    fn(c);
+    for_each_mtlx_element(c, fn);
+  }
+}
+
 void upgrade_bsdf_nodes_137(pugi::xml_node root) {
   static const std::map<std::string, std::string> renamed = {
       {"diffuse_brdf", "oren_nayar_diffuse_bsdf"},
@@ -95,7 +95,7 @@ void upgrade_bsdf_nodes_137(pugi::xml_node root) {
       {"conductor_brdf", "conductor_bsdf"},
       {"dielectric_btdf", "dielectric_bsdf"}};
   std::vector<pugi::xml_node> nodes;
-  for_each_element(root, [&](pugi::xml_node e) {
+  for_each_mtlx_element(root, [&](pugi::xml_node e) {
     if (renamed.count(e.name())) nodes.push_back(e);
   });
   for (pugi::xml_node node : nodes) {
@@ -128,7 +128,7 @@ void upgrade_bsdf_nodes_137(pugi::xml_node root) {
 
 void upgrade_thin_film_layers_138(pugi::xml_node root) {
   std::vector<pugi::xml_node> layers;
-  for_each_element(root, [&](pugi::xml_node e) {
+  for_each_mtlx_element(root, [&](pugi::xml_node e) {
     if (is(e, "layer")) layers.push_back(e);
   });
   std::vector<pugi::xml_node> unused;
@@ -154,7 +154,7 @@ void upgrade_thin_film_layers_138(pugi::xml_node root) {
     }
     const std::string layer_name = layer.attribute("name").as_string();
     const std::string base_name = base.attribute("name").as_string();
-    for_each_element(graph, [&](pugi::xml_node e) {
+    for_each_mtlx_element(graph, [&](pugi::xml_node e) {
       if ((is(e, "input") || is(e, "output")) && layer_name == e.attribute("nodename").as_string())
         e.attribute("nodename").set_value(base_name.c_str());
     });

@@ -20,9 +20,14 @@
 //    (except transmission-only ones).
 #pragma once
 
+#include <functional>
 #include <pugixml.hpp>
 
 namespace pmc {
+
+// Calls `fn` on every element below `n`, depth first, parents before their
+// children (the upgrade's passes walk the document with it).
+void for_each_mtlx_element(pugi::xml_node n, const std::function<void(pugi::xml_node)>& fn);
 
 void upgrade_bsdf_nodes_137(pugi::xml_node root);
 void upgrade_thin_film_layers_138(pugi::xml_node root);

@@ -36,6 +36,7 @@
 #include "materials/node_table.h"
 #include "materials/passes.h"
 #include "tests/support/graph_builder.h"
+#include "tests/support/material_eval.h"
 
 namespace pmc {
 namespace {
@@ -213,17 +214,7 @@ OpCounts count_ops(const MaterialProgram& p, const CompiledMaterial& m) {
 
 void run_host(const MaterialProgram& p, const CompiledMaterial& m, float u, float v,
               float params[PMC_P_COUNT], float3 pos, PmcCacheContext* cache = nullptr) {
-  PmcShadingInputs in{};
-  in.uv = make_float2(u, v);
-  in.position = pos;
-  in.normal = make_float3(0, 0, 1);
-  in.tangent = make_float3(1, 0, 0);
-  in.bitangent = make_float3(0, 1, 0);
-  in.footprint = 0.01f;
-  PmcTextureSet ts{};
-  float stack[PMC_STACK_SIZE] = {0};
-  pmc_surface_defaults(params, in.normal);
-  pmc_interp_run(p.code.data(), m.entry, &in, &ts, stack, params, cache);
+  test::run_program_at(p, m, u, v, params, pos, cache, 0.01f);
 }
 
 // The graphs of (a) and (c), plus a float point feeding roughness.

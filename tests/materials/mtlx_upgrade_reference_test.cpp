@@ -30,6 +30,18 @@ const Graph& only(const std::vector<Graph>& graphs) {
   return graphs[0];
 }
 
+// Writes the materialx package's upgrade of `old_doc` to `upgraded`; false
+// (and a failure naming the command) when it could not run.
+bool upgraded_by_materialx(const std::string& old_doc, const std::string& upgraded) {
+  const std::string cmd = test::source_path("scripts/python") +
+                          " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
+                          "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
+                          old_doc + " " + upgraded;
+  if (std::system(cmd.c_str()) == 0) return true;
+  ADD_FAILURE() << "the materialx Python package (scripts/setup installs it): " << cmd;
+  return false;
+}
+
 // Old documents: pmc's upgrade against the materialx Python package's.
 TEST(MtlxUpgradeReference, OldDocumentsUpgradeLikeMaterialXDoes) {
   const std::string dir = test::temp_dir();
@@ -55,12 +67,7 @@ TEST(MtlxUpgradeReference, OldDocumentsUpgradeLikeMaterialXDoes) {
       "    </shaderref>\n"
       "  </material>\n"
       "</materialx>\n");
-  const std::string cmd = test::source_path("scripts/python") +
-                          " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
-                          "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
-                          old_doc + " " + upgraded;
-  ASSERT_EQ(std::system(cmd.c_str()), 0)
-      << "the materialx Python package (scripts/setup installs it): " << cmd;
+  ASSERT_TRUE(upgraded_by_materialx(old_doc, upgraded));
   const Graph mine = only(read_mtlx_file(old_doc)), theirs = only(read_mtlx_file(upgraded));
   EXPECT_EQ(mine.material, "Mat");
   EXPECT_EQ(theirs.material, "Mat");
@@ -90,11 +97,7 @@ TEST(MtlxUpgradeReference, OldDocumentsUpgradeLikeMaterialXDoes) {
       "  <surfacematerial name=\"M38\" type=\"material\"><input name=\"surfaceshader\" "
       "type=\"surfaceshader\" nodename=\"SR\"/></surfacematerial>\n"
       "</materialx>\n");
-  const std::string cmd38 = test::source_path("scripts/python") +
-                            " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
-                            "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
-                            old38 + " " + upgraded38;
-  ASSERT_EQ(std::system(cmd38.c_str()), 0) << cmd38;
+  ASSERT_TRUE(upgraded_by_materialx(old38, upgraded38));
   evaluate(only(read_mtlx_file(old38)), 0.3f, 0.6f, a);
   evaluate(only(read_mtlx_file(upgraded38)), 0.3f, 0.6f, b);
   for (int k = 0; k < PMC_P_COUNT; ++k) EXPECT_EQ(a[k], b[k]) << "1.38 parameter " << k;
@@ -131,11 +134,7 @@ TEST(MtlxUpgradeReference, OldDocumentsUpgradeLikeMaterialXDoes) {
       "  <surfacematerial name=\"M37\" type=\"material\"><input name=\"surfaceshader\" "
       "type=\"surfaceshader\" nodename=\"SR\"/></surfacematerial>\n"
       "</materialx>\n");
-  const std::string cmd37 = test::source_path("scripts/python") +
-                            " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
-                            "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
-                            old37 + " " + upgraded37;
-  ASSERT_EQ(std::system(cmd37.c_str()), 0) << cmd37;
+  ASSERT_TRUE(upgraded_by_materialx(old37, upgraded37));
   ASSERT_EQ(test::read_file(upgraded37).find("color2"), std::string::npos) << "MaterialX kept a color2";
   evaluate(only(read_mtlx_file(old37)), 0.3f, 0.6f, a);
   evaluate(only(read_mtlx_file(upgraded37)), 0.3f, 0.6f, b);
@@ -192,11 +191,7 @@ TEST(MtlxUpgradeReference, OldClosureGraphsUpgradeLikeMaterialXDoes) {
     const std::string old_doc = dir + "/old" + std::to_string(i) + ".mtlx";
     const std::string upgraded = dir + "/upgraded" + std::to_string(i) + ".mtlx";
     test::write_file(old_doc, docs[i]);
-    const std::string cmd = test::source_path("scripts/python") +
-                            " -c \"import MaterialX as mx, sys; d = mx.createDocument(); "
-                            "mx.readFromXmlFile(d, sys.argv[1]); mx.writeToXmlFile(d, sys.argv[2])\" " +
-                            old_doc + " " + upgraded;
-    ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    ASSERT_TRUE(upgraded_by_materialx(old_doc, upgraded));
     testing::internal::CaptureStderr();  // the flattening's notes (transmission, thin film)
     const Graph mine = only(read_mtlx_file(old_doc)), theirs = only(read_mtlx_file(upgraded));
     const std::string notes = testing::internal::GetCapturedStderr();
