@@ -15,6 +15,10 @@ ProgressBar::ProgressBar(std::string label, bool enabled)
 void ProgressBar::update(int done, int total, uint64_t rays) {
   if (!enabled_ || total <= 0) return;
   auto now = std::chrono::steady_clock::now();
+  if (done == 0) {  // rendering starts: rates and time left count from here, not from the warm-up
+    start_ = last_ = now;
+    return;
+  }
   double elapsed = std::chrono::duration<double>(now - start_).count();
   double since_last = std::chrono::duration<double>(now - last_).count();
   if (!tty_ && since_last < 5.0 && done < total) return;

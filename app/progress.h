@@ -2,7 +2,9 @@
 //
 // Shows samples done, rays per second and the estimated time left, redrawn in
 // place on a terminal and at most every few seconds (one line each) when
-// stderr is a file or pipe, so CI logs stay readable.
+// stderr is a file or pipe, so CI logs stay readable. An update with 0 done
+// (the renderer's, once its kernels are warmed up) restarts the clock, so the
+// rate and the time left count rendering only.
 #pragma once
 
 #include <chrono>

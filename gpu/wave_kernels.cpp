@@ -50,19 +50,35 @@ WaveKernels::WaveKernels(const ClContext& cl, int lanes, const std::string& prog
 }
 
 void WaveKernels::launch(cl_kernel k, size_t count, size_t local, cl_event* done) {
-  const size_t global = std::max<size_t>(1, (count + local - 1) / local) * local;
+  const size_t items = std::max<size_t>({count, warm_up_items_, 1});
+  const size_t global = (items + local - 1) / local * local;
   cl_check(clEnqueueNDRangeKernel(cl_.queue(), k, 1, nullptr, &global, &local, 0, nullptr, done),
            "clEnqueueNDRangeKernel");
 }
 
 void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
-  // One full work-group each, exactly the geometry of every later launch;
-  // the kernels do nothing for indices beyond their range.
-  camera_rays(wave, 0, 0, nullptr);
-  shade(scene, wave, 0, 0, 0, nullptr);
-  resolve_shadows(wave, 0, 0, nullptr);
-  accumulate(wave, 0, nullptr);
-  zero(wave.cache_stats, 0);
+  // The largest grid (work-items) each kernel can get in this render: a
+  // wave's paths (shadow rays: at most one per path), the material order's
+  // batches of `lanes` hits (all chunks': an upper bound), the zeroing
+  // kernel's capped grid over the largest buffer.
+  const size_t paths = wave.paths;
+  const size_t batches = wave.order_capacity / size_t(lanes_);
+  const size_t zero_items = std::min<size_t>(std::max(wave.film_bytes, wave.cache_bytes) / 4, kZeroGridItems);
+  // Every kernel with no work (the kernels do nothing beyond their index
+  // range), once in one work-group and, where the render's grids reach
+  // PoCL's limit, once more at full width: the two compiled variants.
+  for (int pass = 0; pass < 2; ++pass) {
+    auto at = [&](size_t largest) {
+      warm_up_items_ = pass == 0 ? 0 : largest;
+      return pass == 0 || largest >= kSmallGridItems;
+    };
+    if (at(paths)) camera_rays(wave, 0, 0, nullptr);
+    if (at(batches)) shade(scene, wave, 0, 0, 0, nullptr);
+    if (at(paths)) resolve_shadows(wave, 0, 0, nullptr);
+    if (at(paths)) accumulate(wave, 0, nullptr);
+    if (at(zero_items)) zero(wave.cache_stats, 0);
+  }
+  warm_up_items_ = 0;
   cl_.finish();
 }
 
@@ -113,7 +129,7 @@ void WaveKernels::zero(const ClBuffer& b, size_t bytes) {
   const cl_ulong words = bytes / sizeof(uint32_t);
   set_kernel_args(zero_, b, words);
   // A fixed grid (at most 4096 groups) that strides over the words.
-  launch(zero_, std::min<size_t>(words, 4096 * kLocalSize), kLocalSize, nullptr);
+  launch(zero_, std::min<size_t>(words, kZeroGridItems), kLocalSize, nullptr);
 }
 
 }  // namespace pmc

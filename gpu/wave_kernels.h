@@ -7,9 +7,11 @@
 // kLocalSize / lanes batches of `lanes` hits.
 // Each launcher sets every argument of its kernel in one place, from the
 // named buffers, so no caller counts positional arguments. warm_up() runs
-// every kernel once with the render's own launch geometry and no work: PoCL
+// every kernel with the render's own launch geometry and no work: PoCL
 // compiles a kernel's work-group function at its first launch for a given
-// work-group size, and that compile belongs to warm-up, not to rendering.
+// work-group size and grid class (narrower than 65535 work-items, its
+// "smallgrid" variant, or wider), and that compile belongs to warm-up, not
+// to rendering.
 #pragma once
 
 #include <cstddef>
@@ -26,6 +28,12 @@ namespace pmc {
 class WaveKernels {
  public:
   static constexpr size_t kLocalSize = 64;
+  // PoCL compiles a second work-group function for grids of this many
+  // work-items or more (its grid_width_specialization_limit, USHRT_MAX on
+  // every CPU device); other drivers compile one.
+  static constexpr size_t kSmallGridItems = 65535;
+  // The zeroing kernel's grid: at most this many work-items, striding.
+  static constexpr size_t kZeroGridItems = 4096 * kLocalSize;
 
   // `lanes`: hits per shade work-item (a power of two up to kLocalSize).
   WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes);
@@ -35,8 +43,9 @@ class WaveKernels {
   double build_seconds() const { return program_.build_seconds(); }
   int lanes() const { return lanes_; }
 
-  // Every kernel once, with no rays (frame.path_count must be 0 and the
-  // frame uploaded); returns when they are done.
+  // Every kernel with no rays, at each grid class this render's launches
+  // reach (frame.path_count must be 0 and the frame uploaded); returns when
+  // they are done.
   void warm_up(const SceneBuffers& scene, WaveBuffers& wave);
 
   // Pixels [frame.pixel_offset, + count) -> camera rays in rays[queue] and fresh paths.
@@ -57,6 +66,7 @@ class WaveKernels {
   int lanes_;
   ClProgram program_;
   void zero(const ClBuffer& b, size_t bytes);
+  size_t warm_up_items_ = 0;  // during warm_up(): the grid of every launch, at least
   cl_kernel camera_ = nullptr, shade_ = nullptr, resolve_ = nullptr, film_ = nullptr, zero_ = nullptr;
 };
 

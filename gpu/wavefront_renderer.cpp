@@ -325,6 +325,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     m.warmed_up = true;
   }
   m.kernels.clear(wave);
+  if (progress) progress(0, end_sample - first_sample, 0);
 
   WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
   for (int sample = first_sample; sample < end_sample; ++sample) {

@@ -126,7 +126,8 @@ struct RenderOutput {
   RenderStats stats;
 };
 
-// Called after each finished pass: samples done so far, total (of this render's range), rays so far.
+// Called with 0 samples done once the kernels are warmed up and rendering starts, then after
+// each finished pass: samples done so far, total (of this render's range), rays so far.
 using ProgressFn = std::function<void(int samples_done, int samples_total, uint64_t rays)>;
 
 class WaveKernels;
