@@ -14,9 +14,11 @@ Parts:
            this build, round-robin. Accuracy: RMS of each image against a
            256-spp render of this build (OpenImageIO's idiff), and whether the
            two images are identical.
-  cold     the same render with POCL_CACHE_DIR pointing to a new, empty folder
-           (PoCL compiles the kernels), then with that folder warm; compares
-           render_seconds and lists kernel_build_seconds and warm-up.
+  cold     the same render, with the cache off and on, with POCL_CACHE_DIR
+           pointing to a new, empty folder (PoCL compiles the kernels), then
+           with that folder warm; compares render_seconds and lists
+           kernel_build_seconds and warm-up. The same for the demo's
+           `pmc compare` (8 spp): its cache speed ratio, first run and second.
   scaling  render_seconds with --threads 1 and 2 (640x360), and at 360p,
            720p, 1080p and 4K (2 spp: the time per sample is what scales), with
            the process's peak resident memory.
@@ -36,6 +38,7 @@ SECTION = "## Speed: default scene, cold kernel cache, scaling (scripts/bench-sp
 SCENE = ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]
 PARTS = ["before", "cold", "scaling"]
 PART_TITLES = ["### Against an older pmc", "### Cold kernel cache", "### Scaling"]
+DEMO_SPP = 8  # scripts/demo's samples per pixel
 SIZES = [("360p", 640, 360), ("720p", 1280, 720), ("1080p", 1920, 1080), ("4K", 3840, 2160)]
 
 
@@ -106,11 +109,11 @@ def main(argv=None):
     device = None
     sections = []
 
-    def render(binary, name, extra, env=None, size=(640, 360), spp=None):
+    def render(binary, name, extra, env=None, size=(640, 360), spp=None, cache="off"):
         """One render; returns its stats plus wall and peak RSS."""
         global_spp = a.spp if spp is None else spp
         cmd = [binary, "render", *SCENE, "-o", f"{OUT}/{name}.exr", *common.size_args(*size, global_spp),
-               "--cache", "off", "--stats", f"{OUT}/{name}.json", *extra]
+               "--cache", cache, "--stats", f"{OUT}/{name}.json", *extra]
         wall, cpu, rss = run_measured(cmd, f"{OUT}/{name}.log", env)
         s = common.read_json(f"{OUT}/{name}.json")
         loads.sample()
@@ -157,31 +160,63 @@ def main(argv=None):
         sections.append(("### Against an older pmc", text))
 
     # ---- cold: an empty PoCL kernel cache against a warm one
+    def demo(name, env):
+        """scripts/demo's comparison (pmc compare, 640x360, DEMO_SPP spp); returns its metrics."""
+        out = f"{OUT}/{name}"
+        cmd = [PMC, "compare", *SCENE, "--spp", str(DEMO_SPP), "--out-dir", out, "--quiet"]
+        wall, _, _ = run_measured(cmd, f"{OUT}/{name}.log", env)
+        m = common.read_json(f"{out}/metrics.json")
+        loads.sample()
+        return {"wall": wall, "ratio": m["speed_ratio"], "off": m["time_off_seconds"], "on": m["time_on_seconds"]}
+
     if "cold" in a.parts:
-        print(f"{PROG}: cold: {RUNS} round(s) of (new kernel cache, the same cache warm)", flush=True)
-        res = {"cold": [], "warm": []}
+        print(f"{PROG}: cold: {RUNS} round(s) of (new kernel cache, the same cache warm) for cache off, "
+              f"cache on and the demo's comparison", flush=True)
+        kinds = ["off", "on", "demo"]
+        res = {(k, t): [] for k in kinds for t in ("cold", "warm")}
         for r in range(RUNS):
-            cache_dir = tempfile.mkdtemp(prefix="pmc-pocl-cache-")
-            env = dict(os.environ, POCL_CACHE_DIR=cache_dir)
-            try:
-                res["cold"].append(render(PMC, "cold", [], env))
-                res["warm"].append(render(PMC, "warm", [], env))
-            finally:
-                shutil.rmtree(cache_dir, ignore_errors=True)
-            print(f"  round {r + 1}/{RUNS} cold render {res['cold'][-1]['render']:6.2f}s "
-                  f"(wall {res['cold'][-1]['wall']:.1f}s), warm render {res['warm'][-1]['render']:6.2f}s "
-                  f"(wall {res['warm'][-1]['wall']:.1f}s)", flush=True)
-        ratio = common.median(common.round_ratios([x["render"] for x in res["cold"]],
-                                                  [x["render"] for x in res["warm"]]))
-        rows = [[k, fmt(med(res[k], "render")), fmt(med(res[k], "build")), fmt(med(res[k], "warmup")),
-                 fmt(med(res[k], "wall"))] for k in ("cold", "warm")]
-        table = common.md_table(["kernel cache", "render_seconds", "kernel_build_seconds",
+            for kind in common.round_order(kinds, r, "rotate"):
+                cache_dir = tempfile.mkdtemp(prefix="pmc-pocl-cache-")
+                env = dict(os.environ, POCL_CACHE_DIR=cache_dir)
+                try:
+                    for t in ("cold", "warm"):
+                        name = f"{t}-{kind}"
+                        res[(kind, t)].append(demo(name, env) if kind == "demo" else
+                                              render(PMC, name, [], env, cache=kind))
+                finally:
+                    shutil.rmtree(cache_dir, ignore_errors=True)
+                c, w = res[(kind, "cold")][-1], res[(kind, "warm")][-1]
+                key = "ratio" if kind == "demo" else "render"
+                print(f"  round {r + 1}/{RUNS} {kind:4s} cold {key} {c[key]:5.2f} (wall {c['wall']:.1f}s), "
+                      f"warm {key} {w[key]:5.2f} (wall {w['wall']:.1f}s)", flush=True)
+
+        def cold_over_warm(kind, key):
+            return common.median(common.round_ratios([x[key] for x in res[(kind, "cold")]],
+                                                     [x[key] for x in res[(kind, "warm")]]))
+
+        rows = [[f"cache {k}", t, fmt(med(res[(k, t)], "render")), fmt(med(res[(k, t)], "build")),
+                 fmt(med(res[(k, t)], "warmup")), fmt(med(res[(k, t)], "wall"))]
+                for k in ("off", "on") for t in ("cold", "warm")]
+        table = common.md_table(["render", "kernel cache", "render_seconds", "kernel_build_seconds",
                                  "kernel_warmup_seconds", "whole run (s)"], rows)
+        demo_rows = [[t, fmt(med(res[("demo", t)], "off")), fmt(med(res[("demo", t)], "on")),
+                      f"{med(res[('demo', t)], 'ratio'):.2f}x", fmt(med(res[("demo", t)], "wall"))]
+                     for t in ("cold", "warm")]
+        demo_table = common.md_table(["kernel cache", "cache off render (s)", "cache on render (s)",
+                                      "speed ratio off / on", "whole run (s)"], demo_rows)
+        r_off, r_on = cold_over_warm("off", "render"), cold_over_warm("on", "render")
+        r_demo = cold_over_warm("demo", "ratio")
         text = (f"First render after an empty kernel cache (`POCL_CACHE_DIR` a new folder) against the next "
-                f"render with that cache (default scene, cache off, 640x360, {a.spp} spp):\n\n{table}\n\n"
-                f"render_seconds cold / warm (median of per-round ratios): **{ratio:.2f}** (goal at most 1.15). "
-                f"PoCL's compile lands in kernel_build_seconds and the warm-up, which launches every kernel "
-                f"with the render's own work-group sizes before the clock starts.")
+                f"render with that cache (default scene, 640x360, {a.spp} spp; each kind in its own new "
+                f"folder):\n\n{table}\n\n"
+                f"render_seconds cold / warm (median of per-round ratios): cache off **{r_off:.2f}**, cache on "
+                f"**{r_on:.2f}** (goal at most 1.15). PoCL's compile lands in kernel_build_seconds and the "
+                f"warm-up, which launches every kernel with the render's own work-group sizes and grid "
+                f"classes before the clock starts.\n\n"
+                f"The demo's comparison (`pmc compare`, as `scripts/demo` runs it: {DEMO_SPP} spp), first run "
+                f"with an empty kernel cache against the second:\n\n{demo_table}\n\n"
+                f"Speed ratio of the first run over the second's (median of per-round ratios): "
+                f"**{r_demo:.2f}** (1: the first run shows the same speedup).")
         print("\n" + text + "\n")
         sections.append(("### Cold kernel cache", text))
 
@@ -222,7 +257,7 @@ def main(argv=None):
 
     machine = common.machine(device)
     produced = (f"Produced by `{a.command}` on {common.utc_now()}, pmc at {common.git_rev('unknown revision')} "
-                f"(`{PMC}`), {RUNS} round(s) interleaved, medians ({loads.note()}).")
+                f"(`{PMC}`), {RUNS} round(s) interleaved, medians ({loads.note()}). Machine: {machine}.")
     # Parts not run this time keep their text from the file (each names its own run).
     kept = previous_parts(a.doc)
     titles = dict(zip(PARTS, PART_TITLES))
@@ -236,8 +271,8 @@ def main(argv=None):
     body = "\n\n".join(parts)
     section = f"""{SECTION}
 
-Machine: {machine}. Scene: `{' '.join(SCENE)}`, cache off. Each part below says which command
-produced it and when; timings are wall-clock seconds.
+Scene: `{' '.join(SCENE)}`, cache off where a part does not say otherwise. Each part below says
+which command produced it, when and on which machine; timings are wall-clock seconds.
 
 {body}
 """
