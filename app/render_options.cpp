@@ -184,6 +184,14 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
           "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "
           "aliasing, fewer hits)")
         ->capture_default_str();
+    setter<std::string>(
+        app, "--cache-fit", "cache_fit", [&c](const std::string& v) { c.cache_fit = v == "on"; }, "on|off",
+        "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "
+        "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "
+        "and cells by half a level per halving, so the keys fit (faster, blurrier material detail); off: "
+        "texels follow the footprint whatever the table's size (the paper)")
+        ->check(cli::one_of({"on", "off"}))
+        ->default_str("off");
     field(app, "--cache-max-refine", "cache_max_refine", c.cache_max_refine, "LEVELS",
           "how many levels finer than the footprint a pattern may make its texels (each level splits a "
           "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")

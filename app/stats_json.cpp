@@ -16,6 +16,7 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["max_refine"] = s.max_refine;
   c["feature_texels"] = s.feature_texels;
   c["mip_bias"] = s.mip_bias;
+  c["fit_levels"] = s.fit_levels;
   c["cells"] = st.cells;
   c["entries"] = st.ways;
   c["memory_bytes"] = st.memory_bytes;

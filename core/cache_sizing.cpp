@@ -12,14 +12,23 @@ double expected_keys_per_pixel_point(int spp) {
   return 1.0 + 3.0 * (1.0 - 1.0 / std::sqrt(double(std::max(spp, 1))));
 }
 
+double expected_entries(int width, int height, int spp, double points) {
+  const double pixels = double(width) * double(height);
+  return pixels * std::max(points, 1.0) * expected_keys_per_pixel_point(spp) * 2.0;  // load factor 1/2
+}
+
+float fit_levels(double expected, uint64_t table_entries) {
+  if (table_entries == 0 || !(expected > double(table_entries))) return 0.0f;
+  return float(0.5 * std::log2(expected / double(table_entries)));
+}
+
 CacheSize choose_cache_size(int width, int height, int spp, double points, uint64_t memory_limit_bytes,
                             uint32_t entries) {
   CacheSize s;
   s.entries = std::max<uint32_t>(entries, 1);
-  const double pixels = double(width) * double(height);
   const double factor = expected_keys_per_pixel_point(spp);
-  const double keys = pixels * std::max(points, 1.0) * factor;
-  const double slots = keys * 2.0;  // load factor 1/2
+  const double slots = expected_entries(width, height, spp, points);
+  const double keys = slots / 2.0;
   uint64_t cells = table_cells_at_least(uint64_t(std::ceil(slots / s.entries)));
   const uint64_t max_cells = std::max<uint64_t>(1024, memory_limit_bytes / (8ull * s.entries));
   bool capped = cells > max_cells;

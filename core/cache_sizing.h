@@ -27,6 +27,12 @@ struct CacheSize {
 
 // Keys per pixel and cache point after `spp` samples (see above).
 double expected_keys_per_pixel_point(int spp);
+// Entries a frame's expected keys need at load factor 1/2 (before rounding to cells).
+double expected_entries(int width, int height, int spp, double cache_points_per_material);
+// --cache-fit: the levels to coarsen texels by so that `expected` entries' worth
+// of keys fit in `table_entries`: half a level per halving (a level has 4x
+// fewer texels, and cells cut by a surface scale like area); 0 when they fit.
+float fit_levels(double expected, uint64_t table_entries);
 
 // `entries` per cell (8 by default); the cell count is a power of two of at
 // least 1024, halved while the table exceeds `memory_limit_bytes`.

@@ -68,8 +68,12 @@ std::string settings_hash(const RenderSettings& s) {
     h.word(c.center ? 1 : 0);
     h.word(c.bilinear ? 1 : 0);
     if (c.priority) h.word(0x7072696f72697479ull);  // "priority"; keep-first parts keep their old hashes
-    if (c.bandwidth) {                              // level floors change the image
-      h.word(0x62616e6477696474ull);                // "bandwidt(h)"
+    if (c.fit_levels != 0.0f) {                     // coarser texels change the image
+      h.word(0x666974ull);                          // "fit"
+      add_floats(h, &c.fit_levels, 1);
+    }
+    if (c.bandwidth) {                // level floors change the image
+      h.word(0x62616e6477696474ull);  // "bandwidt(h)"
       h.word(uint64_t(c.max_refine));
       add_floats(h, &c.feature_texels, 1);
     }

@@ -43,25 +43,48 @@ void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheS
     cache.reason = os.str();
     return;
   }
+  const double per_material = double(points) / double(std::max<size_t>(1, with_points));
   if (config.cache_cells) {
     cache.cells = uint64_t(*config.cache_cells);
     cache.ways = uint32_t(config.cache_entries);
     std::ostringstream os;
     os << "set by " << setting("cache_cells") << "/" << setting("cache_entries");
     cache.reason = os.str();
-    return;
+  } else {
+    // cache_entries alone: the cell count follows, so the table holds the same keys.
+    const uint64_t avail = available_memory_bytes();
+    const CacheSize cs =
+        choose_cache_size(width, height, spp, per_material, std::min<uint64_t>(avail / 4, 4ull << 30),
+                          uint32_t(config.cache_entries));
+    cache.cells = cs.cells;
+    cache.ways = cs.entries;
+    cache.reason = cs.reason;
+    if (std::string problem = table_memory_problem(cs.cells, cs.entries); !problem.empty())
+      fail_config(setting("cache_cells"), "/", setting("cache_entries"), ": ", problem);
   }
-  // cache_entries alone: the cell count follows, so the table holds the same keys.
-  const uint64_t avail = available_memory_bytes();
-  const double per_material = double(points) / double(std::max<size_t>(1, with_points));
-  const CacheSize cs =
-      choose_cache_size(width, height, spp, per_material, std::min<uint64_t>(avail / 4, 4ull << 30),
-                        uint32_t(config.cache_entries));
-  cache.cells = cs.cells;
-  cache.ways = cs.entries;
-  cache.reason = cs.reason;
-  if (std::string problem = table_memory_problem(cs.cells, cs.entries); !problem.empty())
-    fail_config(setting("cache_cells"), "/", setting("cache_entries"), ": ", problem);
+  // A table smaller than the frame's keys need misses more and more (below
+  // about 1/4 of that the cached render is slower than the cacheless one,
+  // docs/BENCHMARKS.md); --cache-fit coarsens the texels until they fit.
+  const double expected = expected_entries(width, height, spp, per_material);
+  const uint64_t entries = cache.cells * cache.ways;
+  const float short_levels = fit_levels(expected, entries);
+  std::ostringstream os;
+  os.precision(3);
+  if (config.cache_fit) {
+    cache.fit_levels = short_levels;
+    if (short_levels > 0.0f)
+      os << "; " << setting("cache_fit") << ": the frame's keys need " << uint64_t(expected)
+         << " entries at load "
+         << "factor 1/2, the table has " << entries << ", so texels are " << short_levels
+         << " levels coarser";
+    else
+      os << "; " << setting("cache_fit") << ": the frame's keys fit, texels follow the footprint";
+  } else if (short_levels > 0.0f) {
+    os << "; the frame's keys need about " << uint64_t(expected)
+       << " entries at load factor 1/2 and the table has " << entries << ": expect misses ("
+       << setting("cache_fit") << " on makes texels " << short_levels << " levels coarser to fit)";
+  }
+  cache.reason += os.str();
 }
 
 }  // namespace

@@ -3,11 +3,10 @@
 // Everything the shade kernel reads about the scene (geometry as one record
 // per triangle, materials' bytecode and textures, the light table) lives
 // here, one buffer per entry of PMC_SCENE_BUFFERS
-// (gpu/kernels/pmc_scene_args.h), in the kernel's argument order. The wave loop never touches them after the upload (the
-// lights once per render); the shade launcher passes them as a block.
-// The scene's and materials' buffers are ClContext::shared_buffer()s: on CPU
-// devices and integrated GPUs they are the host vectors themselves (no copy of
-// the texel pool, often the largest thing in the process), so the Scene and
+// (gpu/kernels/pmc_scene_args.h), in the kernel's argument order. The wave loop never touches them after the
+// upload (the lights once per render); the shade launcher passes them as a block. The scene's and materials'
+// buffers are ClContext::shared_buffer()s: on CPU devices and integrated GPUs they are the host vectors
+// themselves (no copy of the texel pool, often the largest thing in the process), so the Scene and
 // MaterialSet must outlive the buffers unchanged (the RenderSession holds
 // both for its renderer's lifetime); on discrete GPUs they are copies. The
 // light buffers are uploaded per render, as copies.

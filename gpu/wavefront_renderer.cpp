@@ -200,7 +200,7 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.cache_ways = cs.ways;
   frame.cache_cells_lo = uint32_t(cs.cells & 0xffffffffu);
   frame.cache_cells_hi = uint32_t(cs.cells >> 32);
-  frame.mip_bias = cs.mip_bias;
+  frame.mip_bias = cs.mip_bias - cs.fit_levels;
   frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
   frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
   frame.cache_max_refine = cs.max_refine;

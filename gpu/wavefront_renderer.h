@@ -36,6 +36,10 @@ struct CacheSettings {
   uint64_t cells = 0;
   uint32_t ways = 0;  // entries per cell
   float mip_bias = 0.0f;
+  // --cache-fit on: levels the texels are coarsened by so the frame's keys fit
+  // the table (0 when they fit or with fit off); the kernels' level bias is
+  // mip_bias - fit_levels.
+  float fit_levels = 0.0f;
   bool center = false;          // --cache-eval center
   bool bilinear = false;        // --cache-filter bilinear (center mode)
   bool priority = false;        // --cache-policy priority: camera inserts may replace deeper entries

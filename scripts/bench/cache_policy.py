@@ -30,6 +30,9 @@ PROG = "bench.cache_policy"
 SECTION = "## Cache replacement policy (scripts/bench-cache-policy)"
 DEFAULT_ARGS = ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]
 POLICIES = ["keep-first", "priority"]
+FIT = "keep-first + fit"  # --cache-fit on: coarser texels instead of another policy
+VARIANTS = {"keep-first": ["--cache-policy", "keep-first"], "priority": ["--cache-policy", "priority"],
+            FIT: ["--cache-policy", "keep-first", "--cache-fit", "on"]}
 GOAL_FRACTION = 16  # the issue's goal: at 1/16 of the automatic size keep 90% of the full-size speedup
 GOAL_SHARE = 0.9
 
@@ -51,6 +54,9 @@ def parse(argv=None):
     p.add_argument("--width", type=common.positive_int, default=640, metavar="W", help="image width (default 640)")
     p.add_argument("--height", type=common.positive_int, default=360, metavar="H", help="image height (default 360)")
     p.add_argument("--spp", type=common.positive_int, default=16, metavar="N", help="samples per pixel (default 16)")
+    p.add_argument("--bias-spp", type=common.positive_int, default=256, metavar="N",
+                   help="samples per pixel of the half-size comparisons that measure --cache-fit's bias "
+                        "(default 256)")
     p.add_argument("--fractions", type=fractions_arg, default=[1, 4, 16, 64], metavar="LIST",
                    help="table sizes as divisors of the automatic cell count (default 1,4,16,64)")
     p.add_argument("--rt-priority", type=common.positive_int, metavar="P",
@@ -70,6 +76,10 @@ def config_name(policy, divisor):
     return f"{policy} 1/{divisor}"
 
 
+def tag(name):
+    return name.replace(" + ", "_").replace(" ", "_").replace("/", "_")
+
+
 class Measure:
     def __init__(self, args):
         self.a = args
@@ -84,11 +94,29 @@ class Measure:
         cmd = [*rt, self.a.pmc, "render", *DEFAULT_ARGS, "-o", exr, "--stats", js, *self.size, *extra]
         return common.run_pmc(cmd, js, self.log, f"render {tag}", append=True)[0]
 
-    def compare(self, tag, extra):
+    def compare(self, tag, extra, size=None):
         d = f"{self.out}/{tag}"
-        common.run([self.a.pmc, "compare", *DEFAULT_ARGS, "--out-dir", d, *self.size, *extra], self.log,
+        common.run([self.a.pmc, "compare", *DEFAULT_ARGS, "--out-dir", d, *(size or self.size), *extra], self.log,
                    f"compare {tag}", append=True)
         return common.read_json(f"{d}/metrics.json")
+
+    def fit_bias(self):
+        """Cached vs cacheless at half size and --bias-spp: the automatic table, then --cache-fit in
+        tables of 1/d of it (the policies alone do not change the image)."""
+        size = common.size_args(max(1, self.a.width // 2), max(1, self.a.height // 2), self.a.bias_spp)
+        progress(f"pmc compare at half size, {self.a.bias_spp} spp: the automatic table")
+        full = self.compare("bias_automatic", [], size)
+        out = {"automatic": dict(psnr=full["psnr"], worst=full["cached_vs_cacheless"]["worst_tile_psnr"],
+                                 cells=full["cache"]["cells"], fit_levels=0.0)}
+        for d in self.a.fractions:
+            if d == 1:
+                continue
+            progress(f"pmc compare at half size, {self.a.bias_spp} spp: --cache-fit on, 1/{d}")
+            cells = max(1, full["cache"]["cells"] // d)
+            m = self.compare(f"bias_fit_{d}", ["--cache-cells", str(cells), "--cache-fit", "on"], size)
+            out[str(d)] = dict(psnr=m["psnr"], worst=m["cached_vs_cacheless"]["worst_tile_psnr"], cells=cells,
+                               fit_levels=m["cache"]["fit_levels"])
+        return out
 
     def all(self):
         t0 = time.time()
@@ -102,19 +130,23 @@ class Measure:
         cells = {}
         for d in self.a.fractions:
             cells[d] = max(1, full_cells // d)
-            for policy in POLICIES:
-                configs.append((config_name(policy, d), ["--cache", "on", "--cache-cells", str(cells[d]),
-                                                         "--cache-policy", policy]))
-        psnr = {}
+            for variant, flags in VARIANTS.items():
+                if variant == FIT and d == 1:
+                    continue  # the automatic table fits: fit changes nothing there
+                configs.append((config_name(variant, d), ["--cache", "on", "--cache-cells", str(cells[d]), *flags]))
+        psnr, worst_tile, fit_levels = {}, {}, {}
         for name, extra in configs[1:]:
             progress(f"pmc compare, {name}")
-            m = self.compare("compare_" + name.replace(" ", "_").replace("/", "_"), extra[2:])
+            m = self.compare("compare_" + tag(name), extra[2:])
             psnr[name] = m["psnr"]
+            worst_tile[name] = m.get("cached_vs_cacheless", {}).get("worst_tile_psnr")
+            fit_levels[name] = m.get("cache", {}).get("fit_levels", 0.0)
+        bias = self.fit_bias()
         times = {name: [] for name, _ in configs}
         stats = {}
         for r in range(self.a.runs):
             for name, extra in common.round_order(configs, r):
-                st = self.render(f"r{r}_" + name.replace(" ", "_").replace("/", "_"), extra)
+                st = self.render(f"r{r}_" + tag(name), extra)
                 times[name].append(st["render_seconds"])
                 stats[name] = st["cache"]
                 load.sample()
@@ -123,7 +155,8 @@ class Measure:
                     machine=common.machine(device), load=load.note(), elapsed=time.time() - t0,
                     width=self.a.width, height=self.a.height, spp=self.a.spp, runs=self.a.runs,
                     rt_priority=self.a.rt_priority, full_cells=full_cells, entries=entries,
-                    fractions=self.a.fractions, cells=cells, times=times, psnr=psnr,
+                    fractions=self.a.fractions, cells=cells, times=times, psnr=psnr, worst_tile=worst_tile,
+                    fit_levels=fit_levels, bias=bias, bias_spp=self.a.bias_spp,
                     cache={n: {k: s.get(k) for k in ("lookups", "misses", "hit_rate", "camera_hit_rate",
                                                      "camera_lookups", "camera_hits", "replaced", "dropped_full",
                                                      "memory_bytes")}
@@ -136,8 +169,10 @@ def report(data):
     rows = []
     speedup = {}
     for d in data["fractions"]:
-        for policy in POLICIES:
+        for policy in VARIANTS:
             n = config_name(policy, d)
+            if n not in data["cache"]:
+                continue
             c = data["cache"][n]
             t = common.median(data["times"][n])
             speedup[n] = t_off / t
@@ -145,16 +180,20 @@ def report(data):
             rows.append((d, policy, n, c, t, ratios))
     full = speedup.get(config_name("keep-first", 1))
     table_rows = []
+    worst = data.get("worst_tile", {})
+    levels = data.get("fit_levels", {})
     for d, policy, n, c, t, ratios in rows:
         share = f"{100 * speedup[n] / full:.0f}%" if full else "-"
+        label = f"`keep-first` + `--cache-fit on` ({levels.get(n, 0):.1f} levels coarser)" if policy == FIT else f"`{policy}`"
         table_rows.append([f"1/{d}" + (" (automatic)" if d == 1 else ""), str(data["cells"][str(d)]),
-                           f"{c['memory_bytes'] / 2**20:.2f}", f"`{policy}`",
+                           f"{c['memory_bytes'] / 2**20:.2f}", label,
                            f"{100 * c['camera_hit_rate']:.1f}%", f"{100 * c['hit_rate']:.1f}%",
                            str(c["replaced"]), f"{t:.2f}",
                            f"**{speedup[n]:.2f}x** ({min(ratios):.2f}-{max(ratios):.2f})", share,
-                           f"{data['psnr'][n]:.1f}"])
+                           f"{data['psnr'][n]:.1f}", f"{worst[n]:.1f}" if worst.get(n) is not None else "-"])
     table = common.md_table(["table", "cells", "MiB", "policy", "camera hit rate", "total hit rate", "replaced",
-                             "time (s)", "speedup off / on (range)", "of full-size speedup", "PSNR vs off (dB)"],
+                             "time (s)", "speedup off / on (range)", "of full-size speedup", "PSNR vs off (dB)",
+                             "worst 16x16 tile (dB)"],
                             table_rows)
 
     # Goals and verdicts.
@@ -171,8 +210,10 @@ def report(data):
          "first sample alone had filled the table: no entry was deeper, both policies ran the same algorithm, "
          "and their counts differ only by which thread inserted first." if idle else ""))
     if GOAL_FRACTION in data["fractions"] and full:
-        for policy in POLICIES:
+        for policy in POLICIES + [FIT]:
             n = config_name(policy, GOAL_FRACTION)
+            if n not in speedup:
+                continue  # a run from before --cache-fit
             share = speedup[n] / full
             lines.append(f"- At 1/{GOAL_FRACTION} of the automatic size, `{policy}` keeps {100 * share:.0f}% of the "
                          f"full-size speedup ({speedup[n]:.2f}x of {full:.2f}x): goal {100 * GOAL_SHARE:.0f}% "
@@ -186,10 +227,33 @@ def report(data):
                      f"{speedup[config_name('keep-first', d)]:.2f}x; total hit rate {100 * pr[d]['hit_rate']:.1f}% "
                      f"against {100 * kf[d]['hit_rate']:.1f}%), so `keep-first` "
                      f"{'could give way to priority' if wins else 'stays the default'}.")
-    psnrs = sorted({round(v, 3) for v in data["psnr"].values()})
+    fits = [(d, config_name(FIT, d)) for d in data["fractions"] if config_name(FIT, d) in data["psnr"]]
+    if fits and full:
+        lines.append("- `--cache-fit on` (keep-first): " + ", ".join(
+            f"1/{d}: {speedup[n]:.2f}x ({100 * speedup[n] / full:.0f}% of the full-size speedup), "
+            f"{100 * data['cache'][n]['hit_rate']:.1f}% hits, {data['psnr'][n]:.1f} dB"
+            + (f" (worst tile {worst[n]:.1f} dB)" if worst.get(n) is not None else "")
+            for d, n in fits) + f"; the automatic table: {data['psnr'][config_name('keep-first', 1)]:.1f} dB. "
+            "It keeps the speed by coarsening the texels, so the error grows as the table shrinks: a trade the user "
+            "chooses, not a policy, and it stays off by default.")
+    bias = data.get("bias")
+    bias_text = ""
+    if bias:
+        rows_b = [["automatic", str(bias["automatic"]["cells"]), "0.0", f"{bias['automatic']['psnr']:.1f}",
+                   f"{bias['automatic']['worst']:.1f}"]]
+        rows_b += [[f"1/{d}, `--cache-fit on`", str(bias[str(d)]["cells"]), f"{bias[str(d)]['fit_levels']:.1f}",
+                    f"{bias[str(d)]['psnr']:.1f}", f"{bias[str(d)]['worst']:.1f}"]
+                   for d in data["fractions"] if str(d) in bias]
+        bias_text = (f"\n\nThe bias of `--cache-fit` (its texels are coarser, so its image is not the full table's): "
+                     f"one `pmc compare` each at {data['width'] // 2}x{data['height'] // 2}, {data['bias_spp']} spp "
+                     f"(enough samples that the cache's bias shows above the noise), tables as fractions of the "
+                     f"automatic size at that resolution:\n\n" +
+                     common.md_table(["table", "cells", "fit levels", "PSNR vs off (dB)", "worst 16x16 tile (dB)"],
+                                     rows_b))
+    psnrs = sorted({round(v, 3) for k, v in data["psnr"].items() if not k.startswith(FIT)})
     lines.append("- PSNR against the cacheless render is " +
                  (f"the same {psnrs[0]:.1f} dB for every size and policy" if len(psnrs) == 1 else
-                  f"{psnrs[0]:.1f}-{psnrs[-1]:.1f} dB") +
+                  f"{psnrs[0]:.1f}-{psnrs[-1]:.1f} dB") + (" (without fit)" if fits else "") +
                  ": in `--cache-eval center` (the default) a texel's value does not depend on who inserted it, "
                  "so neither the table size nor the policy changes the image (tests/gpu/cache_policy_render_test.cpp "
                  "requires bit-identical images); they change only how often the work is saved.")
@@ -205,6 +269,7 @@ def report(data):
         kf[1] = any_kf
     cmd = " ".join(["build/pmc", "render", *DEFAULT_ARGS, "-o", "OUT.exr", "--stats", "OUT.json",
                     "--cache", "off|on", "--cache-cells", "N", "--cache-policy", "keep-first|priority",
+                    "[--cache-fit on]",
                     *common.size_args(data["width"], data["height"], data["spp"])])
     rt = (f" Timed renders ran under `chrt -f {data['rt_priority']}`." if data.get("rt_priority") else "")
     section = f"""{SECTION}
@@ -219,13 +284,13 @@ table here is {data['full_cells']} cells x {data['entries']} entries; the smalle
 over the median on, in brackets the lowest and highest ratio of one round; "of full-size speedup" is that
 speedup over keep-first's at the automatic size. Hit rates come from `--stats` (`camera_hit_rate`: lookups
 at camera-ray hits, depth 0; `hit_rate`: all lookups). PSNR: one `pmc compare` per configuration (cached vs
-cacheless, same seed). Other builds shared the 2 cores: single times vary by 10-30%; read ratios.
+cacheless, same seed). Other processes may share the 2 cores: single times vary by 10-30%; read ratios.
 
     {cmd}
 
 {table}
 
-""" + "\n".join(lines) + f"""
+""" + "\n".join(lines) + bias_text + f"""
 
 How priority works (core/device/pmc_cache.h): a full cell keeps its first entries under keep-first (the
 paper's rule). Under priority an entry's high word holds 30 bits of the key's fingerprint and a 2-bit depth
@@ -246,8 +311,15 @@ make up {100 * deeper:.0f}% of the lookups, so the total hit rate falls and with
 the table holds too few entries for the frame's texels whatever the policy ({goal_hits} of the lookups hit,
 against {100 * kf[1]['hit_rate']:.0f}% at the automatic size). A policy that could win there would have to rank camera entries against each other (age, or how
 often an entry is read), which needs more state per entry than a 2-bit depth tag.
+
+How `--cache-fit on` works (core/cache_sizing.h): no policy can keep more keys than the table holds, so fit
+shrinks the keys instead. When the table has fewer entries than the frame's expected keys need at load factor
+1/2 (the rule that sizes the automatic table), every texel and position cell is made coarser by half a level
+per halving of the table (a level has a quarter of the texels), so the frame's keys fit again. The image is
+exactly the render with `--mip-bias` lowered by that many levels (tests/gpu/cache_fit_test.cpp), so its error
+is that of coarser texels, at any table size.
 """
-    return section, "\n" + table + "\n\n" + "\n".join(lines) + "\n"
+    return section, "\n" + table + "\n\n" + "\n".join(lines) + bias_text + "\n"
 
 
 def main(argv=None):

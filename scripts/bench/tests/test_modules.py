@@ -184,6 +184,23 @@ class CachePolicyReport(unittest.TestCase):
         self.assertIn("on camera rays at every size: **no**", section)
         self.assertIn("- Default: priority does not win at 1/16", section)
 
+    def test_fit_rows_and_verdict(self):
+        data = self.data(30)
+        fit = "keep-first + fit 1/16"
+        data["times"][fit] = [2.1, 2.2]  # 4.2 / 2.15 = 1.95x, 98% of 2.00x
+        data["psnr"][fit] = 41.5
+        data["worst_tile"] = {fit: 30.25}
+        data["fit_levels"] = {fit: 2.0}
+        data["cache"][fit] = dict(data["cache"]["keep-first 1/1"], hit_rate=0.85)
+        section, _ = cache_policy.report(data)
+        self.assertIn("| 1/16 | 64 | 1.00 | `keep-first` + `--cache-fit on` (2.0 levels coarser) |", section)
+        self.assertIn("`keep-first + fit` keeps 98% of the full-size speedup (1.95x of 2.00x): goal 90% **met**",
+                      section)
+        self.assertIn("1/16: 1.95x (98% of the full-size speedup), 85.0% hits, 41.5 dB (worst tile 30.2 dB); "
+                      "the automatic table: 45.0 dB", section)
+        # The policies' PSNR line leaves fit out: they still render the same image.
+        self.assertIn("the same 45.0 dB for every size and policy (without fit)", section)
+
 
 class CachePositionReport(unittest.TestCase):
     def data(self, marble_hit):
