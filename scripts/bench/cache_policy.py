@@ -292,6 +292,8 @@ cacheless, same seed). Other processes may share the 2 cores: single times vary 
 
 """ + "\n".join(lines) + bias_text + f"""
 
+![speedup and hit rate against the table size, per policy](plots/cache_policy.png)
+
 How priority works (core/device/pmc_cache.h): a full cell keeps its first entries under keep-first (the
 paper's rule). Under priority an entry's high word holds 30 bits of the key's fingerprint and a 2-bit depth
 tag (min(depth, 3)); an insert from a camera-ray hit that finds its cell full replaces the deepest non-camera
@@ -322,9 +324,57 @@ is that of coarser texels, at any table size.
     return section, "\n" + table + "\n\n" + "\n".join(lines) + bias_text + "\n"
 
 
+PLOT = "docs/plots/cache_policy.png"
+
+
+def plot(data, path):
+    """The size-versus-policy curves: speedup and hit rates against the table size, one line per policy."""
+    try:
+        import matplotlib
+    except ImportError:
+        print(f"{PROG}: matplotlib is not installed (Debian: python3-matplotlib): {path} not drawn")
+        return
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t_off = common.median(data["times"]["off"])
+    fig, (ax_s, ax_h) = plt.subplots(1, 2, figsize=(10, 3.8))
+    for variant, style in zip(VARIANTS, ("o-", "s-", "^-")):
+        pts = [(d, config_name(variant, d)) for d in data["fractions"] if config_name(variant, d) in data["cache"]]
+        if variant == FIT:  # at the automatic size fit changes nothing: its curve starts at keep-first's point
+            pts = [(1, config_name("keep-first", 1))] + pts
+        mib = [data["cache"][n]["memory_bytes"] / 2**20 for _, n in pts]
+        ax_s.plot(mib, [t_off / common.median(data["times"][n]) for _, n in pts], style, label=variant)
+        ax_h.plot(mib, [100 * data["cache"][n]["hit_rate"] for _, n in pts], style, label=f"{variant}: all lookups")
+        ax_h.plot(mib, [100 * data["cache"][n]["camera_hit_rate"] for _, n in pts], style[0] + ":",
+                  color=ax_h.lines[-1].get_color(), label=f"{variant}: camera rays")
+    full = t_off / common.median(data["times"][config_name("keep-first", 1)])
+    ax_s.axhline(1.0, color="grey", lw=0.8)
+    ax_s.axhline(GOAL_SHARE * full, color="grey", lw=0.8, ls="--")
+    ax_s.text(0.02, GOAL_SHARE * full, f"{100 * GOAL_SHARE:.0f}% of the full-size speedup", va="bottom",
+              fontsize=8, color="grey", transform=ax_s.get_yaxis_transform())
+    ax_s.text(0.02, 1.0, "cacheless", va="bottom", fontsize=8, color="grey", transform=ax_s.get_yaxis_transform())
+    for ax in (ax_s, ax_h):
+        ax.set_xscale("log", base=2)
+        ax.set_xlabel("cache table (MiB)")
+        ax.grid(alpha=0.3)
+    ax_s.set_ylabel("speedup, cache off / on")
+    ax_h.set_ylabel("hit rate (%)")
+    ax_s.legend(fontsize=8)
+    ax_h.legend(fontsize=7)
+    fig.suptitle(f"Default scene, {data['width']}x{data['height']}, {data['spp']} spp: table size against policy",
+                 fontsize=10)
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    print(f"{PROG}: wrote {path}")
+
+
 def main(argv=None):
     args = parse(argv)
     common.measure_and_report(args, PROG, SECTION, lambda a: Measure(a).all(), report, inputs=(DEFAULT_ARGS[0],))
+    if args.doc != "-":  # the curves go with the section
+        plot(common.read_json(os.path.join(args.out_dir, "results.json")), PLOT)
 
 
 if __name__ == "__main__":
