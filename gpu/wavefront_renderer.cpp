@@ -324,8 +324,8 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     st.kernel_warmup_seconds = std::chrono::duration<double>(Clock::now() - t_warm).count();
     m.warmed_up = true;
   }
+  if (progress) progress(0, end_sample - first_sample, 0);  // warmed up: rendering starts
   m.kernels.clear(wave);
-  if (progress) progress(0, end_sample - first_sample, 0);
 
   WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
   for (int sample = first_sample; sample < end_sample; ++sample) {

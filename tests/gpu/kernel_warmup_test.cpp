@@ -5,8 +5,9 @@
 // class (narrower than 65535 work-items, or wider) at its first launch, and
 // keeps each in its kernel cache folder (POCL_CACHE_DIR) as a .so file. With
 // an empty folder, the files present when rendering starts (the progress
-// callback's 0 samples done) are those the warm-up compiled; a file that
-// appears later was compiled inside render_seconds. The render below has
+// callback's 0 samples done, before the film and table are cleared) are
+// those the warm-up compiled; a file that appears later was compiled inside
+// render_seconds. The render below has
 // grids of both classes: 76800 paths per wave, 1200 shade batches.
 //
 // PoCL reads POCL_CACHE_DIR when the process first opens OpenCL: ctest runs
