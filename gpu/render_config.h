@@ -93,9 +93,8 @@ struct RenderConfig {
   bool cache_bandwidth = false;                 // --cache-bandwidth on: level floors from the patterns
   double cache_feature_texels = 2.0;            // --cache-feature-texels: texels across the smallest feature
   int cache_max_refine = 2;                     // --cache-max-refine: levels of refinement before bypass
-  bool cache_fit =
-      false;  // --cache-fit on: coarser texels when the table holds fewer keys than the frame needs
-  bool cache_audit = false;  // count occupied entries by reading the table (tests)
+  bool cache_fit = false;                       // --cache-fit on: coarser texels for a table too small
+  bool cache_audit = false;                     // count occupied entries by reading the table (tests)
 
   // The machine.
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)

@@ -74,8 +74,7 @@ void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheS
     cache.fit_levels = short_levels;
     if (short_levels > 0.0f)
       os << "; " << setting("cache_fit") << ": the frame's keys need " << uint64_t(expected)
-         << " entries at load "
-         << "factor 1/2, the table has " << entries << ", so texels are " << short_levels
+         << " entries at load factor 1/2, the table has " << entries << ", so texels are " << short_levels
          << " levels coarser";
     else
       os << "; " << setting("cache_fit") << ": the frame's keys fit, texels follow the footprint";

@@ -10,7 +10,6 @@
 //    far above the same table's without fit (fewer, wider texels).
 #include <gtest/gtest.h>
 
-#include <cstring>
 
 #include "core/cache_sizing.h"
 #include "gpu/render_session.h"
@@ -40,19 +39,8 @@ TEST(CacheFit, HalfALevelPerHalvingOfTheTable) {
   EXPECT_GT(fit_levels(expected_entries(1920, 1080, 64, 2.0), capped.cells * capped.entries), 0.5f);
 }
 
-size_t differing_pixels(const Image& a, const Image& b) {
-  size_t n = 0;
-  for (size_t i = 0; i < a.pixels.size(); ++i) n += a.pixels[i] != b.pixels[i];
-  return n;
-}
-
 TEST(CacheFit, SmallTableRendersAsTheCoarserBiasAndHitsMore) {
-  RenderConfig config;
-  config.scene = test::source_path("data/default/room.obj");
-  config.mtlx = {test::source_path("data/default/materials.mtlx")};
-  config.width = 96;
-  config.height = 54;
-  config.spp = 4;
+  RenderConfig config = test::default_scene_config(96, 54, 4);
   config.max_depth = 3;
   config.seed = 5;
   config.cache_cells = 512;  // 1/16 of the automatic 8192
@@ -74,8 +62,8 @@ TEST(CacheFit, SmallTableRendersAsTheCoarserBiasAndHitsMore) {
 
   ASSERT_EQ(fitted.image.pixels.size(), biased.image.pixels.size());
   ASSERT_GT(test::image_mean(fitted.image), 0.0);
-  EXPECT_EQ(differing_pixels(fitted.image, biased.image), 0u);
-  EXPECT_GT(differing_pixels(fitted.image, unfitted.image), 0u) << "fit changed no texel";
+  EXPECT_EQ(test::differing_values(fitted.image, biased.image), 0u);
+  EXPECT_GT(test::differing_values(fitted.image, unfitted.image), 0u) << "fit changed no texel";
   const CacheStats &f = fitted.stats.cache, &u = unfitted.stats.cache;
   const double fit_rate = double(f.hits) / double(f.lookups), plain_rate = double(u.hits) / double(u.lookups);
   EXPECT_GT(fit_rate, 1.5 * plain_rate)

@@ -54,12 +54,7 @@ TEST(KernelWarmUp, RenderCompilesNothingAfterTheWarmUp) {
   fs::create_directories(cache);
   ASSERT_EQ(0, setenv("POCL_CACHE_DIR", cache.c_str(), 1));
 
-  RenderConfig c;
-  c.scene = test::source_path("data/default/room.obj");
-  c.mtlx = {test::source_path("data/default/materials.mtlx")};
-  c.width = 320;
-  c.height = 240;
-  c.spp = 2;
+  RenderConfig c = test::default_scene_config(320, 240, 2);
   c.cache = true;
   RenderSession session(c);
   ASSERT_TRUE(holds_files(cache))  // the program's build is cached there
