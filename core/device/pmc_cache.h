@@ -17,16 +17,17 @@
  * sub-graph reads the surface position and nothing else is keyed on a cell of
  * a 3D virtual grid instead: level lambda = -log2(r) + bias from the ray
  * cone's radius r at the hit in scene units (the footprint's minor half-axis,
- * as min(|g1|, |g2|) is in uv), cell floor(p * 2^lambda) per axis. Its hash
+ * as min(|g1|, |g2|) is in uv), cell floor(p * 2^lambda + 1/2) per axis
+ * (cells centred on multiples of their width: see pmc_cache_cell_center). Its hash
  * has its own domain constant, so a uv texel and a position cell with equal
  * indices hash apart. Both kinds share the table, the fingerprints and the
  * policies; a material's group mixes them freely (the lookup's skip word
  * carries the kind in bit 31).
  *
- * Level floors (beyond the paper): a material whose patterns are finer than
- * the footprint raises the level to a floor from their bandwidth
- * (materials/bandwidth.h), or evaluates those points uncached when the floor
- * is too far above the footprint's level (pmc_cache_floored_level).
+ * Level floors (beyond the paper): a group of cache points whose patterns
+ * are finer than the footprint raises the level to a floor from their
+ * bandwidth (materials/bandwidth.h), or evaluates those points uncached when
+ * the floor is too far above the footprint's level (pmc_cache_floored_level).
  *
  * Replacement policy (PmcCacheTable.policy, --cache-policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops
@@ -299,17 +300,20 @@ PMC_FN pmc_u64 pmc_cache_cell3_hash(int lambda, long tx, long ty, long tz) {
 }
 
 /* The position cell of a shading point: level from the ray cone's radius at
- * the hit (scene units) and the mip bias, indices of p * 2^lambda + jitter
- * per axis (uniform offsets in [-0.5, 0.5) give stochastic trilinear
- * selection, as they give bilinear selection for uv). */
+ * the hit (scene units) and the mip bias, indices of p * 2^lambda + 1/2 +
+ * jitter per axis (uniform offsets in [-0.5, 0.5) give stochastic trilinear
+ * selection, as they give bilinear selection for uv). The half cell centres
+ * cell k on k * 2^-lambda: a plane at a grid-aligned coordinate (y = 0, x =
+ * 2) lies mid-layer, so the rounding of its hit points (2 +- 1 ulp) keeps
+ * one layer of cells, and centre evaluation reads the plane itself. */
 PMC_FN PmcCacheTexel pmc_cache_cell_floored(float3 p, float radius, float bias, float4 jitter,
                                             pmc_u32 material, int level_floor, int max_refine) {
   PmcCacheTexel t;
   t.footprint_lambda = pmc_cache_level(radius, bias);
   t.lambda = pmc_cache_floored_level(t.footprint_lambda, level_floor, max_refine, &t.bypass);
-  t.tx = pmc_cache_texel_jittered(p.x, t.lambda, jitter.x);
-  t.ty = pmc_cache_texel_jittered(p.y, t.lambda, jitter.y);
-  t.tz = pmc_cache_texel_jittered(p.z, t.lambda, jitter.z);
+  t.tx = pmc_cache_texel_jittered(p.x, t.lambda, jitter.x + 0.5f);
+  t.ty = pmc_cache_texel_jittered(p.y, t.lambda, jitter.y + 0.5f);
+  t.tz = pmc_cache_texel_jittered(p.z, t.lambda, jitter.z + 0.5f);
   t.hash = pmc_cache_cell3_hash(t.lambda, t.tx, t.ty, t.tz);
   t.base = pmc_cache_group_base(t.hash, material);
   t.ready = 1u;
@@ -337,6 +341,14 @@ PMC_FN float4 pmc_cache_plane_jitter(float3 n, float ju, float jv) {
   const float3 t2 = make_float3(b, sg + n.y * n.y * a, -n.y);
   const float3 j = ju * t1 + jv * t2;
   return make_float4(j.x, j.y, j.z, 0.0f);
+}
+
+/* Centre of a position cell index (pmc_cache_cell_floored): k * 2^-lambda;
+ * always finite (beyond +-2^62 as pmc_cache_texel_center). */
+PMC_FN float pmc_cache_cell_center(long cell, int lambda) {
+  const long big = (long)4611686018427387904L; /* 2^62 */
+  if (cell >= big || cell <= -big) return pmc_cache_texel_center(cell, lambda);
+  return (float)cell * pmc_exp2i(-lambda);
 }
 
 PMC_FN PmcCacheTexel pmc_cache_cell_of(float3 p, float radius, float bias, float4 jitter, pmc_u32 material) {

@@ -67,7 +67,7 @@ TEST(CachePositionKey, HardInputsGiveFiniteClampedLevelsAndNoOverflow) {
       EXPECT_LE(std::labs(c.ty), lim) << "r " << r << " x " << x;
       EXPECT_EQ(c.ready, 1u);
       // The centre of the cell is finite, so center-mode evaluation reads a real position.
-      EXPECT_TRUE(std::isfinite(pmc_cache_texel_center(c.tx, c.lambda))) << "r " << r << " x " << x;
+      EXPECT_TRUE(std::isfinite(pmc_cache_cell_center(c.tx, c.lambda))) << "r " << r << " x " << x;
     }
   // Degenerate radii use the finest level (distinct points never share a coarse cell by accident).
   for (float r : {0.0f, -1.0f, kInf, kNaN})
@@ -91,7 +91,9 @@ TEST(CachePositionKey, SameCellSharesAKeyAndNeighboursDoNot) {
   std::uniform_int_distribution<int> cell(-5000, 5000);
   std::uniform_real_distribution<float> in(0.05f, 0.95f);
   for (int i = 0; i < 5000; ++i) {
-    const float x0 = float(cell(rng)) * w, y0 = float(cell(rng)) * w, z0 = float(cell(rng)) * w;
+    // Cell k spans [(k - 1/2) w, (k + 1/2) w): it is centred on k w.
+    const float x0 = (float(cell(rng)) - 0.5f) * w, y0 = (float(cell(rng)) - 0.5f) * w,
+                z0 = (float(cell(rng)) - 0.5f) * w;
     const float3 p = make_float3(x0 + in(rng)*w, y0 + in(rng)*w, z0 + in(rng)*w);
     const float3 q = make_float3(x0 + in(rng)*w, y0 + in(rng)*w, z0 + in(rng)*w);
     PmcCacheKey k = position_key(1, 7, p, r);
@@ -108,6 +110,34 @@ TEST(CachePositionKey, SameCellSharesAKeyAndNeighboursDoNot) {
     PmcCacheTexel c = pmc_cache_cell_of(p, r, 0.0f, kNoJitter, 1);
     PmcCacheKey uv = pmc_cache_key(1, 7, 0u, c.lambda, c.tx, c.ty);
     ASSERT_FALSE(same(k, uv)) << "uv texel with equal indices";
+  }
+}
+
+// Cells are centred on multiples of their width, so a plane at a coordinate
+// that is a multiple of the width (the floor at y = 0, a wall at x = 2)
+// lies in the middle of one layer of cells: the rounding of barycentric
+// interpolation (a wall at x = 2 is hit at 2 - 1 ulp or 2 + 1 ulp) does not
+// split it across two layers, and a cell's centre, where --cache-eval
+// center evaluates, lies on the plane. (With cells starting at multiples of
+// the width, both failed: a wall at x = 2 had half its hits in each layer.)
+TEST(CachePositionKey, GridAlignedPlanesKeepOneLayerOfCells) {
+  for (int level = 0; level <= 12; ++level) {
+    const float r = std::ldexp(1.0f, -level);  // cells of 2^-level
+    for (float plane : {0.0f, 2.0f, -2.0f, 0.5f, 3.0f, -0.25f, 10.0f}) {
+      if (std::ldexp(plane, level) != std::floor(std::ldexp(plane, level))) continue;  // not on the grid
+      const PmcCacheTexel on = pmc_cache_cell_of(make_float3(plane, 0.3f, 0.7f), r, 0.0f, kNoJitter, 0);
+      ASSERT_EQ(on.lambda, level);
+      EXPECT_EQ(pmc_cache_cell_center(on.tx, on.lambda), plane) << "level " << level << " plane " << plane;
+      float below = plane, above = plane;
+      for (int ulp = 0; ulp < 4; ++ulp) {
+        below = std::nextafter(below, -kInf);
+        above = std::nextafter(above, kInf);
+        EXPECT_EQ(pmc_cache_cell_of(make_float3(below, 0.3f, 0.7f), r, 0.0f, kNoJitter, 0).tx, on.tx)
+            << "level " << level << " plane " << plane << " - " << ulp + 1 << " ulp";
+        EXPECT_EQ(pmc_cache_cell_of(make_float3(above, 0.3f, 0.7f), r, 0.0f, kNoJitter, 0).tx, on.tx)
+            << "level " << level << " plane " << plane << " + " << ulp + 1 << " ulp";
+      }
+    }
   }
 }
 
@@ -150,9 +180,9 @@ TEST(CachePositionKey, JitteredCellsAverageToThePosition) {
   const int n = 200000;
   for (int i = 0; i < n; ++i) {
     PmcCacheTexel c = pmc_cache_cell_of(p, r, 0.0f, make_float4(offset(rng), offset(rng), offset(rng), 0), 0);
-    sx += pmc_cache_texel_center(c.tx, c.lambda);
-    sy += pmc_cache_texel_center(c.ty, c.lambda);
-    sz += pmc_cache_texel_center(c.tz, c.lambda);
+    sx += pmc_cache_cell_center(c.tx, c.lambda);
+    sy += pmc_cache_cell_center(c.ty, c.lambda);
+    sz += pmc_cache_cell_center(c.tz, c.lambda);
   }
   // Each centre is within one cell (1/8) of p: the mean's sd < 0.125 / sqrt(n) = 2.8e-4.
   EXPECT_NEAR(sx / n, p.x, 1.5e-3);

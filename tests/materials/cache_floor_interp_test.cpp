@@ -160,5 +160,84 @@ TEST(CacheFloor, BeyondTheRefinementLimitThePointIsEvaluatedUncached) {
   EXPECT_EQ(f.occupied(), 0u) << "nothing was inserted";
 }
 
+// Each cache point keeps its own floor: a material with the grid (floor 8)
+// and a smooth ramp (no floor) compiles into two groups, the grid's first.
+// Two points in one level-6 texel but in different level-8 texels: the grid
+// misses apart, while the ramp still shares the footprint's level-6 texel
+// (with one floor for the whole material, the finest, it missed too).
+TEST(CacheFloor, EachPointKeepsItsOwnFloor) {
+  Graph g = new_graph("M_two");
+  int uv = add(g, "uv", "texcoord", VT::Vector2);
+  int grid = add(g, "grid", "grid", VT::Color3,
+                 {{"texcoord", link(uv)},
+                  {"uvtiling", value(VT::Vector2, 8, 8)},
+                  {"thickness", value(VT::Float, 0.1f)}});
+  int ramp =
+      add(g, "ramp", "ramplr", VT::Float,
+          {{"texcoord", link(uv)}, {"valuel", value(VT::Float, 0.2f)}, {"valuer", value(VT::Float, 0.8f)}});
+  add_surface(g, {{"specular_roughness", link(ramp)}, {"base_color", link(grid)}});
+  CompileOptions on;
+  on.cache = true;
+  on.cache_min_nodes = 1;
+  on.cache_feature_texels = 2.0;
+  Fixture f;
+  const uint32_t before = uint32_t(f.prog.materials.size());
+  const CompiledMaterial& cm = compile_material(g, f.tex, f.prog, on);
+  ASSERT_EQ(cm.cache_plan.points.size(), 2u);
+  EXPECT_EQ(cm.cache_plan.points[0].level_floor, 8) << "the finest floor first";
+  EXPECT_EQ(cm.cache_plan.points[1].level_floor, PMC_LEVEL_NO_FLOOR);
+  int levels = 0;
+  for (uint32_t pc = cm.entry; pc < cm.entry + cm.code_words && pmc_op_code(f.prog.code[pc]) != PMC_OP_END;) {
+    const uint32_t h = f.prog.code[pc];
+    if (pmc_op_code(h) == PMC_OP_CACHE_LEVEL) ++levels;
+    pc += pmc_op_code(h) == PMC_OP_CACHE_LOOKUP ? 3u : 2u + pmc_op_nargs(h);
+  }
+  EXPECT_EQ(levels, 2) << "one CACHE_LEVEL per group";
+
+  f.cx.material = before;
+  f.cx.floors = 1u;
+  f.cx.level_floor_uv = material_level_floor(cm.cache_plan, CacheKey::Uv);
+  ASSERT_EQ(f.cx.level_floor_uv, 8);
+  f.cx.max_refine = 2;
+  float a[PMC_P_COUNT], b[PMC_P_COUNT], plain[PMC_P_COUNT];
+  f.eval(int(before), make_float2(0.2502f, 0.2502f), a, true);
+  EXPECT_EQ(f.cx.hits, 0u);
+  f.eval(int(before), make_float2(0.2600f, 0.2600f), b, true);  // another level-8 texel, same level-6 one
+  EXPECT_EQ(f.cx.hits, 1u) << "the ramp hits at its own (footprint) level; the grid misses at level 8";
+  EXPECT_EQ(b[PMC_P_SPECULAR_ROUGHNESS], a[PMC_P_SPECULAR_ROUGHNESS])
+      << "the ramp's value from the first point";
+  f.eval(0, make_float2(0.2600f, 0.2600f), plain, false);  // M_off: the grid without the cache
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(b[PMC_P_BASE_COLOR + k], plain[PMC_P_BASE_COLOR + k]) << k;
+  f.eval(int(before), make_float2(0.2510f, 0.2510f), b, true);  // a's level-8 texel
+  EXPECT_EQ(f.cx.hits, 2u);
+}
+
+// Points whose sub-graphs share a node (here a scaled texcoord) stay one
+// group at the finest floor: splitting them would evaluate the shared
+// nodes once per group on a miss. A bare texcoord does not count.
+TEST(CacheFloor, PointsThatShareNodesShareTheFinestFloor) {
+  Graph g = new_graph("M_shared");
+  int uv = add(g, "uv", "texcoord", VT::Vector2);
+  int scaled =
+      add(g, "scaled", "multiply", VT::Vector2, {{"in1", link(uv)}, {"in2", value(VT::Vector2, 2, 2)}});
+  int grid = add(g, "grid", "grid", VT::Color3,
+                 {{"texcoord", link(scaled)},
+                  {"uvtiling", value(VT::Vector2, 8, 8)},
+                  {"thickness", value(VT::Float, 0.1f)}});
+  int ramp = add(
+      g, "ramp", "ramplr", VT::Float,
+      {{"texcoord", link(scaled)}, {"valuel", value(VT::Float, 0.2f)}, {"valuer", value(VT::Float, 0.8f)}});
+  add_surface(g, {{"specular_roughness", link(ramp)}, {"base_color", link(grid)}});
+  const CachePlan plan = plan_cache(g, 1, true, 2.0);
+  ASSERT_EQ(plan.points.size(), 2u);
+  EXPECT_EQ(plan.points[0].group, plan.points[1].group);
+  for (const CachePoint& p : plan.points) EXPECT_EQ(p.group_floor, 9) << "the grid's floor (lines 1/160 uv)";
+  const CachePlan apart = plan_cache(g, 1, true, 0.0);
+  for (const CachePoint& p : apart.points) {
+    EXPECT_EQ(p.group, 0) << "without floors, one group";
+    EXPECT_EQ(p.group_floor, PMC_LEVEL_NO_FLOOR);
+  }
+}
+
 }  // namespace
 }  // namespace pmc

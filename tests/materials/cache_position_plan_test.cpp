@@ -159,7 +159,9 @@ TEST(CachePositionPlan, SameCellHitsAndTheNextCellMisses) {
   std::uniform_int_distribution<int> cell(-200, 200);
   std::uniform_real_distribution<float> in(0.05f, 0.95f);
   for (int i = 0; i < 100; ++i) {
-    const float3 c0 = make_float3(float(cell(rng)) * w, float(cell(rng)) * w, float(cell(rng)) * w);
+    // Cells are centred on multiples of w: cell k spans [(k - 1/2) w, (k + 1/2) w).
+    const float3 c0 = make_float3((float(cell(rng)) - 0.5f) * w, (float(cell(rng)) - 0.5f) * w,
+                                  (float(cell(rng)) - 0.5f) * w);
     const float3 p = make_float3(c0.x + in(rng)*w, c0.y + in(rng)*w, c0.z + in(rng)*w);
     const float3 q = make_float3(c0.x + in(rng)*w, c0.y + in(rng)*w, c0.z + in(rng)*w);
     const float3 next = make_float3(p.x, p.y, p.z + w);
@@ -196,8 +198,8 @@ TEST(CachePositionPlan, CenterModeDeliversTheValueAtTheCellCentre) {
   int differs = 0;
   for (int i = 0; i < 200; ++i) {
     const float3 p = make_float3(uni(rng), uni(rng), uni(rng));
-    const float3 centre = make_float3((std::floor(p.x / w) + 0.5f) * w, (std::floor(p.y / w) + 0.5f) * w,
-                                      (std::floor(p.z / w) + 0.5f) * w);
+    const float3 centre = make_float3(std::floor(p.x / w + 0.5f) * w, std::floor(p.y / w + 0.5f) * w,
+                                      std::floor(p.z / w + 0.5f) * w);
     float at_centre[PMC_P_COUNT], at_p[PMC_P_COUNT], cached[PMC_P_COUNT];
     run(prog, off, centre, at_centre);
     run(prog, off, p, at_p);
