@@ -26,7 +26,7 @@ class ContentHash {
       word(w);
     }
     uint64_t tail = 0;
-    std::memcpy(&tail, p + i, n - i);
+    if (n > i) std::memcpy(&tail, p + i, n - i);  // an empty vector's data() may be null
     word(tail ^ (uint64_t(n) << 56));
   }
   template <class T, class A>
