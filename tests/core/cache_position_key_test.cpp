@@ -197,6 +197,20 @@ TEST(CachePositionKey, PlaneJitterLiesInTheTangentPlaneWithTheOffsetsLength) {
                                  make_float3(1, 0, 0),       make_float3(0, -1, 0),
                                  make_float3(0, 0, -1e-30f), make_float3(3e20f, -2e20f, 1e20f)};
   for (int i = 0; i < 1000; ++i) normals.push_back(make_float3(u(rng), u(rng), u(rng)));
+  // Unit normals (the kernel's) take the short path, which skips the rescaling:
+  // the same offsets as the long path takes for the same direction at twice the length.
+  for (int i = 0; i < 1000; ++i) {
+    const float3 v = make_float3(u(rng), u(rng), u(rng));
+    const float l = std::sqrt(dot(v, v));
+    if (!(l > 1e-3f)) continue;
+    const float3 n = v * (1.0f / l);
+    normals.push_back(n);
+    const float ju = j(rng), jv = j(rng);
+    const float4 unit = pmc_cache_plane_jitter(n, ju, jv), twice = pmc_cache_plane_jitter(n * 2.0f, ju, jv);
+    EXPECT_NEAR(unit.x, twice.x, 1e-5f);
+    EXPECT_NEAR(unit.y, twice.y, 1e-5f);
+    EXPECT_NEAR(unit.z, twice.z, 1e-5f);
+  }
   for (float3 n : normals) {
     const float ju = j(rng), jv = j(rng);
     const float4 o = pmc_cache_plane_jitter(n, ju, jv);
