@@ -40,9 +40,6 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m, bool ba
       std::printf("      no level floor: %s\n", cp.bandwidth_note.c_str());
     else
       std::printf("      no level floor: no periodic feature below it\n");
-    if (cp.group_floor != cp.level_floor)
-      std::printf("      shares nodes with a point of a finer pattern: texels at its level (>= %d)\n",
-                  cp.group_floor);
   }
   for (const auto& [n, why] : m.cache_plan.not_cached)
     std::printf("    - %s: %s\n", node_label(*g, n).c_str(), why.c_str());

@@ -45,55 +45,6 @@ bool is_position(const Node& n) {
 // The dependency bits a cache point may have: exactly one key input.
 bool keyable(uint32_t d, bool position_keys) { return d == kDepUv || (position_keys && d == kDepPosition); }
 
-// Groups of points for level floors. Points whose sub-graphs share a node
-// (other than a bare texcoord or position) stay in one group, at the highest
-// of their floors: splitting them would evaluate the shared nodes once per
-// group on a miss (on the default scene's floor, whose three points share
-// most of their nodes, that made --cache-bandwidth on 1.28x slower than
-// one group). Points that share nothing keep their own floors, so a coarse
-// pattern next to a fine one is still looked up at its footprint's texel.
-// Lists the groups by floor, highest first (the material's floors, which
-// the shade kernel computes texels with, are then the first group's).
-void group_by_shared_nodes(const Graph& g, std::vector<CachePoint>& points) {
-  const size_t n = points.size();
-  std::vector<size_t> parent(n);
-  for (size_t i = 0; i < n; ++i) parent[i] = i;
-  std::function<size_t(size_t)> root = [&](size_t i) {
-    return parent[i] == i ? i : parent[i] = root(parent[i]);
-  };
-  std::vector<std::vector<char>> member(n, std::vector<char>(g.nodes.size(), 0));
-  for (size_t i = 0; i < n; ++i)
-    for (int node : subgraph_order(g, points[i].node))
-      if (!is_texcoord(g.nodes[size_t(node)]) && !is_position(g.nodes[size_t(node)]))
-        member[i][size_t(node)] = 1;
-  for (size_t i = 0; i < n; ++i)
-    for (size_t j = i + 1; j < n; ++j)
-      for (size_t node = 0; node < g.nodes.size(); ++node)
-        if (member[i][node] && member[j][node]) {
-          parent[root(i)] = root(j);
-          break;
-        }
-  std::vector<int> floor_of(n, PMC_LEVEL_NO_FLOOR);
-  for (size_t i = 0; i < n; ++i) floor_of[root(i)] = std::max(floor_of[root(i)], points[i].level_floor);
-  for (size_t i = 0; i < n; ++i) {
-    points[i].group = int(root(i));
-    points[i].group_floor = floor_of[root(i)];
-  }
-  // Highest floor first, a group's points together, otherwise in plan order.
-  std::stable_sort(points.begin(), points.end(), [](const CachePoint& a, const CachePoint& b) {
-    return a.group_floor != b.group_floor ? a.group_floor > b.group_floor : a.group < b.group;
-  });
-  int next = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const int old_group = points[i].group;
-    if (old_group < 0) continue;
-    for (size_t j = i; j < n; ++j)
-      if (points[j].group == old_group) points[j].group = -1 - next;
-    ++next;
-  }
-  for (CachePoint& p : points) p.group = -1 - p.group;
-}
-
 }  // namespace
 
 std::vector<int> subgraph_order(const Graph& g, int node) {
@@ -184,7 +135,6 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double f
           {i, "depends on " + dependency_names(d) + ", not on uv alone or position alone"});
     }
   }
-  if (bandwidth) group_by_shared_nodes(g, plan.points);
   return plan;
 }
 

@@ -40,12 +40,6 @@ struct CachePoint {
   double feature = 1e300;
   int level_floor = PMC_LEVEL_NO_FLOOR;
   std::string bandwidth_note;
-  // The group it is evaluated with (materials/compiler.cpp): points whose
-  // sub-graphs share nodes (other than bare texcoord and position inputs)
-  // are one group, whose floor is its points' highest; a point that shares
-  // nothing keeps its own. Without floors every point is in group 0.
-  int group = 0;
-  int group_floor = PMC_LEVEL_NO_FLOOR;
 };
 
 const char* cache_key_name(CacheKey k);
@@ -67,12 +61,9 @@ constexpr int kDefaultCacheMinNodes = 8;
 // sizes, this many texels across the smallest (materials/bandwidth.h); 0: none.
 CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 0.0);
 
-// A material's level floor for one key kind: the highest of its points',
-// which the shade kernel computes a hit's texel or cell with before the
-// material runs; PMC_LEVEL_NO_FLOOR if none. The points of one group share
-// one texel or cell, so their sub-graphs run once, at its centre in
-// --cache-eval center; groups with lower floors compute theirs anew. The
-// plan lists points by group floor, highest first, a group's together.
+// A material's level floor for one key kind: the highest of its points' (the
+// points of one evaluation share one texel or cell, so their sub-graphs run
+// once, at its centre in --cache-eval center); PMC_LEVEL_NO_FLOOR if none.
 int material_level_floor(const CachePlan& plan, CacheKey key);
 // Nodes of the sub-graph under `node` (itself included), inputs first.
 std::vector<int> subgraph_order(const Graph& g, int node);

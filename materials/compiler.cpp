@@ -24,8 +24,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   std::vector<uint32_t> deps = dependencies(g);
   std::vector<char> is_point(g.nodes.size(), 0);
   if (options.cache) {
-    cm.cache_plan =
-        plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels);
+    cm.cache_plan = plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels);
     std::vector<CachePoint> kept;
     for (const CachePoint& p : cm.cache_plan.points)
       // The node id travels in 14 bits of the instruction; the interpreter
@@ -110,74 +109,52 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
           release((*slots)[size_t(in.node)], width_of(in.node));
     }
   };
-  // The cache groups: every cache point's LOOKUP first, then the union of
+  // The cache group: every cache point's LOOKUP first, then the union of
   // their sub-graphs (each node once, its own texcoord included, in
   // block-local slots), then one STORE per point. A LOOKUP's skip word
   // carries PMC_CACHE_KEY_POSITION for a position-keyed point; the last
   // LOOKUP jumps past the group when every lookup hit. On any miss the whole
   // union runs once (shared nodes are not evaluated per point) and each
-  // STORE inserts and delivers only the values that missed. With level
-  // floors, points that share no nodes may form groups of their own, each
-  // with its floor (cache_plan.h): a group evaluates its misses at its own
-  // texels' centres, so points whose texels differ cannot share one. Each
-  // group then starts with a CACHE_LEVEL naming its floors; the plan lists
-  // the groups by floor, highest first, so that the first group's floors
-  // are the material's, with which the shade kernel computes the texels.
+  // STORE inserts and delivers only the values that missed.
   if (!cm.cache_plan.points.empty()) {
-    const std::vector<CachePoint>& points = cm.cache_plan.points;
-    std::vector<size_t> group_start{0};
-    for (size_t k = 1; k < points.size(); ++k)
-      if (points[k].group != points[k - 1].group) group_start.push_back(k);
-    group_start.push_back(points.size());
-    const bool several = group_start.size() > 2;
-    std::vector<int> point_dst(points.size(), -1);
-    for (size_t gi = 0; gi + 1 < group_start.size(); ++gi) {
-      const size_t first = group_start[gi], last = group_start[gi + 1];
-      if (several) {
-        uint32_t imm = 0;
-        const uint32_t level = uint32_t(points[first].group_floor + PMC_CACHE_LEVEL_OFFSET);
-        for (size_t k = first; k < last; ++k) imm |= points[k].key == CacheKey::Position ? level << 8 : level;
-        em.instr(PMC_OP_CACHE_LEVEL, 1, imm, 0, {});
-      }
-      size_t last_lookup = 0;
-      uint32_t last_kind = 0;
-      for (size_t k = first; k < last; ++k) {
-        const CachePoint& p = points[k];
-        const Node& n = g.nodes[size_t(p.node)];
-        int dst = allocate(width_of(p.node), "cache point '" + n.name + "'");
-        slot_of[size_t(p.node)] = dst;
-        point_dst[k] = dst;
-        last_lookup = em.size();
-        last_kind = p.key == CacheKey::Position ? PMC_CACHE_KEY_POSITION : 0u;
-        em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(p.node), uint32_t(p.node) | (p.encoding << 14),
-                     uint32_t(dst), {last_kind});
-      }
-      size_t after_lookups = em.size();
-      std::vector<int> group;
-      {
-        std::vector<char> seen(g.nodes.size(), 0);
-        for (size_t k = first; k < last; ++k)
-          for (int i : subgraph_order(g, points[k].node))
-            if (!seen[size_t(i)]) {
-              seen[size_t(i)] = 1;
-              group.push_back(i);
-            }
-      }
-      std::vector<int> block_slots(g.nodes.size(), -1);
-      std::vector<int> block_uses = count_uses(group, false);
-      for (size_t k = first; k < last; ++k) ++block_uses[size_t(points[k].node)];  // read by its STORE
-      slots = &block_slots;
-      emit_nodes(group, block_uses, -1);
-      slots = &slot_of;
-      for (size_t k = first; k < last; ++k) {
-        const CachePoint& p = points[k];
-        int w = width_of(p.node);
-        em.instr(PMC_OP_CACHE_STORE, w, uint32_t(p.node) | (p.encoding << 14), uint32_t(point_dst[k]),
-                 {Emitter::slot(uint32_t(block_slots[size_t(p.node)]), w)});
-        release(block_slots[size_t(p.node)], w);
-      }
-      em.patch(last_lookup + 2, uint32_t(em.size() - after_lookups) | last_kind);
+    std::vector<int> point_dst;
+    size_t last_lookup = 0;
+    uint32_t last_kind = 0;
+    for (const CachePoint& p : cm.cache_plan.points) {
+      const Node& n = g.nodes[size_t(p.node)];
+      int dst = allocate(width_of(p.node), "cache point '" + n.name + "'");
+      slot_of[size_t(p.node)] = dst;
+      point_dst.push_back(dst);
+      last_lookup = em.size();
+      last_kind = p.key == CacheKey::Position ? PMC_CACHE_KEY_POSITION : 0u;
+      em.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(p.node), uint32_t(p.node) | (p.encoding << 14),
+                   uint32_t(dst), {last_kind});
     }
+    size_t after_lookups = em.size();
+    std::vector<int> group;
+    {
+      std::vector<char> seen(g.nodes.size(), 0);
+      for (const CachePoint& p : cm.cache_plan.points)
+        for (int i : subgraph_order(g, p.node))
+          if (!seen[size_t(i)]) {
+            seen[size_t(i)] = 1;
+            group.push_back(i);
+          }
+    }
+    std::vector<int> block_slots(g.nodes.size(), -1);
+    std::vector<int> block_uses = count_uses(group, false);
+    for (const CachePoint& p : cm.cache_plan.points) ++block_uses[size_t(p.node)];  // read by its STORE
+    slots = &block_slots;
+    emit_nodes(group, block_uses, -1);
+    slots = &slot_of;
+    for (size_t k = 0; k < cm.cache_plan.points.size(); ++k) {
+      const CachePoint& p = cm.cache_plan.points[k];
+      int w = width_of(p.node);
+      em.instr(PMC_OP_CACHE_STORE, w, uint32_t(p.node) | (p.encoding << 14), uint32_t(point_dst[k]),
+               {Emitter::slot(uint32_t(block_slots[size_t(p.node)]), w)});
+      release(block_slots[size_t(p.node)], w);
+    }
+    em.patch(last_lookup + 2, uint32_t(em.size() - after_lookups) | last_kind);
   }
   for (int i : order) {
     if (i == g.surface || is_point[size_t(i)]) continue;
@@ -266,15 +243,6 @@ std::string disassemble(const MaterialProgram& program, const CompiledMaterial& 
          << ((word & PMC_CACHE_KEY_POSITION) ? "position" : "uv") << " (hit: skip "
          << (word & ~PMC_CACHE_KEY_POSITION) << " words)\n";
       pc += 3;
-      continue;
-    }
-    if (op == PMC_OP_CACHE_LEVEL) {
-      const uint32_t imm = pmc_op_imm(h);
-      auto floor_text = [](uint32_t v) {
-        return v ? std::to_string(int(v) - PMC_CACHE_LEVEL_OFFSET) : std::string("unchanged");
-      };
-      os << " floors: uv " << floor_text(imm & 0xffu) << ", position " << floor_text(imm >> 8) << "\n";
-      pc += 2;
       continue;
     }
     if (pmc_op_imm(h) && op != PMC_OP_OUTPUT) os << " #" << pmc_op_imm(h);

@@ -17,10 +17,8 @@
 // CACHE_STORE per point that inserts and delivers the values that missed.
 // The last lookup jumps past the group when every lookup hit. The group is
 // self-contained, so a hit skips all of its work and --cache-eval center can
-// re-evaluate it at a texel centre. With level floors (--cache-bandwidth on)
-// points that share no nodes may form groups of their own, each opened by a
-// CACHE_LEVEL with its floors (cache_plan.h). With the cache off the program
-// has no cache instructions at all.
+// re-evaluate it at a texel centre. With the cache off the program has no
+// cache instructions at all.
 #pragma once
 
 #include <cstdint>

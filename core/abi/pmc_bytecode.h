@@ -111,18 +111,12 @@
                           /* falloffcontrast, lumacoeffs; imm = texture index */               \
   X(HEXNORMALMAP, 15, 15) /* the same 11 first, then strength, flip_g, normal, tangent */      \
   X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
-  X(CACHE_STORE, 1, 1)    /* k-th of its group: dst = operand if lookup k missed; insert */      \
-  X(CACHE_LEVEL, 0, 0)    /* a cache group starts, with its level floors (see below) */
+  X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
 // clang-format on
 
 #define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,
 enum PmcOpcode { PMC_OPCODES(PMC_OP_ENUM) PMC_OP_COUNT };
 #undef PMC_OP_ENUM
-
-/* CACHE_LEVEL's immediate: a level floor + PMC_CACHE_LEVEL_OFFSET per kind
- * (uv in bits 0-7, position in bits 8-15), or 0 for a kind whose floor the
- * group leaves as it is. Floors lie in [PMC_LAMBDA_MIN, PMC_LAMBDA_MAX]. */
-#define PMC_CACHE_LEVEL_OFFSET 64
 
 #define PMC_OPERAND_CONST 0x80000000u
 #define PMC_OPERAND_INDEX_MASK 0x0fffffffu

@@ -24,10 +24,10 @@
  * policies; a material's group mixes them freely (the lookup's skip word
  * carries the kind in bit 31).
  *
- * Level floors (beyond the paper): a group of cache points whose patterns
- * are finer than the footprint raises the level to a floor from their
- * bandwidth (materials/bandwidth.h), or evaluates those points uncached when
- * the floor is too far above the footprint's level (pmc_cache_floored_level).
+ * Level floors (beyond the paper): a material whose patterns are finer than
+ * the footprint raises the level to a floor from their bandwidth
+ * (materials/bandwidth.h), or evaluates those points uncached when the floor
+ * is too far above the footprint's level (pmc_cache_floored_level).
  *
  * Replacement policy (PmcCacheTable.policy, --cache-policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops

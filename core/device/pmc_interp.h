@@ -19,9 +19,8 @@
  * items itself); the shade kernel on CPU devices sets it higher. Both compile
  * this same file, so tests run every opcode through both and compare.
  *
- * The material cache: a program's cache points form a group at its start
- * (lookups, the union of their sub-graphs, stores; materials/compiler.h), or
- * with level floors several, each opened by a CACHE_LEVEL with its floors.
+ * The material cache: a program's cache points form one group at its start
+ * (lookups, the union of their sub-graphs, stores; materials/compiler.h).
  * Each point looks its values up; the group's sub-graphs then run only for
  * the points that missed, packed into the first lanes ("virtual lanes" that
  * read their shading inputs through lane_of[]), and each store inserts and
@@ -291,13 +290,6 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
   pmc_u32 n_lookups = 0u, n_stores = 0u, by_position = 0u;
   pmc_u32 missed[PMC_LANES];
   PmcCacheTexel texel[PMC_LANES], cell[PMC_LANES];
-  /* The level floors texel[] and cell[] are (to be) computed with: the
-   * material's, until a CACHE_LEVEL starts a group of points with others. */
-  int floor_uv = PMC_LEVEL_NO_FLOOR, floor_position = PMC_LEVEL_NO_FLOOR;
-  if (cache && n > 0 && cache[0].floors) {
-    floor_uv = cache[0].level_floor_uv;
-    floor_position = cache[0].level_floor_position;
-  }
   for (int k = 0; k < PMC_BATCH(n); ++k) {
     lane_of[k] = k;
     uv_now[k] = in[k].uv;
@@ -390,11 +382,12 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             /* once per point: every cache point of a kind shares its texel or cell */
             if (positional && !cell[k].ready)
               cell[k] = pmc_cache_cell_floored(in[k].position, cx->radius, cx->bias, cx->jitter, cx->material,
-                                               floor_position, cx->max_refine);
+                                               cx->floors ? cx->level_floor_position : PMC_LEVEL_NO_FLOOR,
+                                               cx->max_refine);
             if (!positional && !texel[k].ready)
-              texel[k] = pmc_cache_texel_floored(in[k].uv, cx->g1, cx->g2, cx->bias,
-                                                 make_float2(cx->jitter.x, cx->jitter.y), cx->material,
-                                                 floor_uv, cx->max_refine);
+              texel[k] = pmc_cache_texel_floored(
+                  in[k].uv, cx->g1, cx->g2, cx->bias, make_float2(cx->jitter.x, cx->jitter.y), cx->material,
+                  cx->floors ? cx->level_floor_uv : PMC_LEVEL_NO_FLOOR, cx->max_refine);
             const PmcCacheTexel* t = positional ? &cell[k] : &texel[k];
             if (t->bypass) { /* too fine a texel to pay: evaluate, never insert */
               cx->counts[PMC_CSTAT_BYPASSED] += 1u;
@@ -451,27 +444,6 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             for (int k = 0; k < PMC_BATCH(n); ++k) lane_of[k] = k;
           }
         }
-        continue;
-      }
-      case PMC_OP_CACHE_LEVEL: {
-        /* Another group of cache points, whose level floors differ from the
-         * last group's (--cache-bandwidth on): its texels and cells are
-         * computed anew, with its floors, at its first lookup of each kind;
-         * and it starts with no misses. Without floors it changes nothing. */
-        const int uv_word = (int)(imm & 0xffu), position_word = (int)(imm >> 8);
-        const int floors = cache && n > 0 && cache[0].floors;
-        const int new_uv = uv_word ? uv_word - PMC_CACHE_LEVEL_OFFSET : floor_uv;
-        const int new_position = position_word ? position_word - PMC_CACHE_LEVEL_OFFSET : floor_position;
-        for (int k = 0; k < PMC_BATCH(n); ++k) {
-          missed[k] = 0u;
-          if (floors && new_uv != floor_uv) texel[k].ready = 0u;
-          if (floors && new_position != floor_position) cell[k].ready = 0u;
-        }
-        if (floors) {
-          floor_uv = new_uv;
-          floor_position = new_position;
-        }
-        pc += 2u;
         continue;
       }
       case PMC_OP_CACHE_STORE: {

@@ -107,8 +107,6 @@ typedef struct PmcHitPoint {
   PmcCacheTexel cell;       /* ready when it has position-keyed ones */
   uint cache_points;        /* how many (the cells to prefetch) */
   uint cache_position_mask; /* bit p: the p-th point is keyed on position */
-  int level_floor_uv;       /* the level floors texel and cell were computed with */
-  int level_floor_position;
   uint depth;               /* surface hits of the path before this one (0: camera ray) */
 } PmcHitPoint;
 
@@ -221,14 +219,10 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cell.ready = 0u;
   hp->cache_points = 0u;
   hp->cache_position_mask = 0u;
-  hp->level_floor_uv = PMC_LEVEL_NO_FLOOR;
-  hp->level_floor_position = PMC_LEVEL_NO_FLOOR;
   if (frame->cache_on) {
     __global const PmcMaterialInfo* info = &scene->materials[tri->material];
     hp->cache_points = info->cache_points;
     hp->cache_position_mask = info->cache_position_mask;
-    hp->level_floor_uv = info->cache_level_floor_uv;
-    hp->level_floor_position = info->cache_level_floor_position;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
       uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
       hp->cache_jitter = make_float4(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
@@ -238,11 +232,11 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     if ((all & ~hp->cache_position_mask) != 0u)
       hp->texel = pmc_cache_texel_floored(
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
-          (uint)tri->material, hp->level_floor_uv, frame->cache_max_refine);
+          (uint)tri->material, info->cache_level_floor_uv, frame->cache_max_refine);
     if (hp->cache_position_mask != 0u)
       hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias,
                                         pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
-                                        (uint)tri->material, hp->level_floor_position,
+                                        (uint)tri->material, info->cache_level_floor_position,
                                         frame->cache_max_refine);
   }
 }
@@ -268,10 +262,9 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->depth = hp->depth;
     cache->jitter = hp->cache_jitter;
     cache->radius = 0.5f * hp->cone_width;
-    cache->floors = 1u; /* hp's texel and cell are ready, with the material's floors; a
-                         * group of points with other floors (CACHE_LEVEL) recomputes them */
-    cache->level_floor_uv = hp->level_floor_uv;
-    cache->level_floor_position = hp->level_floor_position;
+    cache->floors = 0u; /* hp's texel and cell are ready, the floors applied */
+    cache->level_floor_uv = PMC_LEVEL_NO_FLOOR;
+    cache->level_floor_position = PMC_LEVEL_NO_FLOOR;
     cache->max_refine = frame->cache_max_refine;
     cache->texel = hp->texel;
     cache->cell = hp->cell;

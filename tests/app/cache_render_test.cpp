@@ -273,48 +273,6 @@ TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
   EXPECT_LT(p_paper, 20.0) << "the check can fail: footprint-sized texels alias the lines";
 }
 
-// Each cache point keeps its own level floor: a material with a grid too
-// fine for any footprint of this view (uvtiling 400: lines 1/4000 uv wide)
-// and a smooth ramp (no floor), with no refinement allowed
-// (--cache-max-refine 0). The grid's point is evaluated uncached at every
-// hit while the ramp's is looked up at its footprint texel, so there are
-// exactly as many lookups as bypassed points, and the ramp hits. (With one
-// floor for the whole material, the grid's, both were bypassed: no lookups.)
-TEST(CacheRender, EachCachePointKeepsItsOwnLevelFloor) {
-  const std::string doc = shared_dir() + "/grid_and_ramp.mtlx";
-  {
-    std::ofstream out(doc);
-    out << R"(<?xml version="1.0"?>
-<materialx version="1.39">
-  <grid name="fine_grid" type="color3">
-    <input name="uvtiling" type="vector2" value="400, 400" />
-    <input name="thickness" type="float" value="0.1" />
-  </grid>
-  <ramplr name="ramp" type="float">
-    <input name="valuel" type="float" value="0.2" />
-    <input name="valuer" type="float" value="0.8" />
-  </ramplr>
-  <standard_surface name="SR_grid_and_ramp" type="surfaceshader">
-    <input name="base_color" type="color3" nodename="fine_grid" />
-    <input name="specular_roughness" type="float" nodename="ramp" />
-  </standard_surface>
-  <surfacematerial name="grid_and_ramp" type="material">
-    <input name="surfaceshader" type="surfaceshader" nodename="SR_grid_and_ramp" />
-  </surfacematerial>
-</materialx>
-)";
-  }
-  const Render& r =
-      render("grid_and_ramp", " --mtlx " + doc + " --material grid_and_ramp --cache-min-nodes 1" + kView +
-                                  kFull + " --cache on --cache-bandwidth on --cache-max-refine 0");
-  ASSERT_TRUE(r.stats.contains("cache")) << r.log;
-  const nlohmann::json& c = r.stats["cache"];
-  const uint64_t lookups = c["lookups"].get<uint64_t>(), bypassed = c["bypassed"].get<uint64_t>();
-  EXPECT_GT(bypassed, 10000u) << c.dump();
-  EXPECT_EQ(lookups, bypassed) << "one ramp lookup per bypassed grid point: " << c.dump();
-  EXPECT_GT(c["hit_rate"].get<double>(), 0.6) << c.dump();  // 0.79 on PoCL
-}
-
 TEST(CacheRender, MarbleWithUvKeysOnlyHasNoHitsAnywhere) {
   const Render& m = render(
       "marble_uv", marble() + kView + " --width 96 --height 72 --spp 4 --seed 3 --cache on --cache-keys uv");

@@ -629,10 +629,8 @@ TEST(Interpreter, EveryOpcodeHasAParityCase) {
   std::set<int> covered;
   for (const OpSpec& s : op_specs()) covered.insert(s.op);
   // Exercised indirectly: END and OUTPUT close every program; the reserved
-  // cache opcodes run (as misses, CACHE_LEVEL as a no-op) in the chained program of
-  // DeviceMatchesHostForEveryOpcode.
-  const std::set<int> indirect = {PMC_OP_END, PMC_OP_OUTPUT, PMC_OP_CACHE_LOOKUP, PMC_OP_CACHE_STORE,
-                                  PMC_OP_CACHE_LEVEL};
+  // cache opcodes run (as misses) in the chained program of DeviceMatchesHostForEveryOpcode.
+  const std::set<int> indirect = {PMC_OP_END, PMC_OP_OUTPUT, PMC_OP_CACHE_LOOKUP, PMC_OP_CACHE_STORE};
   for (int op = 0; op < PMC_OP_COUNT; ++op)
     EXPECT_TRUE(covered.count(op) || indirect.count(op))
         << "opcode " << op_name(op) << " has no case in op_specs(): add one with its operand ranges";
@@ -724,13 +722,13 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
   }
   {
     // Chained program around a cache block, as the compiler emits it:
-    //   MOVE s68 <- s0; CACHE_LEVEL; CACHE_LOOKUP s72 [skip]; ADD s76 <- s68, s4;
+    //   MOVE s68 <- s0; CACHE_LOOKUP s72 [skip]; ADD s76 <- s68, s4;
     //   CACHE_STORE s72 <- s76; MUL kDst <- s72, s68; OUTPUT
     // Without a cache context (host reference, cache off) every lookup is a
     // miss: the block runs into its own slot, the STORE delivers it to the
     // point's slot, and the result is (a + b) * a on both sides.
     Case c;
-    c.label = "MOVE; CACHE_LEVEL; CACHE_LOOKUP; ADD; CACHE_STORE; MUL (chained, cache miss)";
+    c.label = "MOVE; CACHE_LOOKUP; ADD; CACHE_STORE; MUL (chained, cache miss)";
     c.out_width = 4;
     c.tol = Tol::Exact;
     const uint32_t block_words = (2 + 2) + (2 + 1);  // ADD + CACHE_STORE
@@ -739,7 +737,6 @@ TEST(Interpreter, DeviceMatchesHostForEveryOpcode) {
     skip.word = block_words;
     std::vector<Instr> prog = {
         {PMC_OP_MOVE, 4, 0, 68, {Operand{false, false, 0, 4, 0, {}}}},
-        {PMC_OP_CACHE_LEVEL, 1, (8 + PMC_CACHE_LEVEL_OFFSET) | ((3 + PMC_CACHE_LEVEL_OFFSET) << 8), 0, {}},
         {PMC_OP_CACHE_LOOKUP, 4, 0, 72, {skip}},
         {PMC_OP_ADD, 4, 0, 76, {Operand{false, false, 0, 4, 68, {}}, Operand{false, false, 0, 4, 4, {}}}},
         {PMC_OP_CACHE_STORE, 4, 0, 72, {Operand{false, false, 0, 4, 76, {}}}},
