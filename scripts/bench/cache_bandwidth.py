@@ -224,6 +224,30 @@ Where the floors do not pay, and what they cannot fix:
   patterns reach 40 dB only where they are hardly cached at all.
 - Thin lines (linepattern.mtlx, lines 1/580 of the uv square) are bypassed everywhere at this
   size with the defaults: the image is the cacheless one, and nothing is saved.
+
+Measured and not kept (2026-11-27): level floors per group of cache points. A material's points of
+one key kind share the finest floor among them, so a smooth pattern next to a fine one is refined, or
+bypassed, with it. I built separate groups for points whose sub-graphs share no nodes, each opened by
+its own floors (a `CACHE_LEVEL` instruction), with points that share nodes kept together: split, the
+default scene's floor (three points sharing most of 162 nodes) ran its shared nodes once per group on
+a miss and rendered 1.28x slower with the floors on (4.21 s against 3.29 s, 3 rounds). On the teapot,
+640x360, 16 spp, `--cache-min-nodes 1 --cache-bandwidth on`, with linepattern's grid (`uvtiling` 58,
+floor level 11) as base colour next to a roughness of its own, the hit rate rose from 47.5 to 64.1% and
+the bypassed points halved, but the time did not follow (medians of 5 interleaved rounds, against one
+floor per material):
+
+| roughness sub-graph | cacheless | one floor | per-group floors | footprint texels (the default) |
+|---|---|---|---|---|
+| 3-octave `fractal2d` | 0.81 s | 1.01 s | 1.15 s | 0.93 s |
+| 6-octave `fractal2d` x `worleynoise2d` | 0.97 s | 1.13 s | 1.17 s | 0.98 s |
+| two such products | 1.19 s | 1.25 s | 1.26 s | 1.10 s |
+
+The second group computes its texel again at every hit (hashes, even with the footprint's level kept)
+and packs its lanes apart. On PoCL that cost as much as the extra hits saved, and the accuracy was the same
+(31.6 dB over the image, 24.5 dB worst tile, at 320x180, 64 spp, for the 3-octave case). None of
+the shared MaterialX documents has two independent cached patterns in one material. The feature is
+not in the code. Its tests (a group that hits followed by one that misses must still deliver and insert
+its values) caught a real bug while it was being built.
 """
     return section, "\n" + bias_table + "\n\n" + speed_table + "\n\n" + "\n".join(lines) + "\n"
 
