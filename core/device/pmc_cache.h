@@ -143,13 +143,15 @@ PMC_FN float pmc_exp2i(int e) { return as_float((e + 127) << 23); }
  * the index is +-(2^62 + its bit pattern): still one key per distinct float
  * (and ordered), never an in-range index, at most 2^62 + 2^31 in magnitude.
  * NaN maps to 0. */
+#define PMC_CACHE_BIG_INDEX ((long)4611686018427387904L) /* 2^62: indices from here on hold the float */
+
 PMC_FN long pmc_cache_texel_jittered(float u, int lambda, float offset) {
   float s = u * pmc_exp2i(lambda) + offset;
   float f = floor(s);
   const float lim = 4.6116860184e18f; /* 2^62 */
   if (isnan(f)) return 0L;
   if (!(f > -lim && f < lim)) {
-    long k = (long)4611686018427387904L + (long)(pmc_u32)as_int(fabs(f));
+    long k = PMC_CACHE_BIG_INDEX + (long)(pmc_u32)as_int(fabs(f));
     return f < 0.0f ? -k : k;
   }
   return (long)f;
@@ -161,7 +163,7 @@ PMC_FN long pmc_cache_texel(float u, int lambda) { return pmc_cache_texel_jitter
  * +-2^62 the index holds the float itself (see above): give back that uv
  * (the largest float for the texel of the infinite uvs). */
 PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
-  const long big = (long)4611686018427387904L; /* 2^62 */
+  const long big = PMC_CACHE_BIG_INDEX;
   if (texel >= big || texel <= -big) {
     float f = as_float((int)(pmc_u32)((texel < 0 ? -texel : texel) - big));
     float c = f * pmc_exp2i(-lambda);
@@ -351,8 +353,8 @@ PMC_FN float4 pmc_cache_plane_jitter(float3 n, float ju, float jv) {
 /* Centre of a position cell index (pmc_cache_cell_floored): k * 2^-lambda;
  * always finite (beyond +-2^62 as pmc_cache_texel_center). */
 PMC_FN float pmc_cache_cell_center(long cell, int lambda) {
-  const long big = (long)4611686018427387904L; /* 2^62 */
-  if (cell >= big || cell <= -big) return pmc_cache_texel_center(cell, lambda);
+  if (cell >= PMC_CACHE_BIG_INDEX || cell <= -PMC_CACHE_BIG_INDEX)
+    return pmc_cache_texel_center(cell, lambda);
   return (float)cell * pmc_exp2i(-lambda);
 }
 
