@@ -192,6 +192,13 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
         "texels follow the footprint whatever the table's size (the paper)")
         ->check(cli::one_of({"on", "off"}))
         ->default_str("off");
+    field(app, "--cache-lobe-spread", "cache_lobe_spread", c.cache_lobe_spread, "C",
+          "after each bounce, position cells follow a cone whose spread grows by C times the angle of the "
+          "lobe one sample stands for (a diffuse bounce: about 2C radians), so hits after rough bounces "
+          "share coarser cells, whose detail that lobe averages out (uv texels keep the texture's cone; "
+          "0.03125: fewer misses at the same bias, but a noisier same-seed match with the cacheless render); "
+          "0: the texture's cone (the paper), 0..4")
+        ->capture_default_str();
     field(app, "--cache-max-refine", "cache_max_refine", c.cache_max_refine, "LEVELS",
           "how many levels finer than the footprint a pattern may make its texels (each level splits a "
           "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")

@@ -14,6 +14,7 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["policy"] = s.priority ? "priority" : "keep-first";
   c["bandwidth"] = s.bandwidth;
   c["max_refine"] = s.max_refine;
+  c["lobe_spread"] = s.lobe_spread;
   c["feature_texels"] = s.feature_texels;
   c["mip_bias"] = s.mip_bias;
   c["fit_levels"] = s.fit_levels;

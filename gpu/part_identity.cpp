@@ -72,6 +72,10 @@ std::string settings_hash(const RenderSettings& s) {
       h.word(0x666974ull);                          // "fit"
       add_floats(h, &c.fit_levels, 1);
     }
+    if (c.lobe_spread != 0.0f) {  // wider cells after rough bounces change the image
+      h.word(0x6c6f6265ull);      // "lobe"
+      add_floats(h, &c.lobe_spread, 1);
+    }
     if (c.bandwidth) {                // level floors change the image
       h.word(0x62616e6477696474ull);  // "bandwidt(h)"
       h.word(uint64_t(c.max_refine));

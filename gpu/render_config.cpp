@@ -72,6 +72,8 @@ void RenderConfig::validate() const {
     fail_config(setting("cache_feature_texels"), ": must be 0.125..64, got ", cache_feature_texels);
   if (cache_max_refine < 0 || cache_max_refine > 16)
     fail_config(setting("cache_max_refine"), ": must be 0..16, got ", cache_max_refine);
+  if (!(cache_lobe_spread >= 0.0f && cache_lobe_spread <= 4.0f))
+    fail_config(setting("cache_lobe_spread"), ": must be 0..4, got ", cache_lobe_spread);
   if (!material.empty() && mtlx.empty())
     fail_config(setting("material"), " needs at least one ", setting("mtlx"), " document");
   if (!(std::fabs(mip_bias) <= 32.0f))
@@ -116,6 +118,7 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.cache.priority = c.cache_policy == CachePolicy::Priority;
   s.cache.bandwidth = c.cache_bandwidth;
   s.cache.max_refine = c.cache_max_refine;
+  s.cache.lobe_spread = c.cache_lobe_spread;
   s.cache.feature_texels = float(c.cache_feature_texels);
   s.cache.audit = c.cache_audit;
   return s;

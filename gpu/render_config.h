@@ -28,6 +28,14 @@
 
 namespace pmc {
 
+// --cache-lobe-spread's default: how much position cells widen per bounce, C
+// of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
+// renders the solid room 3-7% faster at the same bias, but its paths part from
+// the cacheless render's more often, so same-seed comparisons at low sample
+// counts (scripts/ci-compare) lose up to 8 dB (docs/BENCHMARKS.md, "Coarser
+// cells after rough bounces").
+constexpr float kDefaultCacheLobeSpread = 0.0f;
+
 using Vec3 = std::array<float, 3>;
 
 // What a cache miss stores for a texel: the value at the inserting hit, or
@@ -93,8 +101,10 @@ struct RenderConfig {
   bool cache_bandwidth = false;                 // --cache-bandwidth on: level floors from the patterns
   double cache_feature_texels = 2.0;            // --cache-feature-texels: texels across the smallest feature
   int cache_max_refine = 2;                     // --cache-max-refine: levels of refinement before bypass
-  bool cache_fit = false;                       // --cache-fit on: coarser texels for a table too small
-  bool cache_audit = false;                     // count occupied entries by reading the table (tests)
+  // --cache-lobe-spread: position cells' widening per bounce (pmc_lobe_spread)
+  float cache_lobe_spread = kDefaultCacheLobeSpread;
+  bool cache_fit = false;    // --cache-fit on: coarser texels for a table too small
+  bool cache_audit = false;  // count occupied entries by reading the table (tests)
 
   // The machine.
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)

@@ -204,6 +204,7 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
   frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
   frame.cache_max_refine = cs.max_refine;
+  frame.cache_lobe_spread = cs.on ? cs.lobe_spread : 0.0f;
   return frame;
 }
 

@@ -46,6 +46,7 @@ struct CacheSettings {
   bool bandwidth = false;       // --cache-bandwidth on: materials carry level floors (bandwidth.h)
   float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
   int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
+  float lobe_spread = 0.0f;     // --cache-lobe-spread: position cells' widening per bounce (pmc_raycone.h)
   std::string reason;           // why this size (printed, and written to stats)
   // Count the occupied entries by reading the table back after the render
   // (tests check that this equals `inserts`). Otherwise occupied = inserts:

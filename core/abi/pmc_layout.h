@@ -40,7 +40,7 @@
   X(PmcPathState, throughput)      \
   X(PmcPathState, radiance)        \
   X(PmcPathState, cone_width)      \
-  X(PmcPathState, cone_spread)     \
+  X(PmcPathState, cache_cone)      \
   X(PmcPathState, pixel)           \
   X(PmcPathState, depth)           \
   X(PmcPathState, flags)           \
@@ -122,6 +122,7 @@
   X(PmcFrame, cache_bilinear)      \
   X(PmcFrame, cache_policy)        \
   X(PmcFrame, cache_max_refine)    \
+  X(PmcFrame, cache_lobe_spread)   \
   X(PmcCounters, next_rays)
 // clang-format on
 

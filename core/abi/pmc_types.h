@@ -41,11 +41,14 @@ typedef struct PmcHit {
 typedef struct PmcPathState {
   float throughput[3];
   float radiance[3];
-  float cone_width;  /* ray-cone width at the ray origin (world units) */
-  float cone_spread; /* ray-cone spread angle (radians) */
-  float bsdf_pdf;    /* solid-angle pdf of the direction that produced the ray */
-  pmc_u32 pixel;     /* linear pixel index y*width+x */
-  pmc_u32 depth;     /* number of surface hits so far */
+  float cone_width;   /* ray-cone width at the ray origin (world units); its spread is the
+                         camera's pixel angle, PmcFrame.cam_spread */
+  pmc_u32 cache_cone; /* position cells' cone beyond the texture's (--cache-lobe-spread): extra
+                         width at the ray origin and extra spread, as two bfloat16s
+                         (pmc_pack_cone, core/device/pmc_raycone.h) */
+  float bsdf_pdf;     /* solid-angle pdf of the direction that produced the ray */
+  pmc_u32 pixel;      /* linear pixel index y*width+x */
+  pmc_u32 depth;      /* number of surface hits so far */
   pmc_u32 flags;
   pmc_u32 cache_hits; /* cache points found along the path (hit map) */
   float env_pdf;      /* solid-angle pdf with which the environment light would have
@@ -199,6 +202,7 @@ typedef struct PmcFrame {
   pmc_u32 cache_bilinear;   /* --cache-filter bilinear: jittered texel selection */
   pmc_u32 cache_policy;     /* --cache-policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
   pmc_i32 cache_max_refine; /* --cache-max-refine: level floors above the footprint's before bypass */
+  float cache_lobe_spread;  /* --cache-lobe-spread: position cells widen per bounce (pmc_lobe_spread) */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

@@ -51,4 +51,31 @@ PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p
   if (isfinite(r2.x) && isfinite(r2.y)) *g2 = r2;
 }
 
+/* The material cache's cone (beyond the paper, whose cones grow with distance
+ * alone): at each bounce its spread also grows by c times the angle of the
+ * lobe that one sample stands for. A direction sampled with solid-angle pdf p
+ * stands for about 1/p steradians, a cone of half-angle sqrt(1 / (pi p))
+ * (small-angle form of 2 pi (1 - cos h) = 1/p). A diffuse bounce (p ~ 1/pi)
+ * widens it by about 2c radians, a mirror-like one by almost nothing. What a
+ * later hit reads is integrated over that lobe, so detail finer than a
+ * fraction c of the lobe's footprint there is averaged out anyway: cells that
+ * size cost bias that the lobe hides, and save the misses of cells finer than
+ * anything the image can show. The result is capped at pi; c <= 0, a pdf <= 0
+ * or not finite give 0 (the paper's cone). */
+PMC_FN float pmc_lobe_spread(float pdf, float c) {
+  if (!(c > 0.0f) || !(pdf > 0.0f) || !isfinite(pdf) || !isfinite(c)) return 0.0f;
+  float angle = 2.0f * sqrt(1.0f / (PMC_PI * pdf));
+  return fmin(c * angle, PMC_PI); /* also when 1 / (pi p) overflows */
+}
+
+/* The extra cone a path carries for position cells, in the one word of its
+ * state: width (low half) and spread (high half) as bfloat16s, a float's top
+ * 16 bits: a float's range, 8 bits of precision, truncated toward zero (the
+ * cone comes out at most 2^-7 narrower, a level choice at most that off). */
+PMC_FN pmc_u32 pmc_pack_cone(float width, float spread) {
+  return ((pmc_u32)as_int(spread) & 0xffff0000u) | ((pmc_u32)as_int(width) >> 16);
+}
+PMC_FN float pmc_cone_width(pmc_u32 packed) { return as_float((int)(packed << 16)); }
+PMC_FN float pmc_cone_spread(pmc_u32 packed) { return as_float((int)(packed & 0xffff0000u)); }
+
 #endif /* PMC_RAYCONE_H */

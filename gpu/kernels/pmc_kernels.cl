@@ -63,7 +63,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
     p->radiance[c] = 0.0f;
   }
   p->cone_width = 0.0f;
-  p->cone_spread = frame->cam_spread;
+  p->cache_cone = 0u; /* bfloat16 zeros: no extra width or spread */
   p->bsdf_pdf = 0.0f;
   p->env_pdf = 0.0f;
   p->pixel = pixel;
@@ -98,6 +98,7 @@ typedef struct PmcHitPoint {
   float3 dir, pos, ng, ns, tangent;
   float2 uv, g1, g2; /* texture coordinates and their ray-cone gradients */
   float t, hit_scale, area2, cone_width;
+  float cache_extra; /* the cache cone's width beyond cone_width at the hit (pmc_lobe_spread) */
   int prim, material;
   uint path;
   int surface;              /* 0: the ray escaped */
@@ -183,7 +184,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   if (dot(ns, -dir) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
 
   /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
-  float cone_width = path->cone_width + hit.t * path->cone_spread;
+  float cone_width = path->cone_width + hit.t * frame->cam_spread;
   float2 g1, g2;
   pmc_ray_cone_gradients(dir, ng, 0.5f * cone_width, p0, p1, p2, t0, t1, t2, &g1, &g2);
 
@@ -219,9 +220,16 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cell.ready = 0u;
   hp->cache_points = 0u;
   hp->cache_position_mask = 0u;
+  hp->cache_extra = 0.0f;
   if (frame->cache_on) {
     __global const PmcMaterialInfo* info = &scene->materials[tri->material];
     hp->cache_points = info->cache_points;
+    /* The position cells' cone: wider than the texture's after rough bounces
+     * (uv texels keep the texture's: docs/DESIGN.md, "The cache's cone"). */
+    if (frame->cache_lobe_spread > 0.0f) {
+      const uint cone = path->cache_cone;
+      hp->cache_extra = fmin(pmc_cone_width(cone) + hit.t * pmc_cone_spread(cone), 1e30f);
+    }
     hp->cache_position_mask = info->cache_position_mask;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
       uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
@@ -233,11 +241,18 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
       hp->texel = pmc_cache_texel_floored(
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
           (uint)tri->material, info->cache_level_floor_uv, frame->cache_max_refine);
-    if (hp->cache_position_mask != 0u)
-      hp->cell = pmc_cache_cell_floored(pos, 0.5f * cone_width, frame->mip_bias,
+    if (hp->cache_position_mask != 0u) {
+      /* Level floors (--cache-bandwidth) count from the texture cone's level:
+       * the widening coarsens cells down to a floor at most, and a point is
+       * bypassed exactly where it would be without the widening. */
+      int max_refine = frame->cache_max_refine;
+      if (hp->cache_extra > 0.0f)
+        max_refine += pmc_cache_level(0.5f * cone_width, frame->mip_bias) -
+                      pmc_cache_level(0.5f * (cone_width + hp->cache_extra), frame->mip_bias);
+      hp->cell = pmc_cache_cell_floored(pos, 0.5f * (cone_width + hp->cache_extra), frame->mip_bias,
                                         pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
-                                        (uint)tri->material, info->cache_level_floor_position,
-                                        frame->cache_max_refine);
+                                        (uint)tri->material, info->cache_level_floor_position, max_refine);
+    }
   }
 }
 
@@ -261,7 +276,7 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->center = frame->cache_center;
     cache->depth = hp->depth;
     cache->jitter = hp->cache_jitter;
-    cache->radius = 0.5f * hp->cone_width;
+    cache->radius = 0.5f * (hp->cone_width + hp->cache_extra);
     cache->floors = 0u; /* hp's texel and cell are ready, the floors applied */
     cache->level_floor_uv = PMC_LEVEL_NO_FLOOR;
     cache->level_floor_position = PMC_LEVEL_NO_FLOOR;
@@ -371,6 +386,10 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       path->env_pdf = pmc_env_light_pdf(&scene->light_set, ns, wi_world);
       path->flags = 0u;
       path->cone_width = hp->cone_width;
+      if (frame->cache_lobe_spread > 0.0f)
+        path->cache_cone = pmc_pack_cone(
+            hp->cache_extra,
+            fmin(pmc_cone_spread(path->cache_cone) + pmc_lobe_spread(pdf, frame->cache_lobe_spread), 1e30f));
     }
   }
   path->depth = depth;

@@ -10,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <functional>
 
 #include "core/error.h"
@@ -59,6 +60,10 @@ TEST(RenderConfig, EachBadFieldIsNamed) {
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_min_nodes = 0; }), S{"cache_min_nodes"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.material = "M"; }), (S{"material", "mtlx"}));
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.mip_bias = 33.0f; }), S{"mip_bias"});
+  for (float bad : {-0.5f, 4.5f, std::nanf("")})
+    EXPECT_EQ(settings_named_by([bad](RenderConfig& c) { c.cache_lobe_spread = bad; }),
+              S{"cache_lobe_spread"})
+        << bad;
   EXPECT_EQ(settings_named_by([](RenderConfig& c) {
               c.cache_eval = CacheEval::Hit;
               c.cache_filter = CacheFilter::Bilinear;

@@ -121,6 +121,11 @@ TEST(RenderParts, HashesNameTheFrameNotThePart) {
   RenderSettings deeper = s;
   deeper.max_depth = 5;
   EXPECT_NE(settings_hash(deeper), settings_hash(s));
+  RenderSettings cached = s;
+  cached.cache.on = true;
+  RenderSettings widened = cached;  // coarser cells after bounces change the image
+  widened.cache.lobe_spread = 0.03125f;
+  EXPECT_NE(settings_hash(widened), settings_hash(cached));
   RenderConfig other = room();
   other.scene = test::shared_scene("cornell/cornell_box.obj");
   RenderSession cornell(other, test::cl());

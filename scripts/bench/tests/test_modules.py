@@ -224,6 +224,21 @@ class CachePositionReport(unittest.TestCase):
         section, _ = cache_position.report(self.data(0.75))
         self.assertIn("goal 80% **not met**", section)
 
+    def test_lobe_configurations_get_rows_and_a_line(self):
+        data = self.data(0.81)
+        solid = data["scenes"]["solid"]
+        solid["hits"]["lobe"] = dict(solid["hits"]["uv+position"], hit_rate=0.9)
+        solid["bias"]["lobe"] = dict(psnr=39.0, worst_tile_psnr=30.0, worst_tile=[0, 0, 16])
+        solid["memory"]["lobe"] = 2**21
+        solid["times"]["lobe"] = [1.4] * 3
+        solid["same_seed"] = {"lobe": 33.25}
+        section, _ = cache_position.report(data)
+        self.assertIn("| solid | `uv+position --cache-lobe-spread 1/32` | 1.40 | **1.50x** (1.43-1.57) |", section)
+        self.assertIn("| 90.0% | 33.2 | 39.0 | 30.0 |", section)
+        self.assertIn("With position cells widened after rough bounces (`--cache-lobe-spread 1/32`): 1.50x, bias "
+                      "39.0 dB over the image, 30.0 dB in its worst tile (1.3x at 40 dB: not reached", section)
+        self.assertNotIn("--cache-min-nodes 4`): ", section)
+
 
 class CacheBandwidthReport(unittest.TestCase):
     def data(self, worst_doc_tile):
