@@ -1,12 +1,13 @@
 // image_metrics.cpp — RMSE, relMSE, PSNR, max error, difference images.
 //
-// The errors come from one pass of our own (the worst tile from a second): relMSE and the clamped PSNR
+// The errors come from one pass of our own (the worst tiles from a second): relMSE and the clamped PSNR
 // (999 dB for identical images) are pmc's conventions, which
 // OpenImageIO's ImageBufAlgo::compare does not compute; the difference image
 // is the scaled absolute difference of the tone-mapped images.
 #include "core/image_metrics.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -44,30 +45,54 @@ ImageError compare_images(const Image& t, const Image& r) {
   const int tiles_x = (t.width + kMetricTile - 1) / kMetricTile,
             tiles_y = (t.height + kMetricTile - 1) / kMetricTile;
   std::vector<double> tile_se(size_t(tiles_x) * size_t(tiles_y), 0.0);
-  std::vector<size_t> tile_n(tile_se.size(), 0);
+  std::vector<size_t> tile_n(tile_se.size(), 0), tile_pixels(tile_se.size(), 0);
+  // Each tile's kTrimPixels largest per-pixel errors (summed over channels), largest first.
+  std::vector<std::array<double, kTrimPixels>> tile_top(tile_se.size());
+  for (auto& top : tile_top) top.fill(0.0);
   const size_t c = size_t(t.channels);
   for (int y = 0; y < t.height; ++y)
     for (int x = 0; x < t.width; ++x) {
       const size_t tile = size_t(y / kMetricTile) * size_t(tiles_x) + size_t(x / kMetricTile);
+      double pixel_se = 0.0;
       for (size_t k = 0; k < c; ++k) {
         const size_t i = (size_t(y) * size_t(t.width) + size_t(x)) * c + k;
         double a = t.pixels[i], b = r.pixels[i];
         double dc =
             std::isfinite(a) && std::isfinite(b) ? std::clamp(a, 0.0, 1.0) - std::clamp(b, 0.0, 1.0) : 1.0;
-        tile_se[tile] += dc * dc;
+        pixel_se += dc * dc;
         tile_n[tile] += 1;
       }
+      tile_se[tile] += pixel_se;
+      tile_pixels[tile] += 1;
+      std::array<double, kTrimPixels>& top = tile_top[tile];
+      for (size_t j = 0; j < top.size(); ++j)
+        if (pixel_se > top[j]) std::swap(pixel_se, top[j]);  // insert, pushing the smaller ones down
     }
-  double worst = 0.0;
+  auto psnr = [](double mse) { return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 999.0; };
+  double worst = 0.0, worst_trimmed = 0.0;
   for (size_t i = 0; i < tile_se.size(); ++i) {
-    double mse = tile_n[i] ? tile_se[i] / double(tile_n[i]) : 0.0;
+    const int tx = int(i % size_t(tiles_x)) * kMetricTile, ty = int(i / size_t(tiles_x)) * kMetricTile;
+    const double mse = tile_n[i] ? tile_se[i] / double(tile_n[i]) : 0.0;
     if (mse > worst) {
       worst = mse;
-      e.worst_tile_x = int(i % size_t(tiles_x)) * kMetricTile;
-      e.worst_tile_y = int(i / size_t(tiles_x)) * kMetricTile;
+      e.worst_tile_x = tx;
+      e.worst_tile_y = ty;
+    }
+    double trimmed = mse;
+    if (tile_pixels[i] >= 3 * size_t(kTrimPixels)) {
+      double se_kept = tile_se[i];
+      for (double v : tile_top[i]) se_kept -= v;
+      const size_t n_kept = tile_n[i] - size_t(kTrimPixels) * c;
+      trimmed = std::max(se_kept, 0.0) / double(n_kept);
+    }
+    if (trimmed > worst_trimmed) {
+      worst_trimmed = trimmed;
+      e.worst_trimmed_tile_x = tx;
+      e.worst_trimmed_tile_y = ty;
     }
   }
-  e.worst_tile_psnr = worst > 0 ? 10.0 * std::log10(1.0 / worst) : 999.0;
+  e.worst_tile_psnr = psnr(worst);
+  e.worst_trimmed_tile_psnr = psnr(worst_trimmed);
   return e;
 }
 

@@ -7,7 +7,10 @@
 // maximum absolute error are unclamped. The worst tile is the 16x16 tile
 // (partial at the right and bottom edges) with the lowest clamped PSNR: a
 // local artefact (an aliasing pattern, one mis-cached object) hides in the
-// whole-image PSNR but not there.
+// whole-image PSNR but not there. The trimmed worst tile leaves out each
+// tile's kTrimPixels pixels of largest error first: two same-seed renders
+// whose paths part at one pixel (one firefly found by one of them) can
+// decide the plain figure alone, which says nothing about a tile's bias.
 #pragma once
 
 #include "core/image_io.h"
@@ -15,11 +18,14 @@
 namespace pmc {
 
 constexpr int kMetricTile = 16;
+constexpr int kTrimPixels = 2;  // of a tile's 256 (tiles of fewer than 3x that are not trimmed)
 
 struct ImageError {
   double rmse = 0, relmse = 0, psnr = 0, max_abs = 0;
   double worst_tile_psnr = 0;
   int worst_tile_x = 0, worst_tile_y = 0;  // its top-left pixel
+  double worst_trimmed_tile_psnr = 0;      // without each tile's kTrimPixels largest pixel errors
+  int worst_trimmed_tile_x = 0, worst_trimmed_tile_y = 0;
 };
 
 // Throws pmc::Error if the sizes differ.

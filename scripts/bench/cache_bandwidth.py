@@ -116,7 +116,9 @@ class Measure:
                 m = self.compare(scene, CONFIGS[c], w, h, self.a.ref_spp)
                 cc, b = m["cache"], m["cached_vs_cacheless"]
                 lookups, bypassed = cc.get("lookups") or 0, cc.get("bypassed") or 0
-                bias[label][c] = dict(psnr=b["psnr"], worst_tile_psnr=b["worst_tile_psnr"], hit_rate=cc.get("hit_rate"),
+                bias[label][c] = dict(psnr=b["psnr"], worst_tile_psnr=b["worst_tile_psnr"],
+                                      worst_trimmed_tile_psnr=b.get("worst_trimmed_tile_psnr"),
+                                      hit_rate=cc.get("hit_rate"),
                                       bypassed=bypassed / (lookups + bypassed) if lookups + bypassed else None,
                                       cached=lookups + bypassed > 0)
                 load.sample()
@@ -150,6 +152,7 @@ def report(data):
     cfgs = data["configs"]
     rows = []
     worst = {c: (1e9, "") for c in cfgs}
+    worst_trimmed = {c: (1e9, "") for c in cfgs}
     for label, per in data["bias"].items():
         row = [label]
         for c in cfgs:
@@ -157,11 +160,15 @@ def report(data):
             if not b["cached"]:
                 row.append("no cache points")
                 continue
-            row.append(f"{b['worst_tile_psnr']:.1f} / {b['psnr']:.1f} ({pct(b['hit_rate'])} hit, {pct(b['bypassed'])} bypassed)")
+            t = b.get("worst_trimmed_tile_psnr")
+            row.append(f"{b['worst_tile_psnr']:.1f}{'' if t is None else f' ({t:.1f})'} / {b['psnr']:.1f} "
+                       f"({pct(b['hit_rate'])} hit, {pct(b['bypassed'])} bypassed)")
             if b["worst_tile_psnr"] < worst[c][0]:
                 worst[c] = (b["worst_tile_psnr"], label)
+            if t is not None and t < worst_trimmed[c][0]:
+                worst_trimmed[c] = (t, label)
         rows.append(row)
-    bias_table = common.md_table(["material"] + [f"`{c}`: worst tile / image dB" for c in cfgs], rows)
+    bias_table = common.md_table(["material"] + [f"`{c}`: worst tile (trimmed) / image dB" for c in cfgs], rows)
     t_off = common.median(data["times"]["off"])
     srows = [["`--cache off`", f"{t_off:.2f}", "-", "-", "-"]]
     speed = {}
@@ -181,14 +188,18 @@ def report(data):
         d = data["bias"]["default scene"][c]
         lines.append(f"- `{c}`: default scene worst tile {d['worst_tile_psnr']:.1f} dB, speedup {speed[c]:.2f}x; "
                      f"worst tile over all materials {w:.1f} dB ({label}): goal {GOAL_TILE:.0f} dB "
-                     f"**{'met' if w >= GOAL_TILE else 'not met'}**.")
+                     f"**{'met' if w >= GOAL_TILE else 'not met'}**" +
+                     (f" (without each tile's 2 largest pixel errors: {worst_trimmed[c][0]:.1f} dB, "
+                      f"{worst_trimmed[c][1]})." if worst_trimmed[c][1] else "."))
     section = f"""{SECTION}
 
 Produced by `{data['command']}` on {data['now']} ({data['elapsed'] / 60:.1f} minutes).
 Machine: {data['machine']}; checkout {data['rev']}; {data['load']}.
 
 Bias: one `pmc compare` per material and configuration at {data['ref_spp']} spp, seed 0 (cached vs
-cacheless): PSNR in the worst 16x16 tile / over the image, the hit rate, and the share of cache
+cacheless): PSNR in the worst 16x16 tile (in brackets: in the worst tile once each tile's 2 largest
+pixel errors are left out, as a path that parts from the cacheless one at one pixel can decide the
+plain figure alone) / over the image, the hit rate, and the share of cache
 points evaluated without the cache (bypassed). The default scene at 320x180; each material of the
 shared MaterialX documents on their sphere at 160x90, white environment, forced into the cache
 (`--cache-min-nodes 1`: the thin-line patterns too, which the default threshold leaves uncached). Speed: the default scene at

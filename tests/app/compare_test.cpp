@@ -118,6 +118,12 @@ TEST(Compare, WritesBothRendersDifferenceHitMapMetricsAndReport) {
   EXPECT_GT(e.rmse, 0.0) << "the cache changes the image a little";
   expect_error_fields(m["cached_vs_cacheless"], "cached_vs_cacheless");
   EXPECT_EQ(m["cached_vs_cacheless"]["psnr"], m["psnr"]);
+  const nlohmann::json& cvc = m["cached_vs_cacheless"];
+  expect_close(cvc["worst_tile_psnr"].get<double>(), e.worst_tile_psnr, "worst_tile_psnr");
+  expect_close(cvc["worst_trimmed_tile_psnr"].get<double>(), e.worst_trimmed_tile_psnr,
+               "worst_trimmed_tile_psnr");
+  EXPECT_EQ(cvc["worst_trimmed_tile"], nlohmann::json({e.worst_trimmed_tile_x, e.worst_trimmed_tile_y, 16}));
+  EXPECT_GE(e.worst_trimmed_tile_psnr, e.worst_tile_psnr) << "trimming only removes error";
   const double hit_rate = m["hit_rate"].get<double>();
   EXPECT_GT(hit_rate, 0.0);
   EXPECT_LE(hit_rate, 1.0);

@@ -3,7 +3,10 @@
 // Two 40x36 images equal but for one 16x16 tile (and, separately, a partial
 // tile at the bottom-right edge) offset by 0.1: the worst tile's clamped PSNR
 // is exactly 20 dB there, the whole image's follows from the fraction of
-// changed pixels, and identical images report 999 dB.
+// changed pixels, and identical images report 999 dB. The trimmed worst tile
+// (each tile less its 2 largest pixel errors): a uniformly offset tile keeps
+// its 20 dB, one or two outlier pixels vanish (999 dB), a third remains as
+// one pixel's error over 254, and a 1-pixel corner tile is not trimmed.
 #include "core/image_metrics.h"
 
 #include <gtest/gtest.h>
@@ -50,6 +53,40 @@ TEST(ImageMetrics, PartialEdgeTilesCountTheirOwnPixelsOnly) {
   EXPECT_EQ(e.worst_tile_x, 32);
   EXPECT_EQ(e.worst_tile_y, 32);
   EXPECT_EQ(compare_images(ref, ref).worst_tile_psnr, 999.0);
+}
+
+void offset_pixel(Image& im, int x, int y, float d) { offset_block(im, x, y, x + 1, y + 1, d); }
+
+TEST(ImageMetrics, TrimmedWorstTileIgnoresTwoOutlierPixelsPerTile) {
+  const Image ref = flat(40, 36, 0.5f);
+  Image block = ref;
+  offset_block(block, 16, 16, 32, 32, 0.1f);
+  ImageError e = compare_images(block, ref);
+  EXPECT_NEAR(e.worst_trimmed_tile_psnr, 20.0, 1e-4) << "a whole tile's error is not an outlier";
+  EXPECT_EQ(e.worst_trimmed_tile_x, 16);
+  EXPECT_EQ(e.worst_trimmed_tile_y, 16);
+
+  Image two = ref;
+  offset_pixel(two, 20, 3, 0.5f);
+  offset_pixel(two, 21, 9, -0.4f);
+  e = compare_images(two, ref);
+  EXPECT_NEAR(e.worst_tile_psnr, 10.0 * std::log10(256.0 / (0.25 + 0.16)), 1e-4);
+  EXPECT_EQ(e.worst_trimmed_tile_psnr, 999.0) << "two diverged pixels are all the tile's error";
+
+  Image three = two;
+  offset_pixel(three, 17, 12, 0.3f);
+  e = compare_images(three, ref);
+  EXPECT_NEAR(e.worst_trimmed_tile_psnr, 10.0 * std::log10(254.0 / 0.09), 1e-4)
+      << "the smallest of three stays";
+  EXPECT_EQ(e.worst_trimmed_tile_x, 16);
+  EXPECT_EQ(e.worst_trimmed_tile_y, 0);
+
+  const Image small_ref = flat(17, 17, 0.5f);
+  Image corner = small_ref;
+  offset_pixel(corner, 16, 16, 0.1f);  // the 1x1 tile at (16, 16)
+  e = compare_images(corner, small_ref);
+  EXPECT_NEAR(e.worst_trimmed_tile_psnr, 20.0, 1e-4) << "too few pixels to trim";
+  EXPECT_EQ(e.worst_trimmed_tile_x, 16);
 }
 
 }  // namespace
