@@ -401,22 +401,37 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   path->radiance[2] = radiance.z;
 }
 
+#ifndef PMC_CPU_PREFETCH
+#define PMC_CPU_PREFETCH 0
+#endif
+/* Starts loading the cache line that holds `p` without using its value. On
+ * CPU devices (PMC_CPU_PREFETCH=1, set by the host) a prefetch instruction,
+ * which nothing waits for: the loop that touches a batch's lines finishes at
+ * once and the lines arrive while the work after it runs (OpenCL's own
+ * prefetch() compiles to nothing on PoCL). Elsewhere a volatile load (the
+ * compiler keeps it although its value is unused), which starts the
+ * transfer too but holds the core until the line arrives. */
+#if PMC_CPU_PREFETCH
+#define PMC_TOUCH(p) __builtin_prefetch((__global const void*)(p))
+#else
+#define PMC_TOUCH(p) ((void)*(__global volatile const uchar*)(p))
+#endif
+
 /* Starts the loads of a hit's triangle record (both of its cache lines) and
- * path state without waiting for them (volatile: the compiler keeps loads
- * whose values are unused). */
+ * path state (the hit and ray records, which name them, should be on their
+ * way already). */
 static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const PmcHit* hits,
                                       __global const PmcRay* rays, __global PmcPathState* paths, uint i) {
   int prim = hits[i].prim;
   if (prim >= 0) {
-    __global volatile const float* r = (__global volatile const float*)&scene->triangles[prim];
-    (void)r[0]; /* its two cache lines */
-    (void)r[16];
+    __global const float* r = (__global const float*)&scene->triangles[prim];
+    PMC_TOUCH(r); /* its two cache lines */
+    PMC_TOUCH(r + 16);
   }
   /* a path state's first and last word: it can straddle two cache lines */
   __global const PmcPathState* path = &paths[rays[i].id];
-  (void)*(__global volatile const float*)&path->throughput[0];
-  (void)*(__global volatile const float*)&path->env_pdf;
-  (void)*(__global volatile const float*)&rays[i].org_x;
+  PMC_TOUCH(&path->throughput[0]);
+  PMC_TOUCH(&path->env_pdf);
 }
 
 /* The materials of one batch of hits, then the rest of their shading. The
@@ -504,6 +519,13 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
       uint i = order[order_first + b * PMC_LANES + (uint)k];
       if (i != PMC_NO_RAY) idx[n++] = i;
     }
+#if PMC_CPU_PREFETCH
+  for (int k = 0; k < n; ++k) { /* the hit and ray records first: the next loop reads them */
+    PMC_TOUCH(&hits[idx[k]]);
+    PMC_TOUCH(&rays[idx[k]].org_x); /* a ray's first and last word (48 bytes) */
+    PMC_TOUCH(&rays[idx[k]].flags);
+  }
+#endif
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
   PmcHitPoint hp[PMC_LANES];
   for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k]);
@@ -512,9 +534,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
     for (int k = 0; k < n; ++k)
       if (hp[k].surface && hp[k].cache_points > 0u) {
         uint points = min(hp[k].cache_points, 8u);
-        for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at); volatile: loaded */
+        for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at) */
           const PmcCacheTexel* t = ((hp[k].cache_position_mask >> p) & 1u) ? &hp[k].cell : &hp[k].texel;
-          if (!t->bypass) (void)cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways];
+          if (!t->bypass) PMC_TOUCH(&cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways]);
         }
       }
   }

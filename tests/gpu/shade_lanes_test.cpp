@@ -10,6 +10,9 @@
 // itself follows the materials' stack depth.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+#include <string>
+
 #include "gpu/render_session.h"
 #include "gpu/wave_kernels.h"
 #include "tests/support/test_support.h"
@@ -81,6 +84,35 @@ TEST(ShadeLanes, CpuDefaultShrinksForDeepStacks) {
   EXPECT_EQ(default_shade_lanes(cl, with_peak_stack(100000)), 16);
   EXPECT_NE(wave_program_options(with_peak_stack(257), 32, false).find("-DPMC_STACK_SIZE=512 -DPMC_LANES=32"),
             std::string::npos);
+}
+
+// On CPU devices the shade kernel starts each batch's memory loads with
+// prefetch instructions (PMC_CPU_PREFETCH); elsewhere with volatile loads.
+// Either way only the timing may change: the same options without the
+// prefetch (PMC_CPU_PREFETCH=0 through PMC_CL_BUILD_OPTIONS, which the
+// build appends) render the identical image.
+TEST(ShadeLanes, PrefetchOrVolatileTouchRendersTheSameImage) {
+  const bool gpu = test::cl().info().is_gpu;
+  EXPECT_EQ(wave_program_options(MaterialSet{}, 64, false).find("-DPMC_CPU_PREFETCH=1") != std::string::npos,
+            true);
+  EXPECT_EQ(wave_program_options(MaterialSet{}, 1, true).find("PMC_CPU_PREFETCH"), std::string::npos);
+  if (gpu) return;  // the GPU build has no prefetch to turn off
+  for (bool cache : {false, true}) {
+    SCOPED_TRACE(cache ? "cache on" : "cache off");
+    const RenderOutput prefetching = render_default_scene(cache, 0);
+    const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
+    const std::string saved = before ? before : "";
+    setenv("PMC_CL_BUILD_OPTIONS", "-DPMC_CPU_PREFETCH=0", 1);
+    const RenderOutput touching = render_default_scene(cache, 0);
+    if (before)
+      setenv("PMC_CL_BUILD_OPTIONS", saved.c_str(), 1);
+    else
+      unsetenv("PMC_CL_BUILD_OPTIONS");
+    ASSERT_EQ(touching.image.pixels.size(), prefetching.image.pixels.size());
+    EXPECT_GT(test::image_mean(prefetching.image), 0.0);
+    EXPECT_EQ(test::differing_values(touching.image, prefetching.image), 0u);
+    EXPECT_EQ(touching.stats.rays, prefetching.stats.rays);
+  }
 }
 
 }  // namespace
