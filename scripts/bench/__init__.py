@@ -8,6 +8,7 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
     bench.cache_position  --cache-keys uv vs uv+position on scenes with solid (position-driven) textures
     bench.cacheless   the cacheless path against a pmc built from before the cache existed
     bench.materials   how much of the render time goes into material networks
+    bench.node_costs  what one node of each costly pattern family (noises, tiled shapes) costs
     bench.sweep       `pmc sweep` cache size / mip bias / equal-time convergence figures
     bench.trace       pmc against Embree's own pathtracer; pmc's query styles and streaming
     bench.ci_compare  the cache quality gate behind scripts/ci-compare
