@@ -5,6 +5,7 @@
 
 #include "core/device/pmc_cache.h"
 #include "core/error.h"
+#include "gpu/cache_trace.h"
 
 namespace pmc {
 
@@ -32,7 +33,8 @@ int default_shade_lanes(const ClContext& cl, const MaterialSet& mats) {
 
 std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
   return "-DPMC_STACK_SIZE=" + std::to_string(stack_size(mats)) + " -DPMC_LANES=" + std::to_string(lanes) +
-         " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1") + (gpu ? "" : " -DPMC_CPU_PREFETCH=1");
+         " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1") + (gpu ? "" : " -DPMC_CPU_PREFETCH=1") +
+         cache_trace_program_option(cache_trace_config());
 }
 
 WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials, int lanes)

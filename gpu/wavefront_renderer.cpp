@@ -8,6 +8,7 @@
 
 #include "core/device/pmc_cache.h"
 #include "core/error.h"
+#include "gpu/cache_trace.h"
 #include "gpu/material_sort.h"
 #include "gpu/scene_buffers.h"
 #include "gpu/stage_timer.h"
@@ -294,7 +295,10 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     fail("render settings: the crop window must lie within the image and hold at least one pixel");
   const size_t pixels = size_t(x1 - x0) * size_t(y1 - y0);  // of the window
   const size_t wave_paths = std::min(pixels, std::max<size_t>(1, s.max_wave_paths));
-  const size_t cache_words = cs.on ? size_t(cs.cells) * cs.ways : 0;
+  const size_t table_words = cs.on ? size_t(cs.cells) * cs.ways : 0;
+  // The lookup trace (a diagnostic, gpu/cache_trace.h) lives behind the table.
+  const CacheTraceConfig trace = cache_trace_config();
+  const size_t cache_words = table_words + (cs.on ? trace.words() : 0);
 
   HostLink link(m.cl, s.transfer);
   st.transfer = link.zero_copy() ? "zero-copy" : "copy";
@@ -343,6 +347,10 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   m.cl.read(wave.film, 0, pixels * sizeof(PmcFilmPixel), film.data());
   resolve_film(film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
   if (cs.on) read_cache_stats(m.cl, wave, cs, st.cache);
+  if (trace.on())
+    write_cache_trace(
+        m.cl, cs.on ? &wave.cache_entries : nullptr, table_words, trace,
+        {uint32_t(s.width), uint32_t(s.height), cs.on ? uint64_t(cs.cells) : 0, cs.on ? cs.ways : 0});
   st.render_seconds =
       std::chrono::duration<double>(Clock::now() - t_start).count() - st.kernel_warmup_seconds;
   return out;

@@ -83,10 +83,35 @@ typedef struct PmcCacheContext {
                         * (ready); else the first lookup computes it */
   PmcCacheTexel cell;  /* the same for its position cell */
   pmc_u32 hits;        /* out: cache points found in this evaluation */
+#if PMC_CACHE_TRACE_RECORDS
+  pmc_u32 trace_pixel, trace_sample; /* PMC_CACHE_TRACE: who looked up (gpu/cache_trace.h) */
+#endif
   /* out: PMC_CSTAT_* events, counted privately (no atomics per lookup); the
    * caller adds them up: the shade kernel once per work-group. */
   pmc_u32 counts[PMC_CSTAT_COUNT];
 } PmcCacheContext;
+
+/* PMC_CACHE_TRACE (a diagnostic, gpu/cache_trace.h): the shade kernel
+ * appends every lookup to a record region behind the cache table: a count
+ * word, then two words per lookup (the key's 64-bit cell hash; the pixel, the
+ * depth, the sample and whether the key is a position cell). Records past the
+ * region's capacity are counted, not written. */
+#ifndef PMC_CACHE_TRACE_RECORDS
+#define PMC_CACHE_TRACE_RECORDS 0
+#endif
+#if PMC_CACHE_TRACE_RECORDS && defined(__OPENCL_VERSION__)
+PMC_FN void pmc_cache_trace(const PmcCacheContext* cx, PmcCacheKey key, int positional) {
+  __global volatile ulong* region = cx->table.entries + cx->table.cells * (ulong)cx->table.ways;
+  const ulong slot = atom_inc(region);
+  if (slot >= (ulong)PMC_CACHE_TRACE_RECORDS) return;
+  region[1ul + 2ul * slot] = key.h1;
+  region[2ul + 2ul * slot] = (ulong)cx->trace_pixel | ((ulong)min(cx->depth, 255u) << 32) |
+                             ((ulong)(cx->trace_sample & 0xfffffu) << 40) | ((ulong)(positional != 0) << 60);
+}
+#define PMC_CACHE_TRACE(cx, key, positional) pmc_cache_trace(cx, key, positional)
+#else
+#define PMC_CACHE_TRACE(cx, key, positional) ((void)0)
+#endif
 
 #ifndef PMC_LANES
 #define PMC_LANES 1
@@ -395,6 +420,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               continue;
             }
             PmcCacheKey key = pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_lookups - 1u);
+            PMC_CACHE_TRACE(cx, key, positional);
             pmc_u32 bits;
             const pmc_u32 camera = cx->depth == 0u ? 1u : 0u;
             cx->counts[PMC_CSTAT_LOOKUPS] += 1u;

@@ -109,6 +109,9 @@ typedef struct PmcHitPoint {
   uint cache_points;        /* how many (the cells to prefetch) */
   uint cache_position_mask; /* bit p: the p-th point is keyed on position */
   uint depth;               /* surface hits of the path before this one (0: camera ray) */
+#if PMC_CACHE_TRACE_RECORDS
+  uint pixel; /* the path's pixel, for the lookup trace */
+#endif
 } PmcHitPoint;
 
 /* The material cache's table as this frame sized it. */
@@ -141,6 +144,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->path = ray.id;
   __global PmcPathState* path = &paths[ray.id];
   hp->depth = path->depth;
+#if PMC_CACHE_TRACE_RECORDS
+  hp->pixel = path->pixel;
+#endif
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->surface = hit.prim >= 0;
   const PmcLightSet* lights = &scene->light_set;
@@ -284,6 +290,10 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->texel = hp->texel;
     cache->cell = hp->cell;
     cache->hits = 0u;
+#if PMC_CACHE_TRACE_RECORDS
+    cache->trace_pixel = hp->pixel;
+    cache->trace_sample = frame->sample;
+#endif
     for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache->counts[c] = 0u;
   }
 }

@@ -6,6 +6,7 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
     bench.cache       the material cache off vs on, cache-eval modes, the cache point threshold
     bench.cache_policy  --cache-policy keep-first vs priority in tables smaller than the automatic size
     bench.cache_position  --cache-keys uv vs uv+position on scenes with solid (position-driven) textures
+    bench.cache_replay  the hits any replacement policy could get from a smaller table (lookup trace + replay)
     bench.cacheless   the cacheless path against a pmc built from before the cache existed
     bench.materials   how much of the render time goes into material networks
     bench.node_costs  what one node of each costly pattern family (noises, tiled shapes) costs

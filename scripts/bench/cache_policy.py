@@ -311,8 +311,9 @@ after the first sample's first bounce, and there is nothing deeper to replace (p
 camera-ray hits), but the entries it evicts are looked up again by the deeper bounces of later samples, which
 make up {100 * deeper:.0f}% of the lookups, so the total hit rate falls and with it the saved work. At 1/16
 the table holds too few entries for the frame's texels whatever the policy ({goal_hits} of the lookups hit,
-against {100 * kf[1]['hit_rate']:.0f}% at the automatic size). A policy that could win there would have to rank camera entries against each other (age, or how
-often an entry is read), which needs more state per entry than a 2-bit depth tag.
+against {100 * kf[1]['hit_rate']:.0f}% at the automatic size). No policy could win there: replayed from a trace of
+every lookup, even Belady's MIN, which knows the future, stays short of the goal (section "Cache
+replacement bounds").
 
 How `--cache-fit on` works (core/cache_sizing.h): no policy can keep more keys than the table holds, so fit
 shrinks the keys instead. When the table has fewer entries than the frame's expected keys need at load factor
