@@ -41,11 +41,6 @@ PMC_FN float pmc_ggx_lambda(float3 w, float alpha) {
 
 PMC_FN float pmc_ggx_g1(float3 w, float alpha) { return 1.0f / (1.0f + pmc_ggx_lambda(w, alpha)); }
 
-/* Height-correlated Smith masking-shadowing. */
-PMC_FN float pmc_ggx_g2(float3 wo, float3 wi, float alpha) {
-  return 1.0f / (1.0f + pmc_ggx_lambda(wo, alpha) + pmc_ggx_lambda(wi, alpha));
-}
-
 /* Sample a visible normal for wo (wo.z > 0) from two uniforms (Heitz 2018). */
 PMC_FN float3 pmc_ggx_sample_vndf(float3 wo, float alpha, float u1, float u2) {
   float3 vh = normalize(make_float3(alpha * wo.x, alpha * wo.y, wo.z));
@@ -90,26 +85,43 @@ PMC_FN float pmc_bsdf_spec_prob(const PmcBsdf* b) {
   return sum > 0.0f ? ls / sum : 0.0f;
 }
 
+/* BSDF value f(wo, wi) (without the cosine) and, in *pdf, the solid-angle
+ * pdf of sampling wi given wo, sharing the half vector, D and Smith's
+ * Lambda(wo) between the two (next-event estimation and sampling need
+ * both). For wo, wi in the upper hemisphere wo + wi has a positive z, so
+ * the half vector always exists there. */
+PMC_FN float3 pmc_bsdf_eval_pdf(const PmcBsdf* b, float3 wo, float3 wi, float* pdf) {
+  *pdf = 0.0f;
+  if (wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
+  const float ps = pmc_bsdf_spec_prob(b);
+  float3 f = b->diffuse * PMC_INV_PI;
+  float p = (1.0f - ps) * wi.z * PMC_INV_PI;
+  const int specular = pmc_max3(b->specular) > 0.0f;
+  if (specular || ps > 0.0f) {
+    const float3 h = normalize(wo + wi);
+    const float alpha = fmax(b->alpha, PMC_MIN_ALPHA);
+    const float d = pmc_ggx_d(h, alpha);
+    const float lambda_o = pmc_ggx_lambda(wo, alpha);
+    if (specular) {
+      const float g = 1.0f / (1.0f + lambda_o + pmc_ggx_lambda(wi, alpha));
+      f += pmc_schlick(b->specular, dot(wi, h)) * (d * g / (4.0f * wo.z * wi.z));
+    }
+    if (ps > 0.0f) p += ps * (d / ((1.0f + lambda_o) * 4.0f * wo.z)); /* pmc_ggx_reflect_pdf */
+  }
+  *pdf = p;
+  return f;
+}
+
 /* BSDF value f(wo, wi) (without the cosine). */
 PMC_FN float3 pmc_bsdf_eval(const PmcBsdf* b, float3 wo, float3 wi) {
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return make_float3(0.0f, 0.0f, 0.0f);
-  float3 f = b->diffuse * PMC_INV_PI;
-  if (pmc_max3(b->specular) > 0.0f) {
-    float3 h = normalize(wo + wi);
-    float alpha = fmax(b->alpha, PMC_MIN_ALPHA);
-    float d = pmc_ggx_d(h, alpha);
-    float g = pmc_ggx_g2(wo, wi, alpha);
-    f += pmc_schlick(b->specular, dot(wi, h)) * (d * g / (4.0f * wo.z * wi.z));
-  }
-  return f;
+  float pdf;
+  return pmc_bsdf_eval_pdf(b, wo, wi, &pdf);
 }
 
 /* Solid-angle pdf of sampling wi given wo. */
 PMC_FN float pmc_bsdf_pdf(const PmcBsdf* b, float3 wo, float3 wi) {
-  if (wo.z <= 0.0f || wi.z <= 0.0f) return 0.0f;
-  float ps = pmc_bsdf_spec_prob(b);
-  float pdf = (1.0f - ps) * wi.z * PMC_INV_PI;
-  if (ps > 0.0f) pdf += ps * pmc_ggx_reflect_pdf(wo, wi, fmax(b->alpha, PMC_MIN_ALPHA));
+  float pdf;
+  pmc_bsdf_eval_pdf(b, wo, wi, &pdf);
   return pdf;
 }
 
@@ -145,9 +157,9 @@ PMC_FN int pmc_bsdf_sample(const PmcBsdf* b, float3 wo, float ulobe, float u1, f
     *wi = pmc_sample_cosine(u1, u2);
   }
   if ((*wi).z <= 0.0f) return 0;
-  *pdf = pmc_bsdf_pdf(b, wo, *wi);
+  const float3 f = pmc_bsdf_eval_pdf(b, wo, *wi, pdf);
   if (!(*pdf > 0.0f)) return 0;
-  *weight = pmc_bsdf_eval(b, wo, *wi) * ((*wi).z / *pdf);
+  *weight = f * ((*wi).z / *pdf);
   return 1;
 }
 

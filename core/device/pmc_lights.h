@@ -247,10 +247,11 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
     float omc = u1 * l->one_minus_cos;
     float cos_t = 1.0f - omc;
     float sin_t = sqrt(fmax(0.0f, omc * (2.0f - omc)));
-    float phi = 2.0f * PMC_PI * u2;
+    float sin_phi, cos_phi; /* of the angle 2 pi u2 */
+    pmc_sincos_turns(u2, &sin_phi, &cos_phi);
     float3 axis = -pmc_load3(l->axis), t, b;
     pmc_basis(axis, &t, &b);
-    s->wi = normalize(t * (sin_t * cos(phi)) + b * (sin_t * sin(phi)) + axis * cos_t);
+    s->wi = normalize(t * (sin_t * cos_phi) + b * (sin_t * sin_phi) + axis * cos_t);
     s->pdf = pmc_sun_pdf(l);
     s->weight = rgb * (1.0f / s->pdf);
   } else if (type == PMC_LIGHT_ENV) {

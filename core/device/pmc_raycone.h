@@ -22,7 +22,8 @@ PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p
   *g1 = make_float2(0.0f, 0.0f);
   *g2 = make_float2(0.0f, 0.0f);
   if (!(radius > 0.0f) || !isfinite(radius)) return;
-  float3 a1 = dir - ng * dot(ng, dir);
+  const float cos_n = dot(ng, dir);
+  float3 a1 = dir - ng * cos_n;
   float l1 = length(a1);
   if (!(l1 > 1e-6f)) { /* looking straight down the normal: any tangent axis */
     float3 t, b;
@@ -32,18 +33,22 @@ PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p
     a1 = a1 * (1.0f / l1);
   }
   /* Each unit axis is stretched by the inverse of its projection onto the
-   * plane orthogonal to dir (grazing angles elongate the ellipse), clamped. */
+   * plane orthogonal to dir (grazing angles elongate the ellipse), clamped.
+   * dir lies in the plane of ng and a1, so that projection of a1 has length
+   * |cos_n| (dir . a1 = sin) and a2 = ng x a1, orthogonal to both, keeps
+   * its length 1. */
   float3 a2 = cross(ng, a1); /* unit: a1 is a unit vector orthogonal to ng */
-  float3 q1 = a1 - dir * dot(dir, a1);
-  float3 q2 = a2 - dir * dot(dir, a2);
-  a1 = a1 * (radius / fmax(1e-4f, length(q1)));
-  a2 = a2 * (radius / fmax(1e-4f, length(q2)));
+  a1 = a1 * (radius / fmax(1e-4f, fabs(cos_n)));
+  a2 = a2 * radius;
   float3 e1 = p1 - p0, e2 = p2 - p0;
   float area = dot(ng, cross(e1, e2));
   if (!(fabs(area) > 1e-30f) || !isfinite(area)) return;
-  float inv = 1.0f / area;
-  float du1 = dot(ng, cross(a1, e2)) * inv, dv1 = dot(ng, cross(e1, a1)) * inv;
-  float du2 = dot(ng, cross(a2, e2)) * inv, dv2 = dot(ng, cross(e1, a2)) * inv;
+  /* Barycentric rates of an in-plane offset a: ng.(a x e2) / area and
+   * ng.(e1 x a) / area, as dot products with two vectors built once. */
+  const float inv = 1.0f / area;
+  const float3 c_u = cross(e2, ng) * inv, c_v = cross(ng, e1) * inv;
+  float du1 = dot(a1, c_u), dv1 = dot(a1, c_v);
+  float du2 = dot(a2, c_u), dv2 = dot(a2, c_v);
   float2 d1 = t1 - t0, d2 = t2 - t0;
   float2 r1 = d1 * du1 + d2 * dv1;
   float2 r2 = d1 * du2 + d2 * dv2;

@@ -352,12 +352,11 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       dot(ls.wi, ng) > 0.0f) {
     float3 wi = pmc_to_local(ls.wi, t, b, ns);
     if (wi.z > 0.0f) {
-      float3 f = pmc_bsdf_eval(&bsdf, wo, wi);
+      float bsdf_pdf;
+      float3 f = pmc_bsdf_eval_pdf(&bsdf, wo, wi, &bsdf_pdf);
       /* MIS against the BSDF sample, unless this is the last vertex (whose
        * continuation is not traced, so light sampling alone covers it). */
-      float w = ls.pdf > 0.0f && (int)depth < frame->max_depth
-                    ? pmc_mis_power(ls.pdf, pmc_bsdf_pdf(&bsdf, wo, wi))
-                    : 1.0f;
+      float w = ls.pdf > 0.0f && (int)depth < frame->max_depth ? pmc_mis_power(ls.pdf, bsdf_pdf) : 1.0f;
       float3 c = throughput * f * ls.weight * (wi.z * w);
       if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
         out->shadow = 1;
