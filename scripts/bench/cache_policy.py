@@ -51,9 +51,7 @@ def parse(argv=None):
     p = common.make_parser("cache_policy", __doc__)
     common.add_pmc(p)
     common.add_runs(p, 3)
-    p.add_argument("--width", type=common.positive_int, default=640, metavar="W", help="image width (default 640)")
-    p.add_argument("--height", type=common.positive_int, default=360, metavar="H", help="image height (default 360)")
-    p.add_argument("--spp", type=common.positive_int, default=16, metavar="N", help="samples per pixel (default 16)")
+    common.add_image_size(p, 640, 360, 16)
     p.add_argument("--bias-spp", type=common.positive_int, default=256, metavar="N",
                    help="samples per pixel of the half-size comparisons that measure --cache-fit's bias "
                         "(default 256)")

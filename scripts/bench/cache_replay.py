@@ -35,9 +35,7 @@ def parse(argv=None):
     p = common.make_parser("cache_replay", __doc__)
     common.add_pmc(p)
     common.add_runs(p, 3)
-    p.add_argument("--spp", type=common.positive_int, default=16, metavar="N", help="samples per pixel (default 16)")
-    p.add_argument("--width", type=common.positive_int, default=640, metavar="W", help="image width (default 640)")
-    p.add_argument("--height", type=common.positive_int, default=360, metavar="H", help="image height (default 360)")
+    common.add_image_size(p, 640, 360, 16)
     p.add_argument("--regions", type=common.positive_int, default=4, metavar="N",
                    help="region-major replay with N x N regions (default 4)")
     common.add_out_dir(p, "out/bench-cache-replay", "the trace, the replay's JSON, images, stats and logs")

@@ -75,6 +75,13 @@ def add_runs(p, default, flag="--runs", what="timed rounds; every configuration 
     p.add_argument(flag, type=positive_int, default=default, metavar="N", help=f"{what} (default {default})")
 
 
+def add_image_size(p, width, height, spp):
+    """--width, --height and --spp of the renders a benchmark times."""
+    p.add_argument("--width", type=positive_int, default=width, metavar="W", help=f"image width (default {width})")
+    p.add_argument("--height", type=positive_int, default=height, metavar="H", help=f"image height (default {height})")
+    p.add_argument("--spp", type=positive_int, default=spp, metavar="N", help=f"samples per pixel (default {spp})")
+
+
 def add_out_dir(p, default, what="images, stats and logs of the last run"):
     p.add_argument("--out-dir", default=default, metavar="DIR", help=f"{what} (default {default})")
 

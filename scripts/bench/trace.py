@@ -38,9 +38,7 @@ def parse(argv=None):
     p.add_argument("--scene", default=f"{common.SHARED_SCENES}/sponza/sponza.obj",
                    metavar="OBJ", help="the scene (default ../shared/scenes/sponza/sponza.obj; the camera is "
                                        "Sponza's overview)")
-    p.add_argument("--width", type=common.positive_int, default=640, metavar="W", help="image width (default 640)")
-    p.add_argument("--height", type=common.positive_int, default=360, metavar="H", help="image height (default 360)")
-    p.add_argument("--spp", type=common.positive_int, default=16, metavar="N", help="samples per pixel (default 16)")
+    common.add_image_size(p, 640, 360, 16)
     common.add_out_dir(p, "out/bench-trace")
     common.add_doc(p)
     return common.parse_args(p, "trace", LEGACY, argv)
