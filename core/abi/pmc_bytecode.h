@@ -170,7 +170,8 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 /* Surface parameters a material program writes with OUTPUT (float offsets
  * into the parameter block). Unwritten parameters keep the defaults set by
  * pmc_surface_defaults(). */
-#define PMC_P_MODEL 0 /* 0: standard_surface, 1: MTL (Kd + Ks lobes as given) */
+#define PMC_P_MODEL 0 /* 0: standard_surface and the shading models mapped onto it (MTL too);
+                         1: a flattened closure graph (diffuse albedo and Schlick F0 as given) */
 #define PMC_P_BASE 1
 #define PMC_P_BASE_COLOR 2 /* 3 floats */
 #define PMC_P_METALNESS 5
@@ -185,7 +186,17 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 #define PMC_P_COAT 22
 #define PMC_P_COAT_COLOR 23 /* 3 */
 #define PMC_P_COAT_ROUGHNESS 26
-#define PMC_P_COUNT 28
+#define PMC_P_COAT_IOR 27
+#define PMC_P_TRANSMISSION 28
+#define PMC_P_TRANSMISSION_COLOR 29 /* 3 */
+#define PMC_P_TRANSMISSION_DEPTH 32 /* scene units; 0: the colour tints each crossing */
+#define PMC_P_THIN_WALLED 33        /* 0 or 1 */
+#define PMC_P_SHEEN 34
+#define PMC_P_SHEEN_COLOR 35 /* 3 */
+#define PMC_P_SHEEN_ROUGHNESS 38
+#define PMC_P_SPECULAR_ANISOTROPY 39
+#define PMC_P_SPECULAR_ROTATION 40 /* turns (MaterialX: 1 = 360 degrees) */
+#define PMC_P_COUNT 41
 
 /* standard_surface inputs pmc models, each with its parameter, width and
  * MaterialX 1.39 default: X(input, param, width, x, y, z). The device's
@@ -200,13 +211,23 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
   X(specular_color, PMC_P_SPECULAR_COLOR, 3, 1.0f, 1.0f, 1.0f)           \
   X(specular_roughness, PMC_P_SPECULAR_ROUGHNESS, 1, 0.2f, 0.0f, 0.0f)   \
   X(specular_IOR, PMC_P_SPECULAR_IOR, 1, 1.5f, 0.0f, 0.0f)               \
+  X(specular_anisotropy, PMC_P_SPECULAR_ANISOTROPY, 1, 0.0f, 0.0f, 0.0f) \
+  X(specular_rotation, PMC_P_SPECULAR_ROTATION, 1, 0.0f, 0.0f, 0.0f)     \
+  X(transmission, PMC_P_TRANSMISSION, 1, 0.0f, 0.0f, 0.0f)               \
+  X(transmission_color, PMC_P_TRANSMISSION_COLOR, 3, 1.0f, 1.0f, 1.0f)   \
+  X(transmission_depth, PMC_P_TRANSMISSION_DEPTH, 1, 0.0f, 0.0f, 0.0f)   \
+  X(sheen, PMC_P_SHEEN, 1, 0.0f, 0.0f, 0.0f)                             \
+  X(sheen_color, PMC_P_SHEEN_COLOR, 3, 1.0f, 1.0f, 1.0f)                 \
+  X(sheen_roughness, PMC_P_SHEEN_ROUGHNESS, 1, 0.3f, 0.0f, 0.0f)         \
   X(emission, PMC_P_EMISSION, 1, 0.0f, 0.0f, 0.0f)                       \
   X(emission_color, PMC_P_EMISSION_COLOR, 3, 1.0f, 1.0f, 1.0f)           \
   X(normal, PMC_P_NORMAL, 3, 0.0f, 0.0f, 0.0f)                           \
   X(opacity, PMC_P_OPACITY, 3, 1.0f, 1.0f, 1.0f)                         \
   X(coat, PMC_P_COAT, 1, 0.0f, 0.0f, 0.0f)                               \
   X(coat_color, PMC_P_COAT_COLOR, 3, 1.0f, 1.0f, 1.0f)                   \
-  X(coat_roughness, PMC_P_COAT_ROUGHNESS, 1, 0.1f, 0.0f, 0.0f)
+  X(coat_roughness, PMC_P_COAT_ROUGHNESS, 1, 0.1f, 0.0f, 0.0f)           \
+  X(coat_IOR, PMC_P_COAT_IOR, 1, 1.5f, 0.0f, 0.0f)                       \
+  X(thin_walled, PMC_P_THIN_WALLED, 1, 0.0f, 0.0f, 0.0f)
 // clang-format on
 
 /* Floats of stack per shading point: the compiler's limit. Kernels are built
