@@ -37,7 +37,6 @@
 #define PMC_INTERP_H
 
 #include "../abi/pmc_bytecode.h"
-#include "pmc_bsdf.h"
 #include "pmc_cache.h"
 #include "pmc_compositing.h"
 #include "pmc_flake.h"
@@ -46,6 +45,7 @@
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_pbr_data.h"
+#include "pmc_surface.h"
 #include "pmc_texture.h"
 
 /* What a material may read at the shading point. */
@@ -1006,42 +1006,6 @@ PMC_FN void pmc_surface_defaults(float* p, float3 shading_normal) {
   p[PMC_P_NORMAL] = shading_normal.x;
   p[PMC_P_NORMAL + 1] = shading_normal.y;
   p[PMC_P_NORMAL + 2] = shading_normal.z;
-}
-
-PMC_FN float pmc_nonneg(float x) { return x > 0.0f && isfinite(x) ? x : 0.0f; }
-PMC_FN float3 pmc_param3(const float* p, int i) {
-  return make_float3(pmc_nonneg(p[i]), pmc_nonneg(p[i + 1]), pmc_nonneg(p[i + 2]));
-}
-
-/* The surface parameter block as a BSDF (Lambert + GGX + emission). For
- * standard_surface: dielectric F0 from specular_IOR, metals tint F0 by the
- * base colour; the coat (if any) is folded into the specular lobe as an
- * approximation. For MTL: Kd and Ks lobes as given. */
-PMC_FN PmcBsdf pmc_surface_to_bsdf(const float* p) {
-  PmcBsdf b;
-  float3 base_color = pmc_param3(p, PMC_P_BASE_COLOR) * pmc_nonneg(p[PMC_P_BASE]);
-  float rough = clamp(p[PMC_P_SPECULAR_ROUGHNESS], 0.0f, 1.0f);
-  if (!isfinite(rough)) rough = 0.5f;
-  b.emission = pmc_param3(p, PMC_P_EMISSION_COLOR) * pmc_nonneg(p[PMC_P_EMISSION]);
-  if (p[PMC_P_MODEL] > 0.5f) {
-    b.diffuse = base_color;
-    b.specular = pmc_param3(p, PMC_P_SPECULAR_COLOR) * pmc_nonneg(p[PMC_P_SPECULAR]);
-    b.alpha = rough * rough;
-    return b;
-  }
-  float metal = clamp(p[PMC_P_METALNESS], 0.0f, 1.0f);
-  if (!isfinite(metal)) metal = 0.0f;
-  float ior = p[PMC_P_SPECULAR_IOR];
-  float f0 = isfinite(ior) && ior > 0.0f ? pmc_sqr((ior - 1.0f) / (ior + 1.0f)) : 0.04f;
-  float3 dielectric = pmc_param3(p, PMC_P_SPECULAR_COLOR) * (f0 * pmc_nonneg(p[PMC_P_SPECULAR]));
-  b.specular = dielectric * (1.0f - metal) + base_color * metal;
-  b.diffuse = base_color * ((1.0f - metal) * (1.0f - f0 * fmin(1.0f, pmc_nonneg(p[PMC_P_SPECULAR]))));
-  b.alpha = rough * rough;
-  float coat = clamp(p[PMC_P_COAT], 0.0f, 1.0f);
-  if (coat > 0.0f && isfinite(coat)) {
-    b.specular = b.specular + pmc_param3(p, PMC_P_COAT_COLOR) * (0.04f * coat);
-  }
-  return b;
 }
 
 #endif /* PMC_INTERP_H */

@@ -102,6 +102,7 @@ typedef struct PmcHitPoint {
   int prim, material;
   uint path;
   int surface;              /* 0: the ray escaped */
+  int front;                /* the ray arrived on the side the surface's normals point to */
   float4 cache_jitter;      /* --cache-filter bilinear: texel selection offsets (x, y); cells take
                                them in the tangent plane (pmc_cache_plane_jitter) */
   PmcCacheTexel texel;      /* ready when the material has uv-keyed cache points */
@@ -169,6 +170,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   float3 ng = cross(p1 - p0, p2 - p0);
   float area2 = length(ng);
   ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
+  /* Outside is where the vertex normals point, else the winding's normal
+   * (glass knows from it whether a ray enters or leaves). */
+  float outside = dot(ng, dir);
   if (dot(ng, dir) > 0.0f) ng = -ng; /* every surface is two-sided */
   float3 ns = ng;
   if (tri->flags & PMC_TRI_NORMALS) {
@@ -176,9 +180,11 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     float nl = length(n);
     if (nl > 0.0f && isfinite(nl)) {
       n = n * (1.0f / nl);
+      outside = dot(n, dir);
       ns = dot(n, ng) < 0.0f ? -n : n;
     }
   }
+  hp->front = outside <= 0.0f;
   float2 uv = make_float2(b1, b2);
   float2 t0 = make_float2(0.0f, 0.0f), t1 = make_float2(1.0f, 0.0f), t2 = make_float2(0.0f, 1.0f);
   if (tri->flags & PMC_TRI_UVS) {
@@ -309,9 +315,38 @@ static inline PmcMaterialData pmc_material_data(const PmcSceneData* scene) {
   return md;
 }
 
+/* The local shading frame: the uv tangent (turned by `rotation` turns) for
+ * anisotropic lobes, else any frame about ns. */
+static inline void pmc_shading_frame(float3 ns, float3 tangent, const PmcBsdf* bsdf, float3* t, float3* b) {
+  if (bsdf->ax != bsdf->ay) {
+    float3 tt = tangent - ns * dot(ns, tangent);
+    const float tl = length(tt);
+    if (tl > 1e-12f && isfinite(tl)) {
+      tt = tt * (1.0f / tl);
+      float3 bb = cross(ns, tt);
+      if (bsdf->rotation != 0.0f) {
+        float sn, cs;
+        pmc_sincos_turns(bsdf->rotation, &sn, &cs);
+        tt = tt * cs + bb * sn;
+        bb = cross(ns, tt);
+      }
+      *t = tt;
+      *b = bb;
+      return;
+    }
+  }
+  pmc_basis(ns, t, b);
+}
+
 /* After the material: emission, next-event estimation and the BSDF sample
  * for the next bounce of one hit. `shading_normal` is the material's normal
- * (normal maps) or the hit's. */
+ * (normal maps) or the hit's.
+ * Glass: light samples are taken on the side wo is on only (a shadow ray is
+ * stopped by every surface, glass included, so a light behind glass is
+ * reached by BSDF samples alone); a BSDF sample that crosses the surface is
+ * therefore marked PMC_PATH_SPECULAR, and the emitter it meets takes full
+ * weight. A ray that leaves a glass volume (a back-face hit on a material
+ * with absorption) has its throughput multiplied by exp(-absorption t). */
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
                                      __global PmcPathState* paths, PmcShadeOut* out) {
@@ -321,27 +356,32 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   uint depth = path->depth;
   float3 dir = hp->dir, pos = hp->pos, ng = hp->ng, ns = hp->ns;
   float3 wo_world = -dir;
-  PmcBsdf bsdf = *bsdf_in;
+  const PmcBsdf* bsdf = bsdf_in;
   if (dot(shading_normal, wo_world) > 0.0f) ns = shading_normal; /* normal maps, unless they face away */
+  if (!hp->front && !bsdf->thin && pmc_max3(bsdf->absorption) > 0.0f) {
+    const float3 a = bsdf->absorption * (-hp->t);
+    throughput *= make_float3(exp(a.x), exp(a.y), exp(a.z));
+  }
 
   /* Emission reached by the path: MIS against light sampling. */
-  if (pmc_max3(bsdf.emission) > 0.0f) {
+  if (pmc_max3(bsdf->emission) > 0.0f) {
     float w = 1.0f;
     if (!(path->flags & PMC_PATH_SPECULAR)) {
       float light_pdf =
           pmc_area_light_pdf(scene->tri_light_pmf[hp->prim], hp->t, 0.5f * hp->area2, dot(ng, dir));
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
     }
-    radiance += throughput * bsdf.emission * w;
+    radiance += throughput * bsdf->emission * w;
   }
 
   depth += 1u;
   float3 t, b;
-  pmc_basis(ns, &t, &b);
+  pmc_shading_frame(ns, hp->tangent, bsdf, &t, &b);
   float3 wo = pmc_to_local(wo_world, t, b, ns);
+  const PmcLobes lobes = pmc_bsdf_prepare(bsdf, wo, hp->front);
   uint key = pmc_path_key(frame->seed, path->pixel, frame->sample);
   uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
-  int has_lobes = pmc_max3(bsdf.diffuse) > 0.0f || pmc_max3(bsdf.specular) > 0.0f;
+  int has_lobes = pmc_lobes_any(&lobes);
 
   /* Next-event estimation: one light, picked by power (pmc_lights.h). */
   PmcLightSample ls;
@@ -353,7 +393,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
     float3 wi = pmc_to_local(ls.wi, t, b, ns);
     if (wi.z > 0.0f) {
       float bsdf_pdf;
-      float3 f = pmc_bsdf_eval_pdf(&bsdf, wo, wi, &bsdf_pdf);
+      float3 f = pmc_bsdf_eval_pdf(&lobes, wo, wi, &bsdf_pdf);
       /* MIS against the BSDF sample, unless this is the last vertex (whose
        * continuation is not traced, so light sampling alone covers it). */
       float w = ls.pdf > 0.0f && (int)depth < frame->max_depth ? pmc_mis_power(ls.pdf, bsdf_pdf) : 1.0f;
@@ -373,8 +413,14 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
     float3 wi, weight;
     float pdf;
     alive =
-        pmc_bsdf_sample(&bsdf, wo, pmc_rand(key, bounce, PMC_DIM_LOBE), pmc_rand(key, bounce, PMC_DIM_BSDF_U),
+        pmc_bsdf_sample(&lobes, wo, pmc_rand(key, bounce, PMC_DIM_LOBE), pmc_rand(key, bounce, PMC_DIM_BSDF_U),
                         pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi, &pdf, &weight);
+    float3 wi_world = make_float3(0.0f, 0.0f, 1.0f);
+    if (alive) {
+      wi_world = pmc_to_world(wi, t, b, ns);
+      /* the geometric side must agree with the lobe's (shading normals) */
+      alive = (dot(wi_world, ng) > 0.0f) == (wi.z > 0.0f);
+    }
     if (alive) {
       throughput *= weight;
       if (depth >= 3u) {
@@ -386,14 +432,13 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       }
     }
     if (alive && isfinite(pmc_max3(throughput))) {
-      float3 wi_world = pmc_to_world(wi, t, b, ns);
-      float side = dot(wi_world, ng) >= 0.0f ? 1.0f : -1.0f;
+      const int crossed = wi.z < 0.0f;
       out->next = 1;
-      out->next_org = pmc_offset_ray(pos, ng * side, hp->hit_scale);
+      out->next_org = pmc_offset_ray(pos, crossed ? -ng : ng, hp->hit_scale);
       out->next_dir = wi_world;
       path->bsdf_pdf = pdf;
-      path->env_pdf = pmc_env_light_pdf(&scene->light_set, ns, wi_world);
-      path->flags = 0u;
+      path->env_pdf = crossed ? 0.0f : pmc_env_light_pdf(&scene->light_set, ns, wi_world);
+      path->flags = crossed ? PMC_PATH_SPECULAR : 0u;
       path->cone_width = hp->cone_width;
       if (frame->cache_lobe_spread > 0.0f)
         path->cache_cone = pmc_pack_cone(
