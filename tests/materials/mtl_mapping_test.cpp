@@ -250,7 +250,8 @@ TEST(MtlMapping, BumpIsAHeightBumpScaledByBm) {
 
 TEST(MtlMapping, MissingMapIsRefusedLikeAMissingMapKd) {
   const std::string dir = test::temp_dir();
-  for (const char* map : {"norm", "bump", "map_Pr", "map_Ks", "map_Ke"}) {
+  // (map_Ks scales a specular that Ks switches on, map_Ke multiplies Ke.)
+  for (const char* map : {"norm", "bump", "map_Pr", "Ks 1 1 1\nmap_Ks", "Ke 1 1 1\nmap_Ke"}) {
     test::write_file(dir + "/m.mtl", std::string("newmtl m\n") + map + " nothere.png\n");
     test::write_file(dir + "/m.obj", kQuad);
     Scene scene = load_obj(dir + "/m.obj");
