@@ -127,30 +127,43 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
       mm.kd[i] = float(m.diffuse[i]);
       mm.ks[i] = float(m.specular[i]);
       mm.ke[i] = float(m.emission[i]);
+      mm.tf[i] = float(m.transmittance[i]);
     }
     mm.ns = float(m.shininess);
+    mm.ni = float(m.ior);
     mm.dissolve = float(m.dissolve);
+    mm.illum = m.illum;
+    mm.pr = float(m.roughness);
+    mm.pm = float(m.metallic);
+    mm.ps = float(m.sheen);
+    mm.pc = float(m.clearcoat_thickness);
+    mm.pcr = float(m.clearcoat_roughness);
+    mm.aniso = float(m.anisotropy);
+    mm.anisor = float(m.anisotropy_rotation);
     auto resolve = [&](const std::string& t) {
       return t.empty() ? t : dirname_of(path) + normalize_texture_path(t);
     };
     mm.map_kd = resolve(m.diffuse_texname);
     mm.map_d = resolve(m.alpha_texname);
-    mm.map_bump = resolve(!m.bump_texname.empty() ? m.bump_texname : m.normal_texname);
+    mm.map_bump = resolve(m.bump_texname);
+    mm.map_norm = resolve(m.normal_texname);
     mm.map_ks = resolve(m.specular_texname);
-    // What the MTL says that pmc's network leaves out (named in mtl_to_graph's warning).
+    mm.map_ke = resolve(m.emissive_texname);
+    mm.map_pr = resolve(m.roughness_texname);
+    mm.map_pm = resolve(m.metallic_texname);
+    mm.map_ps = resolve(m.sheen_texname);
+    mm.bump_multiplier = float(m.bump_texopt.bump_multiplier);
+    mm.norm_multiplier = float(m.normal_texopt.bump_multiplier);
+    // What the MTL says that pmc's network leaves out (named in mtl_to_graph's
+    // warning, with what mtl_to_graph itself decides to leave out).
     auto unused = [&](bool present, const std::string& what) {
       if (present) mm.not_modelled.push_back(what);
     };
     unused(!m.ambient_texname.empty(), "ambient map (map_Ka " + m.ambient_texname + ")");
-    unused(!m.emissive_texname.empty(), "emission map (map_Ke " + m.emissive_texname + ")");
     unused(!m.specular_highlight_texname.empty(),
            "shininess map (map_Ns " + m.specular_highlight_texname + ")");
     unused(!m.displacement_texname.empty(), "displacement map (disp " + m.displacement_texname + ")");
     unused(!m.reflection_texname.empty(), "reflection map (refl " + m.reflection_texname + ")");
-    unused(m.roughness != 0.0 || m.metallic != 0.0 || m.sheen != 0.0 || m.clearcoat_thickness != 0.0 ||
-               !m.roughness_texname.empty() || !m.metallic_texname.empty() || !m.sheen_texname.empty(),
-           "PBR extension (Pr/Pm/Ps/Pc and their maps)");
-    unused(m.illum >= 3, "illum " + std::to_string(m.illum) + " (ray-traced reflection/refraction)");
     scene.materials.push_back(mm);
   }
   for (const std::string& name : undefined_names) {

@@ -33,17 +33,35 @@ struct MtlMaterial {
   float kd[3] = {0.5f, 0.5f, 0.5f};
   float ks[3] = {0.0f, 0.0f, 0.0f};
   float ke[3] = {0.0f, 0.0f, 0.0f};
+  float tf[3] = {0.0f, 0.0f, 0.0f};  // Tf (tinyobjloader's default when absent: 0 0 0)
   float ns = 0.0f;
+  float ni = 1.0f;        // Ni (tinyobjloader's default 1; Ni <= 1 reads as "not given")
   float dissolve = 1.0f;  // d
-  std::string map_kd;     // resolved paths, empty when none
+  int illum = 0;          // illum (tinyobjloader's default 0)
+  // The PBR extension (tinyobjloader's defaults: all 0): Pr, Pm, Ps, Pc,
+  // Pcr, aniso, anisor.
+  float pr = 0.0f, pm = 0.0f, ps = 0.0f, pc = 0.0f, pcr = 0.0f, aniso = 0.0f, anisor = 0.0f;
+  std::string map_kd;  // resolved paths, empty when none
   std::string map_d;
-  std::string map_bump;
+  std::string map_bump;  // bump / map_bump / map_Bump
+  std::string map_norm;  // norm
   std::string map_ks;
+  std::string map_ke;
+  std::string map_pr;
+  std::string map_pm;
+  std::string map_ps;
+  float bump_multiplier = 1.0f;           // -bm of bump (tinyobjloader's default 1: 1 reads as "not given")
+  float norm_multiplier = 1.0f;           // -bm of norm
   std::vector<std::string> not_modelled;  // other MTL statements pmc ignores, for the warning
   int kd_texture = -1;                    // index into Scene::textures once loaded
   // false for a `usemtl` name no MTL defines: it keeps its name (a MaterialX
   // material of that name binds to it) and the default material's values.
   bool defined_by_mtl = true;
+
+  // Every texture path above, for code that checks or rewrites them all.
+  std::vector<std::string*> maps() {
+    return {&map_kd, &map_d, &map_bump, &map_norm, &map_ks, &map_ke, &map_pr, &map_pm, &map_ps};
+  }
 };
 
 struct Scene {

@@ -149,6 +149,50 @@ TEST(ObjLoader, ReadsMaterialsAndSwitchesMidMesh) {
   EXPECT_EQ(s.skipped_triangles, 0u);
 }
 
+// The statements docs/MTL.md maps (Ni, Tf, illum, the PBR extension, their
+// maps and the bump options), as tinyobjloader reads them.
+TEST(ObjLoader, ReadsTheMtlStatementsTheMappingNeeds) {
+  std::string dir = temp_dir();
+  write_file(dir + "/m.mtl",
+             "newmtl a\nNi 1.45\nTf 0.1 0.2 0.3\nillum 7\nPr 0.3\nPm 0.4\nPs 0.5\nPc 0.6\nPcr 0.7\n"
+             "aniso 0.8\nanisor 0.9\nmap_Pr r.png\nmap_Pm m.png\nmap_Ps s.png\nmap_Ke e.png\nmap_Ks k.png\n"
+             "bump -bm 0.25 h.png\nnorm -bm 2 n.png\n"
+             "newmtl b\nKd 1 1 1\n");
+  write_file(dir + "/m.obj",
+             "mtllib m.mtl\n" + std::string(kTriangle) + "usemtl a\nf 1 2 3\nusemtl b\nf 3 2 1\n");
+  Scene s = load_obj(dir + "/m.obj");
+  const MtlMaterial& a = s.materials[0];
+  EXPECT_FLOAT_EQ(a.ni, 1.45f);
+  EXPECT_FLOAT_EQ(a.tf[0], 0.1f);
+  EXPECT_FLOAT_EQ(a.tf[2], 0.3f);
+  EXPECT_EQ(a.illum, 7);
+  EXPECT_FLOAT_EQ(a.pr, 0.3f);
+  EXPECT_FLOAT_EQ(a.pm, 0.4f);
+  EXPECT_FLOAT_EQ(a.ps, 0.5f);
+  EXPECT_FLOAT_EQ(a.pc, 0.6f);
+  EXPECT_FLOAT_EQ(a.pcr, 0.7f);
+  EXPECT_FLOAT_EQ(a.aniso, 0.8f);
+  EXPECT_FLOAT_EQ(a.anisor, 0.9f);
+  EXPECT_EQ(a.map_pr, dir + "/r.png");
+  EXPECT_EQ(a.map_pm, dir + "/m.png");
+  EXPECT_EQ(a.map_ps, dir + "/s.png");
+  EXPECT_EQ(a.map_ke, dir + "/e.png");
+  EXPECT_EQ(a.map_ks, dir + "/k.png");
+  EXPECT_EQ(a.map_bump, dir + "/h.png");
+  EXPECT_EQ(a.map_norm, dir + "/n.png");
+  EXPECT_FLOAT_EQ(a.bump_multiplier, 0.25f);
+  EXPECT_FLOAT_EQ(a.norm_multiplier, 2.0f);
+  EXPECT_TRUE(a.not_modelled.empty());
+  // tinyobjloader's defaults where the statements are absent.
+  const MtlMaterial& b = s.materials[1];
+  EXPECT_FLOAT_EQ(b.ni, 1.0f);
+  EXPECT_EQ(b.illum, 0);
+  for (int i = 0; i < 3; ++i) EXPECT_EQ(b.tf[i], 0.0f);
+  EXPECT_EQ(b.pr, 0.0f);
+  EXPECT_FLOAT_EQ(b.bump_multiplier, 1.0f);
+  for (std::string* map : const_cast<MtlMaterial&>(b).maps()) EXPECT_TRUE(map->empty());
+}
+
 TEST(ObjLoader, MissingNormalsAreMinusOne) {
   std::string dir = temp_dir();
   write_file(dir + "/a.obj", std::string(kTriangle) + "f 1 2 3\nf 3 2 1\n");

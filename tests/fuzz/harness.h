@@ -195,9 +195,9 @@ inline std::string check_mtlx(const uint8_t* data, size_t size) {
 //
 // Texture paths: only three fixture images in the folder are real (tex.png
 // RGB 4x2, alpha.png RGBA 3x3, textures/grey.png grey 2x2). Every other
-// map_Kd / map_d path is rewritten, before the networks are built, to a
+// texture path (MtlMaterial::maps()) is rewritten, before the networks are built, to a
 // name in a folder that does not exist: a fuzzed MTL must not make pmc open
-// /dev/stdin or a FIFO (mtl_to_graph opens map_d, the compiler loads every
+// /dev/stdin or a FIFO (mtl_to_graph opens map_d and bump maps, the compiler loads every
 // live image).
 //
 // Stricter than "no crash": the OBJ is valid and its MTL always exists, so
@@ -297,8 +297,9 @@ inline std::string check_material_set(const Scene& scene, const MaterialSet& set
     if (cm.peak_stack > PMC_STACK_SIZE) return "peak stack beyond PMC_STACK_SIZE";
     if (((info.flags & PMC_MAT_CUTOUT) != 0) != !mm.map_d.empty())
       return "cut-out flag does not follow map_d (material '" + mm.name + "')";
-    for (int k = 0; k < 3; ++k)
-      if (std::isfinite(mm.ke[k]) && info.emission[k] != std::max(0.0f, mm.ke[k]))
+    for (int k = 0; k < 3; ++k)  // a map_Ke emission is left to BSDF sampling: not in the light table
+      if (std::isfinite(mm.ke[k]) &&
+          info.emission[k] != (mm.map_ke.empty() ? std::max(0.0f, mm.ke[k]) : 0.0f))
         return "light-table emission is not max(0, Ke) (material '" + mm.name + "')";
     run_program(set.program, cm, cached, &textures);
     (void)disassemble(set.program, cm);
@@ -345,10 +346,10 @@ inline std::string check_mtl(const uint8_t* data, size_t size) {
   for (const PmcTriangle& t : scene.triangles) used[size_t(t.material)] = 1;
   for (size_t i = 0; i < scene.materials.size(); ++i) {
     MtlMaterial& m = scene.materials[i];
-    m.map_kd = harmless_texture(m.map_kd);
-    m.map_d = harmless_texture(m.map_d);
-    for (const std::string* map : {&m.map_kd, &m.map_d})
+    for (std::string* map : m.maps()) {
+      *map = harmless_texture(*map);
       may_miss_texture = may_miss_texture || (used[i] && map->rfind(kMissingTextureDir, 0) == 0);
+    }
   }
   for (int config = 0; config < 3; ++config) {
     MaterialOptions options;

@@ -54,7 +54,7 @@ std::string scene_mtl(const std::string& texture = "checker.png") {
          "newmtl grey\nKd 0.5 0.5 0.5\nKs 0 0 0\n"
          "newmtl white\nKd 1 1 1\nKs 0 0 0\n"
          "newmtl lamp\nKd 0 0 0\nKe 1000000 1000000 1000000\n"
-         "newmtl mirror\nKd 0 0 0\nKs 0.95 0.95 0.95\nNs 100000\n"
+         "newmtl mirror\nKd 0.95 0.95 0.95\nPm 1\nPr 0\n"  // a smooth metal (docs/MTL.md)
          "newmtl M_noise\nKd 0.5 0.5 0.5\nnewmtl M_tiled\nKd 0.5 0.5 0.5\nnewmtl M_bright\nKd 0.5 0.5 0.5\n";
 }
 
