@@ -26,6 +26,9 @@ struct Lobes {
   Input diffuse, specular, emission;  // Lambert albedo, Schlick F0, radiance
   Input rough;                        // standard_surface roughness (alpha = r²), when has_rough
   bool has_rough = false;
+  Input transmission;        // the glass lobe's weight (dielectric_bsdf scatter_mode T or RT)
+  Input transmission_color;  // its tint
+  Input ior;                 // its IOR
   Input pass;     // the fraction of light a layer below receives
   Input opacity;  // a shader's coverage
   Input normal;
@@ -67,6 +70,9 @@ class Flattener {
     Lobes l;
     l.diffuse = l.specular = l.emission = c3(0, 0, 0);
     l.rough = f1(0.5f);
+    l.transmission = f1(0);
+    l.transmission_color = c3(1, 1, 1);
+    l.ior = f1(1.5f);
     l.pass = l.opacity = f1(1);
     l.normal = Input::constant("", VT::Vector3, 0, 0, 0);
     return l;
@@ -246,6 +252,10 @@ class Flattener {
       return Input::constant("", VT::Vector3, 0, 0, 0);
     return *i;
   }
+  // The glass whose tint and IOR a combination keeps (pmc's BSDF has one glass lobe).
+  static const Lobes& glass_of(const Lobes& a, const Lobes& b) {
+    return (a.transmission.linked || lane(a.transmission, 0) != 0) ? a : b;
+  }
   static const Input& pick_normal(const Lobes& a, const Lobes& b) {
     return a.normal.linked ? a.normal : b.normal;
   }
@@ -307,6 +317,22 @@ class Flattener {
     }
     if (c == "dielectric_bsdf" || c == "generalized_schlick_bsdf") {
       const std::string mode = n.input("scatter_mode") ? n.input("scatter_mode")->value.text : "R";
+      if (c == "dielectric_bsdf" && mode != "R") {
+        // Glass: pmc's rough dielectric lobe reflects and refracts with the
+        // exact Fresnel of `ior` (T alone keeps the reflection: one interface
+        // cannot refract what it does not reflect).
+        if (mode == "T") note("dielectric_bsdf scatter_mode T (rendered as RT: glass reflects too)");
+        Lobes l = empty();
+        l.transmission = in(n, "weight");
+        l.transmission_color = in(n, "tint");
+        l.ior = in(n, "ior");
+        l.rough = rough_of_alpha(in(n, "roughness"));
+        l.has_rough = true;
+        l.spec_hint = hint(l.transmission);
+        l.pass = one_minus(in(n, "weight"));
+        l.normal = normal_of(n);
+        return l;
+      }
       const bool reflects = mode != "T";
       if (mode != "R") note(c + " transmission (scatter_mode " + mode + ")");
       Input f0 = c == "dielectric_bsdf" ? mul(in(n, "tint"), f0_of_ior(in(n, "ior"))) : in(n, "color0");
@@ -348,6 +374,9 @@ class Flattener {
       l.diffuse = add(top.diffuse, mul(base.diffuse, top.pass));
       l.specular = add(top.specular, mul(base.specular, top.pass));
       l.emission = add(top.emission, mul(base.emission, top.pass));
+      l.transmission = add(top.transmission, mul(base.transmission, top.pass));
+      l.transmission_color = glass_of(top, base).transmission_color;
+      l.ior = glass_of(top, base).ior;
       l.pass = mul(top.pass, base.pass);
       share_rough(l, top, top.spec_hint, base, base.spec_hint * hint(top.pass));
       l.spec_hint = top.spec_hint + base.spec_hint * hint(top.pass);
@@ -361,6 +390,9 @@ class Flattener {
       l.diffuse = lerp(bg.diffuse, fg.diffuse, t);
       l.specular = lerp(bg.specular, fg.specular, t);
       l.emission = lerp(bg.emission, fg.emission, t);
+      l.transmission = lerp(bg.transmission, fg.transmission, t);
+      l.transmission_color = glass_of(fg, bg).transmission_color;
+      l.ior = glass_of(fg, bg).ior;
       l.pass = lerp(bg.pass, fg.pass, t);
       l.opacity = lerp(bg.opacity, fg.opacity, t);
       if (fg.has_rough && bg.has_rough) {
@@ -380,6 +412,9 @@ class Flattener {
       l.diffuse = add(a.diffuse, b.diffuse);
       l.specular = add(a.specular, b.specular);
       l.emission = add(a.emission, b.emission);
+      l.transmission = add(a.transmission, b.transmission);
+      l.transmission_color = glass_of(a, b).transmission_color;
+      l.ior = glass_of(a, b).ior;
       l.pass = mul(a.pass, b.pass);
       l.opacity = mul(a.opacity, b.opacity);
       share_rough(l, a, a.spec_hint, b, b.spec_hint);
@@ -460,6 +495,9 @@ int flatten_closure_shader(Graph& g, int shader, std::vector<std::string>& unmod
   param("specular_color", VT::Color3, l.specular);
   param("specular_roughness", VT::Float, l.has_rough ? l.rough : f.f1(1));
   param("emission", VT::Float, f.f1(1));
+  param("transmission", VT::Float, l.transmission);
+  param("transmission_color", VT::Color3, l.transmission_color);
+  param("specular_IOR", VT::Float, l.ior);
   param("emission_color", VT::Color3, l.emission);
   param("opacity", VT::Float, l.opacity);
   param("normal", VT::Vector3, l.normal);

@@ -482,7 +482,10 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"emission", PMC_P_EMISSION, VT::Float, {1}},
             {"emission_color", PMC_P_EMISSION_COLOR, VT::Color3, {0, 0, 0}},
             {"opacity", PMC_P_OPACITY, VT::Float, {1}},
-            {"normal", PMC_P_NORMAL, VT::Vector3, {0, 0, 0}}};
+            {"normal", PMC_P_NORMAL, VT::Vector3, {0, 0, 0}},
+            {"transmission", PMC_P_TRANSMISSION, VT::Float, {0}},
+            {"transmission_color", PMC_P_TRANSMISSION_COLOR, VT::Color3, {1, 1, 1}},
+            {"specular_IOR", PMC_P_SPECULAR_IOR, VT::Float, {1.5f}}};
   return {};
 }
 

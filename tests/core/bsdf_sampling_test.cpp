@@ -61,13 +61,28 @@ float3 view_dir(double theta_deg, double phi0 = 0.7) {
                      float(std::cos(t)));
 }
 
-PmcBsdf make_bsdf(float kd, float ks, float alpha) {
-  PmcBsdf b;
-  b.diffuse = make_float3(kd, kd, kd);
-  b.specular = make_float3(ks, ks, ks);
-  b.alpha = alpha;
-  b.emission = make_float3(0.0f, 0.0f, 0.0f);
-  return b;
+// Raw lobes, without layering or compensation: a Lambert lobe of albedo kd
+// and a GGX lobe with Schlick's Fresnel from ks to white, sampled in
+// proportion to their luminances (the layered stacks of pmc_bsdf_prepare are
+// tested in bsdf_furnace_test.cpp).
+PmcLobes raw_lobes(float3 kd, float3 ks, float alpha) {
+  PmcLobes l;
+  const float3 zero = make_float3(0.0f, 0.0f, 0.0f);
+  l.kd = kd;
+  l.spec_p = ks;
+  l.spec_q = pmc_max3(ks) > 0.0f ? make_float3(1.0f, 1.0f, 1.0f) - ks : zero;
+  l.coat_p = l.coat_q = l.sheen_w = l.glass_r = l.glass_t = zero;
+  l.ax = l.ay = std::max(alpha, PMC_MIN_ALPHA);
+  l.coat_alpha = 0.1f;
+  l.sheen_r = 0.3f;
+  l.eta = 1.5f;
+  l.thin = 0;
+  const float ld = pmc_luminance(kd), ls = pmc_luminance(ks);
+  l.c_spec = l.c_coat = l.c_glass = ld + ls > 0.0f ? ls / (ld + ls) : 0.0f;
+  return l;
+}
+PmcLobes make_bsdf(float kd, float ks, float alpha) {
+  return raw_lobes(make_float3(kd, kd, kd), make_float3(ks, ks, ks), alpha);
 }
 
 // Integral over the whole sphere of f(w), with the polar axis along `axis`:
@@ -257,7 +272,7 @@ std::vector<double> expected_probs(const Grid& g, F&& pdf, int sub) {
 }
 
 // Histogram of n samples of pmc_bsdf_sample.
-std::vector<double> sample_histogram(const Grid& g, const PmcBsdf& b, float3 wo, int n, uint32_t seed) {
+std::vector<double> sample_histogram(const Grid& g, const PmcLobes& b, float3 wo, int n, uint32_t seed) {
   Rng rng(seed);
   std::vector<double> h(g.cells(), 0.0);
   for (int k = 0; k < n; ++k) {
@@ -289,23 +304,23 @@ double ref_d(D3 h, double a) {
   return a2 / (kPi * c2 * c2 * k * k);  // the tan form of GGX, not the header's
 }
 double ref_lum(D3 c) { return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z; }
-double ref_spec_prob(const PmcBsdf& b) {
-  double ld = ref_lum(d3(b.diffuse)), ls = ref_lum(d3(b.specular));
+double ref_spec_prob(const PmcLobes& b) {
+  double ld = ref_lum(d3(b.kd)), ls = ref_lum(d3(b.spec_p));
   return ld + ls > 0.0 ? ls / (ld + ls) : 0.0;
 }
-D3 ref_eval(const PmcBsdf& b, D3 wo, D3 wi) {
+D3 ref_eval(const PmcLobes& b, D3 wo, D3 wi) {
   if (wo.z <= 0.0 || wi.z <= 0.0) return {0, 0, 0};
-  double a = std::max(double(b.alpha), double(PMC_MIN_ALPHA));
+  double a = std::max(double(b.ax), double(PMC_MIN_ALPHA));
   D3 h = dnorm({wo.x + wi.x, wo.y + wi.y, wo.z + wi.z});
   double common = ref_d(h, a) / (1.0 + ref_lambda(wo, a) + ref_lambda(wi, a)) / (4.0 * wo.z * wi.z);
   double m = 1.0 - ddot(wi, h), m5 = m * m * m * m * m;
-  D3 kd = d3(b.diffuse), ks = d3(b.specular);
+  D3 kd = d3(b.kd), ks = d3(b.spec_p);
   return {kd.x / kPi + (ks.x + (1.0 - ks.x) * m5) * common, kd.y / kPi + (ks.y + (1.0 - ks.y) * m5) * common,
           kd.z / kPi + (ks.z + (1.0 - ks.z) * m5) * common};
 }
-double ref_pdf(const PmcBsdf& b, D3 wo, D3 wi) {
+double ref_pdf(const PmcLobes& b, D3 wo, D3 wi) {
   if (wo.z <= 0.0 || wi.z <= 0.0) return 0.0;
-  double a = std::max(double(b.alpha), double(PMC_MIN_ALPHA));
+  double a = std::max(double(b.ax), double(PMC_MIN_ALPHA));
   double ps = ref_spec_prob(b);
   D3 h = dnorm({wo.x + wi.x, wo.y + wi.y, wo.z + wi.z});
   double g1 = 1.0 / (1.0 + ref_lambda(wo, a));
@@ -363,7 +378,7 @@ TEST(BsdfSampling, CosinePdfIntegratesToOne) {
   // Diffuse-only BSDF: pmc_bsdf_pdf is the cosine pdf; integrate it (library
   // function, not our own cos/pi) over the whole sphere. Smooth integrand and
   // a 256x256 midpoint grid: error ~1e-5; tolerance 1e-4.
-  PmcBsdf b = make_bsdf(0.8f, 0.0f, 0.5f);
+  PmcLobes b = make_bsdf(0.8f, 0.0f, 0.5f);
   for (double deg : kViewDeg) {
     float3 wo = view_dir(deg);
     double up = integrate_band(0.0, 1.0, 0.0, 2.0 * kPi, 256, 256,
@@ -450,7 +465,7 @@ TEST(BsdfSampling, MixedPdfMassEqualsAcceptedFraction) {
   const int n = 400000;
   uint32_t seed = 777u;
   for (const Case& c : cases) {
-    PmcBsdf b = make_bsdf(c.kd, c.ks, c.alpha);
+    PmcLobes b = make_bsdf(c.kd, c.ks, c.alpha);
     float3 wo = view_dir(c.deg);
     D3 mirror{-wo.x, -wo.y, wo.z};
     double mass =
@@ -484,7 +499,7 @@ const int kGgxSamples = 200000;
 // hemisphere from pmc_bsdf_pdf, the rejected cell from the reflection pdf
 // below the horizon.
 std::vector<double> ggx_expected_counts(float3 wo, float alpha) {
-  PmcBsdf b = make_bsdf(0.0f, 1.0f, alpha);
+  PmcLobes b = make_bsdf(0.0f, 1.0f, alpha);
   auto pdf = [&](float3 wi) {
     return double(wi.z > 0.0f ? pmc_bsdf_pdf(&b, wo, wi) : pmc_ggx_reflect_pdf(wo, wi, alpha));
   };
@@ -498,8 +513,8 @@ TEST(BsdfSampling, GgxSamplingChiSquare) {
   for (float alpha : {0.3f, 0.7f}) {
     for (double deg : {30.0, 70.0}) {
       float3 wo = view_dir(deg);
-      PmcBsdf b = make_bsdf(0.0f, 1.0f, alpha);
-      ASSERT_EQ(pmc_bsdf_spec_prob(&b), 1.0f);
+      PmcLobes b = make_bsdf(0.0f, 1.0f, alpha);
+      ASSERT_EQ(b.c_spec, 1.0f);
       std::vector<double> obs = sample_histogram(kGgxGrid, b, wo, kGgxSamples, seed++);
       std::vector<double> ex = ggx_expected_counts(wo, alpha);
       double total = std::accumulate(ex.begin(), ex.end(), 0.0);
@@ -518,7 +533,7 @@ TEST(BsdfSampling, GgxChiSquareRejectsWrongPdf) {
   for (float alpha : {0.3f, 0.7f}) {
     for (double deg : {30.0, 70.0}) {
       float3 wo = view_dir(deg);
-      PmcBsdf b = make_bsdf(0.0f, 1.0f, alpha);
+      PmcLobes b = make_bsdf(0.0f, 1.0f, alpha);
       std::vector<double> obs = sample_histogram(kGgxGrid, b, wo, kGgxSamples, seed++);
       // (a) roughness off by 30%.
       Chi2 r = chi_square(obs, ggx_expected_counts(wo, alpha * 1.3f));
@@ -539,6 +554,56 @@ TEST(BsdfSampling, GgxChiSquareRejectsWrongPdf) {
   }
 }
 
+// Glass (rough dielectric, thick and thin): samples over the whole sphere
+// against the mixture pdf that eval reports, on a (cos theta in [-1, 1], phi)
+// grid with one cell for rejected samples (reflections below the horizon).
+TEST(BsdfSampling, GlassSamplingChiSquare) {
+  uint32_t seed = 77u;
+  const int nc = 24, np = 12, n = 200000;
+  for (int thin = 0; thin < 2; ++thin)
+    for (float alpha : {0.2f, 0.6f})
+      for (int entering = 0; entering < 2; ++entering)
+        for (double deg : {20.0, 60.0}) {
+          PmcBsdf b = pmc_bsdf_zero();
+          b.transmission = 1.0f;
+          b.transmission_tint = b.spec_tint = make_float3(1.0f, 1.0f, 1.0f);
+          b.ax = b.ay = alpha;
+          b.ior = 1.5f;
+          b.thin = thin;
+          const float3 wo = view_dir(deg);
+          const PmcLobes l = pmc_bsdf_prepare(&b, wo, entering);
+          std::vector<double> obs(size_t(nc * np + 1), 0.0), ex(size_t(nc * np + 1), 0.0);
+          Rng rng(seed++);
+          for (int k = 0; k < n; ++k) {
+            float3 wi, w;
+            float pdf;
+            if (!pmc_bsdf_sample(&l, wo, rng.next(), rng.next(), rng.next(), &wi, &pdf, &w)) {
+              obs.back() += 1.0;
+              continue;
+            }
+            int ic = std::min(nc - 1, std::max(0, int((double(wi.z) + 1.0) * 0.5 * nc)));
+            double ph = std::atan2(double(wi.y), double(wi.x));
+            if (ph < 0.0) ph += 2.0 * kPi;
+            int ip = std::min(np - 1, std::max(0, int(ph / (2.0 * kPi) * np)));
+            obs[size_t(ic * np + ip)] += 1.0;
+          }
+          auto pdf = [&](float3 wi) { return double(pmc_bsdf_pdf(&l, wo, wi)); };
+          double total = 0.0;
+          for (int ic = 0; ic < nc; ++ic)
+            for (int ip = 0; ip < np; ++ip) {
+              double e = integrate_band(-1.0 + 2.0 * ic / nc, -1.0 + 2.0 * (ic + 1) / nc, 2.0 * kPi * ip / np,
+                                        2.0 * kPi * (ip + 1) / np, 16, 16, pdf);
+              ex[size_t(ic * np + ip)] = e * n;
+              total += e;
+            }
+          EXPECT_LE(total, 1.0 + 2e-3) << "pdf mass over the sphere";
+          ex.back() = std::max(0.0, 1.0 - total) * n;
+          Chi2 r = chi_square(obs, ex);
+          EXPECT_GT(r.pvalue, 1e-3) << "thin " << thin << " alpha " << alpha << " entering " << entering
+                                    << " wo " << deg << " chi2=" << r.stat << " dof=" << r.dof;
+        }
+}
+
 // ---------------------------------------------------------------------------
 // 5. sample / pdf / eval consistency, and agreement with a double reference.
 
@@ -546,12 +611,10 @@ TEST(BsdfSampling, SampleConsistentWithPdfAndEval) {
   Rng rng(99u);
   int accepted = 0;
   for (int k = 0; k < 20000; ++k) {
-    PmcBsdf b;
     bool zero_spec = (k % 5 == 0), zero_diff = (k % 7 == 0);
-    b.diffuse = zero_diff ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
-    b.specular = zero_spec ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
-    b.alpha = float(std::pow(10.0, -2.7 + 2.7 * rng.next()));  // 0.002 .. 1, log-uniform
-    b.emission = make_float3(0, 0, 0);
+    float3 kd = zero_diff ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
+    float3 ks = zero_spec ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
+    PmcLobes b = raw_lobes(kd, ks, float(std::pow(10.0, -2.7 + 2.7 * rng.next())));  // 0.002 .. 1, log-uniform
     float3 wo = f3(random_upper_dir(rng, 0.02));
     float3 wi, weight;
     float pdf;
@@ -577,11 +640,9 @@ TEST(BsdfSampling, EvalAndPdfMatchDoubleReference) {
   // still catches any formula difference.
   Rng rng(4242u);
   for (int k = 0; k < 20000; ++k) {
-    PmcBsdf b;
-    b.diffuse = make_float3(rng.next(), rng.next(), rng.next());
-    b.specular = make_float3(rng.next(), rng.next(), rng.next());
-    b.alpha = float(0.05 + 0.95 * rng.next());
-    b.emission = make_float3(0, 0, 0);
+    float3 kd = make_float3(rng.next(), rng.next(), rng.next());
+    float3 ks = make_float3(rng.next(), rng.next(), rng.next());
+    PmcLobes b = raw_lobes(kd, ks, float(0.05 + 0.95 * rng.next()));
     D3 wo = random_upper_dir(rng, 0.05);
     D3 wi;
     if (k % 2 == 0) {
@@ -608,7 +669,7 @@ TEST(BsdfSampling, EvalAndPdfMatchDoubleReference) {
 // 6. White furnace of the BSDF alone.
 
 TEST(BsdfSampling, LambertAlbedoIsOne) {
-  PmcBsdf b = make_bsdf(1.0f, 0.0f, 0.5f);
+  PmcLobes b = make_bsdf(1.0f, 0.0f, 0.5f);
   for (double deg : kViewDeg) {
     float3 wo = view_dir(deg);
     // Independent of the sampler: stratified uniform-hemisphere estimate
@@ -640,7 +701,7 @@ TEST(BsdfSampling, SpecularAlbedoNoEnergyGain) {
   uint32_t seed = 31u;
   for (float alpha : kAlphas) {
     for (double deg : kViewDeg) {
-      PmcBsdf b = make_bsdf(0.0f, 1.0f, alpha);  // F0 = 1: Fresnel is exactly 1
+      PmcLobes b = make_bsdf(0.0f, 1.0f, alpha);  // F0 = 1: Fresnel is exactly 1
       float3 wo = view_dir(deg);
       D3 mirror{-wo.x, -wo.y, wo.z};
       // Quadrature of f cos (same grid as the pdf test: error < 1e-3).
