@@ -29,8 +29,8 @@ struct Lobes {
   Input transmission;        // the glass lobe's weight (dielectric_bsdf scatter_mode T or RT)
   Input transmission_color;  // its tint
   Input ior;                 // its IOR
-  Input pass;     // the fraction of light a layer below receives
-  Input opacity;  // a shader's coverage
+  Input pass;                // the fraction of light a layer below receives
+  Input opacity;             // a shader's coverage
   Input normal;
   float spec_hint = 0.0f;  // the specular lobe's strength, as far as constants tell (to share roughness)
 };

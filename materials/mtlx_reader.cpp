@@ -985,6 +985,7 @@ class Reader {
       Input* in = name.compare(0, 4, "pmc_") == 0 ? nullptr : node.input(name);
       if (!in) {
         if (node.category == "gltf_pbr" && (name == "alpha_mode" || name == "alpha_cutoff")) continue;
+        if (node.category == "UsdPreviewSurface" && name == "opacityThreshold") continue;
         ignored += (ignored.empty() ? "" : ", ") + name;
         continue;
       }
@@ -1007,6 +1008,30 @@ class Reader {
       }
       if (mode && !opaque)
         ignored += std::string(ignored.empty() ? "" : ", ") + "alpha_cutoff (pmc cuts at 0.5)";
+    }
+    // UsdPreviewSurface: with opacityThreshold 0 (its default) an opacity
+    // below 1 is glass that refracts by `ior` (its specification), so it
+    // becomes transmission 1 - opacity; above 0 it stays a cut-out.
+    if (node.category == "UsdPreviewSurface") {
+      pugi::xml_node th = el.find_child_by_attribute("input", "name", "opacityThreshold");
+      const bool cutout = th && (th.attribute("nodename") || th.attribute("value").as_float() > 0.0f);
+      Input* opacity = node.input("opacity");
+      if (!cutout && (opacity->linked || opacity->value.f[0] != 1.0f)) {
+        Input* trans = node.input("pmc_transmission");
+        if (!opacity->linked) {
+          *trans = Input::constant("pmc_transmission", ValueType::Float, 1.0f - opacity->value.f[0]);
+        } else {
+          Node sub;
+          sub.category = "subtract";
+          sub.type = ValueType::Float;
+          sub.origin = context + " input 'opacity' (glass: transmission = 1 - opacity)";
+          Input a = *opacity;
+          a.name = "in2";
+          sub.inputs = {Input::constant("in1", ValueType::Float, 1.0f), a};
+          *trans = Input::link("pmc_transmission", ValueType::Float, graph_.add(std::move(sub)));
+        }
+        *opacity = Input::constant("opacity", ValueType::Float, 1.0f);
+      }
     }
     // Parameters that are an affine function of their input (disney_principled).
     for (const SurfaceParam& p : params) {

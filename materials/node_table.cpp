@@ -406,10 +406,11 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
   if (category == "standard_surface") {
     // The defaults are the device's (PMC_STANDARD_SURFACE, pmc_bytecode.h).
     std::vector<SurfaceParam> out;
-#define PMC_STANDARD_SURFACE_PARAM(input, param, width, x, y, z)                              \
-  out.push_back({#input,                                                                      \
-                 param,                                                                       \
-                 width == 1 ? VT::Float : (param == PMC_P_NORMAL ? VT::Vector3 : VT::Color3), \
+#define PMC_STANDARD_SURFACE_PARAM(input, param, width, x, y, z)                     \
+  out.push_back({#input,                                                             \
+                 param,                                                              \
+                 width == 1 ? (param == PMC_P_THIN_WALLED ? VT::Boolean : VT::Float) \
+                            : (param == PMC_P_NORMAL ? VT::Vector3 : VT::Color3),    \
                  {x, y, z}});
     PMC_STANDARD_SURFACE(PMC_STANDARD_SURFACE_PARAM)
 #undef PMC_STANDARD_SURFACE_PARAM
@@ -425,7 +426,10 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"ior", PMC_P_SPECULAR_IOR, VT::Float, {1.5f}},
             {"clearcoat", PMC_P_COAT, VT::Float, {0}},
             {"clearcoatRoughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0.01f}},
-            {"pmc_emission_weight", PMC_P_EMISSION, VT::Float, {1}}};
+            {"pmc_emission_weight", PMC_P_EMISSION, VT::Float, {1}},
+            // opacity below 1 with opacityThreshold 0 is glass (the reader moves it here)
+            {"pmc_transmission", PMC_P_TRANSMISSION, VT::Float, {0}},
+            {"pmc_thin_walled", PMC_P_THIN_WALLED, VT::Boolean, {0}}};
   // OpenPBR: emission_luminance weights emission_color as standard_surface's
   // emission does (MaterialX's open_pbr_surface graph multiplies them).
   if (category == "open_pbr_surface")
@@ -442,7 +446,16 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"geometry_opacity", PMC_P_OPACITY, VT::Float, {1}},
             {"coat_weight", PMC_P_COAT, VT::Float, {0}},
             {"coat_color", PMC_P_COAT_COLOR, VT::Color3, {1, 1, 1}},
-            {"coat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0}}};
+            {"coat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0}},
+            {"coat_ior", PMC_P_COAT_IOR, VT::Float, {1.6f}},
+            {"specular_roughness_anisotropy", PMC_P_SPECULAR_ANISOTROPY, VT::Float, {0}},
+            {"transmission_weight", PMC_P_TRANSMISSION, VT::Float, {0}},
+            {"transmission_color", PMC_P_TRANSMISSION_COLOR, VT::Color3, {1, 1, 1}},
+            {"transmission_depth", PMC_P_TRANSMISSION_DEPTH, VT::Float, {0}},
+            {"fuzz_weight", PMC_P_SHEEN, VT::Float, {0}},
+            {"fuzz_color", PMC_P_SHEEN_COLOR, VT::Color3, {1, 1, 1}},
+            {"fuzz_roughness", PMC_P_SHEEN_ROUGHNESS, VT::Float, {0.5f}},
+            {"geometry_thin_walled", PMC_P_THIN_WALLED, VT::Boolean, {0}}};
   // glTF: emissive is a colour, emissive_strength its weight; alpha is the
   // opacity (ignored in alpha_mode OPAQUE, by the reader).
   if (category == "gltf_pbr")
@@ -457,7 +470,17 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"clearcoat", PMC_P_COAT, VT::Float, {0}},
             {"clearcoat_roughness", PMC_P_COAT_ROUGHNESS, VT::Float, {0}},
             {"emissive", PMC_P_EMISSION_COLOR, VT::Color3, {0, 0, 0}},
-            {"emissive_strength", PMC_P_EMISSION, VT::Float, {1}}};
+            {"emissive_strength", PMC_P_EMISSION, VT::Float, {1}},
+            {"transmission", PMC_P_TRANSMISSION, VT::Float, {0}},
+            {"sheen_color", PMC_P_SHEEN_COLOR, VT::Color3, {0, 0, 0}},
+            {"sheen_roughness", PMC_P_SHEEN_ROUGHNESS, VT::Float, {0}},
+            {"anisotropy_strength", PMC_P_SPECULAR_ANISOTROPY, VT::Float, {0}},
+            // radians to turns
+            {"anisotropy_rotation", PMC_P_SPECULAR_ROTATION, VT::Float, {0}, 0.15915494f, 0.0f},
+            // sheen_color carries the weight; without the volume extension
+            // (thickness 0) glTF transmission is thin-walled
+            {"pmc_sheen_weight", PMC_P_SHEEN, VT::Float, {1}},
+            {"pmc_thin_walled", PMC_P_THIN_WALLED, VT::Boolean, {1}}};
   // Disney: specular 0.5 is F0 = 0.04 (IOR 1.5), so it scales pmc's specular
   // weight by 2; a clearcoat gloss of 1 is a smooth coat (roughness 1 - gloss).
   if (category == "disney_principled")
@@ -466,7 +489,9 @@ std::vector<SurfaceParam> surface_params(const std::string& category) {
             {"roughness", PMC_P_SPECULAR_ROUGHNESS, VT::Float, {0.5f}},
             {"specular", PMC_P_SPECULAR, VT::Float, {0.5f}, 2.0f, 0.0f},
             {"clearcoat", PMC_P_COAT, VT::Float, {0}},
-            {"clearcoatGloss", PMC_P_COAT_ROUGHNESS, VT::Float, {1}, -1.0f, 1.0f}};
+            {"clearcoatGloss", PMC_P_COAT_ROUGHNESS, VT::Float, {1}, -1.0f, 1.0f},
+            {"anisotropic", PMC_P_SPECULAR_ANISOTROPY, VT::Float, {0}},
+            {"sheen", PMC_P_SHEEN, VT::Float, {0}}};
   // Unlit: emission only, no reflection.
   if (category == "surface_unlit")
     return {{"emission", PMC_P_EMISSION, VT::Float, {1}},

@@ -170,8 +170,9 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 /* Surface parameters a material program writes with OUTPUT (float offsets
  * into the parameter block). Unwritten parameters keep the defaults set by
  * pmc_surface_defaults(). */
-#define PMC_P_MODEL 0 /* 0: standard_surface and the shading models mapped onto it (MTL too);
-                         1: a flattened closure graph (diffuse albedo and Schlick F0 as given) */
+#define PMC_P_MODEL                                                         \
+  0 /* 0: standard_surface and the shading models mapped onto it (MTL too); \
+       1: a flattened closure graph (diffuse albedo and Schlick F0 as given) */
 #define PMC_P_BASE 1
 #define PMC_P_BASE_COLOR 2 /* 3 floats */
 #define PMC_P_METALNESS 5

@@ -38,34 +38,34 @@
 
 /* The layer stack at a shading point (view-independent). */
 typedef struct PmcBsdf {
-  float3 diffuse;      /* Lambert albedo of the opaque base */
-  float3 spec_f0;      /* dielectric specular: Schlick F0 (model 1: the closure graph's F0) */
-  float3 spec_tint;    /* its weight and tint (specular x specular_color); also tints glass reflection */
-  float3 metal_f0;     /* conductor: Schlick F0 (the base colour) */
-  float metal;         /* conductor weight (metalness) */
-  float ax, ay;        /* GGX alphas of the base (tangent, bitangent) */
-  float rotation;      /* of the tangent about the normal, in turns */
-  float coat;          /* coat weight; its F0 and alpha: */
+  float3 diffuse;   /* Lambert albedo of the opaque base */
+  float3 spec_f0;   /* dielectric specular: Schlick F0 (model 1: the closure graph's F0) */
+  float3 spec_tint; /* its weight and tint (specular x specular_color); also tints glass reflection */
+  float3 metal_f0;  /* conductor: Schlick F0 (the base colour) */
+  float metal;      /* conductor weight (metalness) */
+  float ax, ay;     /* GGX alphas of the base (tangent, bitangent) */
+  float rotation;   /* of the tangent about the normal, in turns */
+  float coat;       /* coat weight; its F0 and alpha: */
   float coat_f0, coat_alpha;
-  float3 coat_color;   /* tint of what lies under the coat */
-  float sheen;         /* sheen weight, colour, roughness */
+  float3 coat_color; /* tint of what lies under the coat */
+  float sheen;       /* sheen weight, colour, roughness */
   float3 sheen_color;
   float sheen_r;
-  float transmission;  /* fraction of the dielectric base that is glass */
+  float transmission;       /* fraction of the dielectric base that is glass */
   float3 transmission_tint; /* glass refraction tint per crossing (white with absorption) */
-  float3 absorption;   /* Beer-Lambert coefficient inside, per scene unit (0: none) */
-  float ior;           /* glass IOR (inside over outside) */
-  int thin;            /* thin-walled glass: no bending, no inside */
-  int flat;            /* model 1: diffuse and spec_f0 from a flattened closure graph */
-  float3 emission;     /* emitted radiance */
+  float3 absorption;        /* Beer-Lambert coefficient inside, per scene unit (0: none) */
+  float ior;                /* glass IOR (inside over outside) */
+  int thin;                 /* thin-walled glass: no bending, no inside */
+  int flat;                 /* model 1: diffuse and spec_f0 from a flattened closure graph */
+  float3 emission;          /* emitted radiance */
 } PmcBsdf;
 
 /* The stack prepared for one view direction. */
 typedef struct PmcLobes {
-  float3 kd;             /* Lambert: f = kd / pi */
-  float3 spec_p, spec_q; /* base GGX reflection: F(c) = p + q (1 - c)^5, compensation folded in */
-  float3 coat_p, coat_q; /* coat GGX reflection, likewise */
-  float3 sheen_w;        /* f = sheen_w * pmc_sheen_brdf */
+  float3 kd;               /* Lambert: f = kd / pi */
+  float3 spec_p, spec_q;   /* base GGX reflection: F(c) = p + q (1 - c)^5, compensation folded in */
+  float3 coat_p, coat_q;   /* coat GGX reflection, likewise */
+  float3 sheen_w;          /* f = sheen_w * pmc_sheen_brdf */
   float3 glass_r, glass_t; /* glass reflection and refraction weights (tints included) */
   float ax, ay, coat_alpha, sheen_r;
   float eta; /* glass: relative IOR beyond the surface (thin walls: the IOR, for Fresnel) */
@@ -95,7 +95,9 @@ PMC_FN void pmc_schlick_lobe(float3 w, float3 f0, float e1, float3* p, float3* q
   *q = *q + w * comp * (one - f0);
 }
 
-PMC_FN float3 pmc_min3(float3 a, float3 b) { return make_float3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z)); }
+PMC_FN float3 pmc_min3(float3 a, float3 b) {
+  return make_float3(fmin(a.x, b.x), fmin(a.y, b.y), fmin(a.z, b.z));
+}
 PMC_FN float3 pmc_max0(float3 a) { return make_float3(fmax(a.x, 0.0f), fmax(a.y, 0.0f), fmax(a.z, 0.0f)); }
 
 /* Perceptual roughness of a GGX alpha (the tables' axis). */
@@ -137,7 +139,8 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
     const float c1 = pmc_table_lookup(pmc_ggx_e1_table, mu, rc);
     const float c5 = pmc_table_lookup(pmc_ggx_e5_table, mu, rc);
     const float f0 = b->coat_f0;
-    pmc_schlick_lobe(make_float3(b->coat, b->coat, b->coat), make_float3(f0, f0, f0), c1, &l.coat_p, &l.coat_q);
+    pmc_schlick_lobe(make_float3(b->coat, b->coat, b->coat), make_float3(f0, f0, f0), c1, &l.coat_p,
+                     &l.coat_q);
     const float3 ec = pmc_min3(l.coat_p * c1 + l.coat_q * c5, one);
     below = (one - ec) * (one + (b->coat_color - one) * b->coat);
   }
@@ -174,9 +177,10 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
   /* Sampling probabilities, proportional to each lobe's albedo at wo. */
   const float a_spec = pmc_luminance(l.spec_p * e1 + l.spec_q * e5);
   const float a_coat =
-      b->coat > 0.0f ? pmc_luminance(l.coat_p * pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.coat_alpha)) +
-                                     l.coat_q * pmc_table_lookup(pmc_ggx_e5_table, mu, pmc_table_rough(l.coat_alpha)))
-                     : 0.0f;
+      b->coat > 0.0f
+          ? pmc_luminance(l.coat_p * pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.coat_alpha)) +
+                          l.coat_q * pmc_table_lookup(pmc_ggx_e5_table, mu, pmc_table_rough(l.coat_alpha)))
+          : 0.0f;
   const float a_glass = 0.5f * (pmc_luminance(l.glass_r) + pmc_luminance(l.glass_t));
   const float a_cos = pmc_luminance(l.kd) + pmc_luminance(l.sheen_w) * 0.5f;
   const float sum = a_spec + a_coat + a_glass + a_cos;
@@ -190,7 +194,8 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
 
 /* Whether the prepared stack scatters at all. */
 PMC_FN int pmc_lobes_any(const PmcLobes* l) {
-  return pmc_max3(l->kd + l->spec_p + l->spec_q + l->coat_p + l->coat_q + l->sheen_w + l->glass_r + l->glass_t) > 0.0f;
+  return pmc_max3(l->kd + l->spec_p + l->spec_q + l->coat_p + l->coat_q + l->sheen_w + l->glass_r +
+                  l->glass_t) > 0.0f;
 }
 
 /* A GGX reflection lobe's f and its VNDF pdf (wo, wi above). */
@@ -316,8 +321,8 @@ PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
 
 /* Sample wi; returns 0 (and leaves *wi undefined) when the sample is invalid.
  * On success *pdf is the mixture pdf and *weight = f |cos| / pdf. */
-PMC_FN int pmc_bsdf_sample(const PmcLobes* l, float3 wo, float ulobe, float u1, float u2, float3* wi, float* pdf,
-                           float3* weight) {
+PMC_FN int pmc_bsdf_sample(const PmcLobes* l, float3 wo, float ulobe, float u1, float u2, float3* wi,
+                           float* pdf, float3* weight) {
   if (wo.z <= 0.0f) return 0;
   if (ulobe < l->c_spec) {
     const float3 h = pmc_ggx_sample_vndf2(wo, l->ax, l->ay, u1, u2);

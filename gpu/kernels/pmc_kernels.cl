@@ -412,9 +412,9 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   if (alive) {
     float3 wi, weight;
     float pdf;
-    alive =
-        pmc_bsdf_sample(&lobes, wo, pmc_rand(key, bounce, PMC_DIM_LOBE), pmc_rand(key, bounce, PMC_DIM_BSDF_U),
-                        pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi, &pdf, &weight);
+    alive = pmc_bsdf_sample(&lobes, wo, pmc_rand(key, bounce, PMC_DIM_LOBE),
+                            pmc_rand(key, bounce, PMC_DIM_BSDF_U), pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi,
+                            &pdf, &weight);
     float3 wi_world = make_float3(0.0f, 0.0f, 1.0f);
     if (alive) {
       wi_world = pmc_to_world(wi, t, b, ns);
@@ -590,7 +590,8 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
         uint points = min(hp[k].cache_points, 8u);
         for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at) */
           const PmcCacheTexel* t = ((hp[k].cache_position_mask >> p) & 1u) ? &hp[k].cell : &hp[k].texel;
-          if (!t->bypass) PMC_TOUCH(&cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways]);
+          if (!t->bypass)
+            PMC_TOUCH(&cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways]);
         }
       }
   }

@@ -21,7 +21,8 @@ constexpr double kPi = 3.14159265358979323846;
 
 float3 view(double deg) {
   const double t = deg * kPi / 180.0;
-  return make_float3(float(std::sin(t) * std::cos(0.3)), float(std::sin(t) * std::sin(0.3)), float(std::cos(t)));
+  return make_float3(float(std::sin(t) * std::cos(0.3)), float(std::sin(t) * std::sin(0.3)),
+                     float(std::cos(t)));
 }
 
 struct Albedo {

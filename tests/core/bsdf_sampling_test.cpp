@@ -614,7 +614,8 @@ TEST(BsdfSampling, SampleConsistentWithPdfAndEval) {
     bool zero_spec = (k % 5 == 0), zero_diff = (k % 7 == 0);
     float3 kd = zero_diff ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
     float3 ks = zero_spec ? make_float3(0, 0, 0) : make_float3(rng.next(), rng.next(), rng.next());
-    PmcLobes b = raw_lobes(kd, ks, float(std::pow(10.0, -2.7 + 2.7 * rng.next())));  // 0.002 .. 1, log-uniform
+    PmcLobes b =
+        raw_lobes(kd, ks, float(std::pow(10.0, -2.7 + 2.7 * rng.next())));  // 0.002 .. 1, log-uniform
     float3 wo = f3(random_upper_dir(rng, 0.02));
     float3 wi, weight;
     float pdf;
