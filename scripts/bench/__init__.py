@@ -9,6 +9,7 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
     bench.cache_replay  the hits any replacement policy could get from a smaller table (lookup trace + replay)
     bench.cacheless   the cacheless path against a pmc built from before the cache existed
     bench.materials   how much of the render time goes into material networks
+    bench.material_peers  pmc's materials against Mitsuba 3's (scripts/setup-peers installs Mitsuba)
     bench.node_costs  what one node of each costly pattern family (noises, tiled shapes) costs
     bench.sweep       `pmc sweep` cache size / mip bias / equal-time convergence figures
     bench.trace       pmc against Embree's own pathtracer; pmc's query styles and streaming
