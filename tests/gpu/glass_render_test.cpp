@@ -7,7 +7,9 @@
 //     the camera; a thin-walled quad does the same;
 //   * Beer-Lambert: the pane with transmission_color c at transmission_depth
 //     equal to its thickness passes (1 - R)^2 c / (1 - R^2 c^2);
-//   * a glass ball in a white furnace disappears (every pixel 1).
+//   * a glass ball in a white furnace disappears (every pixel 1), and so do
+//     white opaque stacks (diffuse, plastic, rough conductor); coat and sheen
+//     over them never return more than the sky.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,6 +105,45 @@ RenderOutput render(const std::string& dir, const std::string& obj, const std::s
   return session.render(s);
 }
 
+// A smooth-shaded unit ball at the origin (vertex normals point out).
+std::string ball_obj(const std::string& material) {
+  std::ostringstream os;
+  os << "usemtl " << material << "\n";
+  const int rings = 48, segments = 96;
+  auto vert = [&](double th, double ph) {
+    const double x = std::sin(th) * std::cos(ph), y = std::cos(th), z = std::sin(th) * std::sin(ph);
+    os << "v " << x << " " << y << " " << z << "\nvn " << x << " " << y << " " << z << "\n";
+  };
+  vert(0, 0);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) vert(kPi * i / rings, 2 * kPi * j / segments);
+  vert(kPi, 0);
+  auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + (j % segments); };
+  auto face = [&](int a, int b, int c) {
+    os << "f " << a << "//" << a << " " << b << "//" << b << " " << c << "//" << c << "\n";
+  };
+  const int bottom = 2 + (rings - 1) * segments;
+  for (int j = 0; j < segments; ++j) face(1, ring(1, j + 1), ring(1, j));
+  for (int i = 1; i < rings - 1; ++i)
+    for (int j = 0; j < segments; ++j) {
+      face(ring(i, j), ring(i, j + 1), ring(i + 1, j + 1));
+      face(ring(i, j), ring(i + 1, j + 1), ring(i + 1, j));
+    }
+  for (int j = 0; j < segments; ++j) face(bottom, ring(rings - 1, j), ring(rings - 1, j + 1));
+  return os.str();
+}
+
+// The mean of the middle 8 x 8 pixels of a 16 x 16 image.
+double centre_mean(const Image& im) {
+  double sum = 0.0;
+  for (int y = 4; y < 12; ++y)
+    for (int x = 4; x < 12; ++x) {
+      const float* px = &im.pixels[size_t(y * im.width + x) * 3];
+      sum += (px[0] + px[1] + px[2]) / 3.0;
+    }
+  return sum / 64.0;
+}
+
 const double kR = std::pow(0.5 / 2.5, 2.0);  // IOR 1.5 at normal incidence
 
 TEST(GlassRender, ClearPaneTransmitsAndReflectsAsFresnelSays) {
@@ -150,46 +191,15 @@ TEST(GlassRender, AbsorptionFollowsBeerLambert) {
 }
 
 TEST(GlassRender, GlassBallVanishesInAWhiteFurnace) {
-  // A smooth-shaded ball (vertex normals point out) under a white sky.
-  std::ostringstream os;
-  os << "usemtl glass\n";
-  const int rings = 48, segments = 96;
-  auto vert = [&](double th, double ph) {
-    const double x = std::sin(th) * std::cos(ph), y = std::cos(th), z = std::sin(th) * std::sin(ph);
-    os << "v " << x << " " << y << " " << z << "\nvn " << x << " " << y << " " << z << "\n";
-  };
-  vert(0, 0);
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < segments; ++j) vert(kPi * i / rings, 2 * kPi * j / segments);
-  vert(kPi, 0);
-  auto ring = [&](int i, int j) { return 2 + (i - 1) * segments + (j % segments); };
-  auto face = [&](int a, int b, int c) {
-    os << "f " << a << "//" << a << " " << b << "//" << b << " " << c << "//" << c << "\n";
-  };
-  const int bottom = 2 + (rings - 1) * segments;
-  for (int j = 0; j < segments; ++j) face(1, ring(1, j + 1), ring(1, j));
-  for (int i = 1; i < rings - 1; ++i)
-    for (int j = 0; j < segments; ++j) {
-      face(ring(i, j), ring(i, j + 1), ring(i + 1, j + 1));
-      face(ring(i, j), ring(i + 1, j + 1), ring(i + 1, j));
-    }
-  for (int j = 0; j < segments; ++j) face(bottom, ring(rings - 1, j), ring(rings - 1, j + 1));
+  const std::string ball = ball_obj("glass");
   const std::string dir = test::temp_dir();
   RenderSettings s = head_on(64);
   s.camera.fov_degrees = 30.0f;  // the ball (radius 1 at distance 3) fills the middle of the frame
   s.max_depth = 32;
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
   for (const char* rough : {"0", "0.3"}) {
-    RenderOutput out = render(dir, os.str(), glass_mtlx("", rough), s);
-    double sum = 0.0;
-    int count = 0;
-    for (int y = 4; y < 12; ++y)
-      for (int x = 4; x < 12; ++x) {
-        const float* px = &out.image.pixels[size_t(y * out.image.width + x) * 3];
-        sum += (px[0] + px[1] + px[2]) / 3.0;
-        ++count;
-      }
-    const double mean = sum / count;
+    RenderOutput out = render(dir, ball, glass_mtlx("", rough), s);
+    const double mean = centre_mean(out.image);
     // Smooth glass keeps all the light; rough glass loses what scatters
     // between microfacets more than once (docs/MATERIALS.md), never gains.
     if (std::string(rough) == "0")
@@ -197,6 +207,42 @@ TEST(GlassRender, GlassBallVanishesInAWhiteFurnace) {
     else
       EXPECT_LE(mean, 1.01) << "roughness " << rough;
     EXPECT_GT(mean, 0.85) << "roughness " << rough;
+  }
+}
+
+// Opaque stacks on a ball under a white sky (a convex body sees only the sky):
+// white diffuse, white plastic and a white rough conductor return the sky's
+// radiance, 1; coat and sheen over them never more.
+TEST(FurnaceRender, WhiteStacksReturnTheSky) {
+  struct Case {
+    const char* inputs;
+    bool exact;
+  } cases[] = {
+      {"<input name=\"specular\" type=\"float\" value=\"0\" />", true},
+      {"<input name=\"specular_roughness\" type=\"float\" value=\"0.4\" />", true},
+      {"<input name=\"metalness\" type=\"float\" value=\"1\" /><input name=\"specular_roughness\" "
+       "type=\"float\" value=\"0.8\" />",
+       true},
+      {"<input name=\"coat\" type=\"float\" value=\"1\" /><input name=\"sheen\" type=\"float\" "
+       "value=\"1\" /><input name=\"specular_roughness\" type=\"float\" value=\"0.6\" />",
+       false},
+  };
+  const std::string dir = test::temp_dir();
+  RenderSettings s = head_on(64);
+  s.camera.fov_degrees = 30.0f;
+  s.env[0] = s.env[1] = s.env[2] = 1.0f;
+  for (const Case& c : cases) {
+    const std::string mtlx =
+        std::string("<?xml version=\"1.0\"?>\n<materialx version=\"1.39\">\n") +
+        "<standard_surface name=\"S\" type=\"surfaceshader\"><input name=\"base_color\" type=\"color3\" "
+        "value=\"1, 1, 1\" />" +
+        c.inputs +
+        "</standard_surface>\n<surfacematerial name=\"glass\" type=\"material\"><input "
+        "name=\"surfaceshader\" type=\"surfaceshader\" nodename=\"S\" /></surfacematerial>\n</materialx>\n";
+    const double mean = centre_mean(render(dir, ball_obj("glass"), mtlx, s).image);
+    if (c.exact) EXPECT_NEAR(mean, 1.0, 0.01) << c.inputs;
+    EXPECT_LE(mean, 1.01) << c.inputs;
+    EXPECT_GT(mean, 0.9) << c.inputs;
   }
 }
 

@@ -92,6 +92,26 @@ TEST(CachePlan, UvOnlyChainHasOneCachePointAtTheTop) {
   for (const auto& [n, why] : plan.not_cached) EXPECT_NE(n, top) << why;
 }
 
+// The layered BSDF's inputs (transmission colour, sheen, anisotropy) are
+// planned like any other: a uv-only sub-graph feeding each is a cache point.
+TEST(CachePlan, UvOnlyInputsOfTheNewLobesAreCached) {
+  for (const char* input : {"transmission_color", "sheen_color", "coat_color"}) {
+    Graph g = new_graph("M_lobes");
+    int top = uv_branch(g, "", 4.0f);
+    add_surface(g, {{input, link(top)}, {"transmission", value(VT::Float, 0.5f)}});
+    CachePlan plan = plan_cache(g, 4);
+    ASSERT_EQ(plan.points.size(), 1u) << input;
+    EXPECT_EQ(plan.points[0].node, top) << input;
+  }
+  Graph g = new_graph("M_aniso");
+  int top = uv_branch(g, "", 4.0f);
+  int lum = add(g, "lum", "extract", VT::Float, {{"in", link(top)}, {"index", value(VT::Integer, 0.0f)}});
+  add_surface(g, {{"specular_anisotropy", link(lum)}, {"sheen", link(lum)}});
+  CachePlan plan = plan_cache(g, 4);
+  ASSERT_EQ(plan.points.size(), 1u);
+  EXPECT_EQ(plan.points[0].node, lum) << "the float feeding anisotropy and sheen";
+}
+
 TEST(CachePlan, PositionBelowMakesEverythingAboveUncacheable) {
   // texcoord -> multiply -> add(position.xy) -> noise2d -> mix -> base_color
   Graph g = new_graph("M_pos");
