@@ -28,8 +28,11 @@ uint32_t address_mode(const std::string& s, const std::string& context) {
 
 // Footprint scale of a uv chain: how much the node multiplies uv distances
 // (uv * 3 makes texels 3x smaller in uv space). Affine chains with constant
-// factors only; anything else counts as 1.
-float uv_scale(const Graph& g, const Input& uv) {
+// factors only; anything else counts as 1. `*even` is cleared unless the
+// chain is the mesh's uv (or a constant) under a uniform scale and shifts:
+// only then does the footprint's ellipse keep its direction (a turn, a
+// mirror or an uneven stretch would turn it; PMC_IMAGE_ANISO).
+float uv_scale(const Graph& g, const Input& uv, bool* even) {
   if (!uv.linked) return 1.0f;
   const Node& n = g.nodes[size_t(uv.node)];
   auto max_abs = [](const Input* in, int w) {
@@ -37,23 +40,37 @@ float uv_scale(const Graph& g, const Input& uv) {
     for (int i = 0; i < std::max(1, w); ++i) m = std::max(m, std::fabs(in->value.f[size_t(i)]));
     return m;
   };
+  auto uniform = [](const Input* in, int w) {  // the same factor for u and v
+    return w <= 1 || in->value.f[0] == in->value.f[1];
+  };
   const NodeDef* def = find_node_def(n.category);
   const int op = def && def->emit == Emit::Opcode ? def->opcode : -1;
   const Input* a = n.input("in1");
   const Input* b = n.input("in2");
   if ((op == PMC_OP_MUL || op == PMC_OP_DIV) && a && b && a->linked && !b->linked) {
     float m = max_abs(b, type_width(b->type));
-    if (!(m > 0.0f) || !std::isfinite(m)) return 1.0f;
-    return uv_scale(g, *a) * (op == PMC_OP_MUL ? m : 1.0f / m);
+    if (!uniform(b, type_width(b->type))) *even = false;
+    if (!(m > 0.0f) || !std::isfinite(m)) {
+      *even = false;
+      return 1.0f;
+    }
+    return uv_scale(g, *a, even) * (op == PMC_OP_MUL ? m : 1.0f / m);
   }
-  if ((op == PMC_OP_ADD || op == PMC_OP_SUB) && a && b && a->linked && !b->linked) return uv_scale(g, *a);
+  if ((op == PMC_OP_ADD || op == PMC_OP_SUB) && a && b && a->linked && !b->linked)
+    return uv_scale(g, *a, even);
   if (op == PMC_OP_PLACE2D) {
     const Input* s = n.input("scale");
+    const Input* r = n.input("rotate");
+    if (!r || r->linked || r->value.f[0] != 0.0f) *even = false;
     if (s && !s->linked) {
+      if (!uniform(s, 2)) *even = false;
       float m = std::min(std::fabs(s->value.f[0]), std::fabs(s->value.f[1]));
-      if (m > 0.0f && std::isfinite(m)) return uv_scale(g, *n.input("texcoord")) / m;
+      if (m > 0.0f && std::isfinite(m)) return uv_scale(g, *n.input("texcoord"), even) / m;
     }
+    *even = false;
+    return 1.0f;
   }
+  if (op != PMC_OP_TEXCOORD) *even = false;
   return 1.0f;
 }
 
@@ -162,7 +179,10 @@ bool emit_node(EmitContext& cx, const Node& n, uint32_t dst) {
           address_mode(text_of("uaddressmode", "periodic"), n.origin) |
           (address_mode(text_of("vaddressmode", "periodic"), n.origin) << 2) |
           ((text_of("filtertype", "linear") == "closest" ? PMC_FILTER_CLOSEST : PMC_FILTER_LINEAR) << 4);
-      Value mode = Value::number(ValueType::Vector2, float(bits), uv_scale(cx.g, *n.input("texcoord")));
+      bool even = true;  // the footprint's ellipse keeps its direction: filter anisotropically
+      const float scale = uv_scale(cx.g, *n.input("texcoord"), &even);
+      if (even) bits |= PMC_IMAGE_ANISO;
+      Value mode = Value::number(ValueType::Vector2, float(bits), scale);
       std::vector<uint32_t> operands;
       for (const InputDef& d : def->inputs) {
         const Input* in = n.input(d.name);

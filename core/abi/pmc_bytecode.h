@@ -134,13 +134,18 @@ PMC_FN pmc_u32 pmc_operand(int is_const, pmc_u32 index, pmc_u32 width) {
 PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 
 /* Image address modes and filters, packed into the IMAGE `mode` constant:
- * u mode | v mode << 2 | filter << 4 | srgb << 6 | channels - 1 << 7. */
+ * u mode | v mode << 2 | filter << 4 | PMC_IMAGE_ANISO. The compiler sets
+ * PMC_IMAGE_ANISO where the lookup's uv is the mesh's uv under a uniform
+ * scale and a shift (materials/emit.cpp): there the footprint's ellipse keeps
+ * its direction and the lookup filters anisotropically; elsewhere (turned,
+ * mirrored or unevenly stretched uvs, computed ones) it is isotropic. */
 #define PMC_ADDR_CONSTANT 0u
 #define PMC_ADDR_CLAMP 1u
 #define PMC_ADDR_PERIODIC 2u
 #define PMC_ADDR_MIRROR 3u
 #define PMC_FILTER_CLOSEST 0u
 #define PMC_FILTER_LINEAR 1u
+#define PMC_IMAGE_ANISO 256u
 
 /* Tiled shapes and line patterns (imm of TILEDSHAPE / LINEPATTERN). */
 #define PMC_SHAPE_CIRCLES 0u

@@ -22,7 +22,9 @@
  * pattern has the same statistics but is not the same pattern. q_i is written
  * as p + (R (p - c_i) / scale_i - (p - c_i)) + offset_i so that a tile without
  * randomness reads exactly p: the node then equals the plain tiled image.
- * Each read is filtered like `image`, its footprint divided by scale_i.
+ * Each read is filtered like `image`, its footprint divided by scale_i and
+ * its ellipse's axis turned by angle_i (q_i's derivative is R(angle_i) /
+ * scale_i).
  *
  * Blending: weight_i = luma_i * bary_i^7, normalised; a falloff other than
  * 0.5 then applies Schlick's gain (Graphics Gems IV) to each weight and
@@ -137,23 +139,29 @@ PMC_FN float3 pmc_hextile_weights(const PmcHexTiles* t, float3 luma, float fallo
   return w;
 }
 
-/* Reads tile i's texel: `footprint` is the point's uv footprint times the
- * tiling; `fallback` is the value where there is no texture. */
+/* Reads tile i's texel: `fp` is the point's uv footprint times the tiling
+ * (its axis 0: isotropic); `fallback` is the value where there is no texture. */
 PMC_FN float4 pmc_hextile_sample(const PmcTextureSet* ts, pmc_u32 index, const PmcHexTiles* t, int i,
-                                 float footprint, pmc_u32 mode, float4 fallback) {
+                                 PmcFootprint fp, pmc_u32 mode, float4 fallback) {
   float s = fabs(t->scale[i]);
-  return pmc_texture_sample(ts, index, t->coord[i], s > 0.0f ? footprint / s : footprint, mode & 3u,
-                            (mode >> 2) & 3u, (mode >> 4) & 3u, fallback);
+  float k = s > 0.0f ? 1.0f / s : 1.0f;
+  float2 axis = fp.axis;
+  if (axis.x != 0.0f || axis.y != 0.0f) {
+    float sn = sin(t->angle[i]), cs = cos(t->angle[i]);
+    axis = make_float2(cs * fp.axis.x - sn * fp.axis.y, sn * fp.axis.x + cs * fp.axis.y) * k;
+  }
+  return pmc_texture_sample_ellipse(ts, index, t->coord[i], s > 0.0f ? fp.width / s : fp.width, axis,
+                                    fp.minor * k, mode & 3u, (mode >> 2) & 3u, (mode >> 4) & 3u, fallback);
 }
 
 /* hextiledimage: the colour of the three tiles, blended by luminance. */
-PMC_FN float4 pmc_hextile_image(const PmcTextureSet* ts, pmc_u32 index, const PmcHexTiles* t, float footprint,
+PMC_FN float4 pmc_hextile_image(const PmcTextureSet* ts, pmc_u32 index, const PmcHexTiles* t, PmcFootprint fp,
                                 pmc_u32 mode, float4 fallback, float falloff, float contrast,
                                 float3 lumacoeffs) {
   float4 c[3];
   float l[3];
   for (int i = 0; i < 3; ++i) {
-    c[i] = pmc_hextile_sample(ts, index, t, i, footprint, mode, fallback);
+    c[i] = pmc_hextile_sample(ts, index, t, i, fp, mode, fallback);
     float y = c[i].x * lumacoeffs.x + c[i].y * lumacoeffs.y + c[i].z * lumacoeffs.z;
     l[i] = 1.0f + (y - 1.0f) * contrast;
   }
@@ -172,13 +180,13 @@ PMC_FN float3 pmc_hextile_turn(float3 v, float3 n, float angle) {
 
 /* hextilednormalmap: a world normal from the three tiles' normals. */
 PMC_FN float4 pmc_hextile_normalmap(const PmcTextureSet* ts, pmc_u32 index, const PmcHexTiles* t,
-                                    float footprint, pmc_u32 mode, float4 fallback, float falloff,
+                                    PmcFootprint fp, pmc_u32 mode, float4 fallback, float falloff,
                                     float strength, int flip_g, float3 n, float3 tangent) {
   float3 w = pmc_hextile_weights(t, make_float3(1.0f, 1.0f, 1.0f), falloff);
   float wi[3] = {clamp(w.x, 0.0f, 1.0f), clamp(w.y, 0.0f, 1.0f), clamp(w.z, 0.0f, 1.0f)};
   float3 g = make_float3(0.0f, 0.0f, 0.0f);
   for (int i = 0; i < 3; ++i) {
-    float4 c = pmc_hextile_sample(ts, index, t, i, footprint, mode, fallback);
+    float4 c = pmc_hextile_sample(ts, index, t, i, fp, mode, fallback);
     if (flip_g) c.y = 1.0f - c.y;
     float3 v = make_float3(c.x * 2.0f - 1.0f, c.y * 2.0f - 1.0f, c.z * 2.0f - 1.0f);
     float3 ti = pmc_hextile_turn(tangent, n, -t->angle[i]);

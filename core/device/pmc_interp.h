@@ -45,6 +45,7 @@
 #include "pmc_noise.h"
 #include "pmc_patterns.h"
 #include "pmc_pbr_data.h"
+#include "pmc_raycone.h"
 #include "pmc_surface.h"
 #include "pmc_texture.h"
 
@@ -55,8 +56,18 @@ typedef struct PmcShadingInputs {
   float3 normal; /* shading normal, facing the viewer */
   float3 tangent;
   float3 bitangent;
-  float footprint; /* uv-space width of the ray-cone footprint (texture LOD) */
+  float footprint; /* uv-space width of the ray-cone footprint (isotropic texture LOD) */
+  /* The footprint's ellipse (pmc_ray_cone_ellipse): major half-axis in uv
+   * and minor width; an axis of 0 (no ellipse known) filters isotropically. */
+  float2 footprint_axis;
+  float footprint_minor;
 } PmcShadingInputs;
+
+/* The footprint of the ray cone's uv gradients g1, g2 (pmc_ray_cone_gradients). */
+PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2) {
+  in->footprint = 2.0f * fmax(length(g1), length(g2));
+  pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
+}
 
 /* The material cache as one evaluation sees it. A null context (the host
  * reference, or --cache off, whose programs have no cache instructions)
@@ -303,12 +314,15 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
    * missed are packed to the front). uv_now / footprint_now are the uv and
    * the texture footprint the virtual lane's nodes read: the point's own, or
    * in --cache-eval center the centre and width of its texel, so the stored
-   * value depends on the texel alone. */
+   * value depends on the texel alone (and the footprint is round there: no
+   * ellipse, axis_now 0). */
   int nn = n;
   int lane_of[PMC_LANES];
   float2 uv_now[PMC_LANES];
   float footprint_now[PMC_LANES];
-  float3 pos_now[PMC_LANES]; /* likewise the position */
+  float2 axis_now[PMC_LANES]; /* the footprint's ellipse: major half-axis, */
+  float minor_now[PMC_LANES]; /* minor width */
+  float3 pos_now[PMC_LANES];  /* likewise the position */
   /* The cache group: lookups and stores so far, which of them are keyed on
    * position, and per point which lookups missed; every uv point of a point
    * shares its texel, every position point its cell. */
@@ -319,6 +333,8 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
     lane_of[k] = k;
     uv_now[k] = in[k].uv;
     footprint_now[k] = in[k].footprint;
+    axis_now[k] = in[k].footprint_axis;
+    minor_now[k] = in[k].footprint_minor;
     pos_now[k] = in[k].position;
     missed[k] = 0u;
     texel[k].ready = 0u;
@@ -452,11 +468,15 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
               lane_of[nn] = k;
               uv_now[nn] = in[k].uv;
               footprint_now[nn] = in[k].footprint;
+              axis_now[nn] = in[k].footprint_axis;
+              minor_now[nn] = in[k].footprint_minor;
               pos_now[nn] = in[k].position;
               if (cache && cache[k].center && texel[k].ready && !texel[k].bypass) {
                 uv_now[nn] = make_float2(pmc_cache_texel_center(texel[k].tx, texel[k].lambda),
                                          pmc_cache_texel_center(texel[k].ty, texel[k].lambda));
                 footprint_now[nn] = pmc_cache_texel_footprint(texel[k].footprint_lambda, cache[k].bias);
+                axis_now[nn] = make_float2(0.0f, 0.0f); /* a texel's footprint is round */
+                minor_now[nn] = 0.0f;
               }
               if (cache && cache[k].center && cell[k].ready && !cell[k].bypass)
                 pos_now[nn] = make_float3(pmc_cache_cell_center(cell[k].tx, cell[k].lambda),
@@ -517,6 +537,8 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
             lane_of[k] = k;
             uv_now[k] = in[k].uv;
             footprint_now[k] = in[k].footprint;
+            axis_now[k] = in[k].footprint_axis;
+            minor_now[k] = in[k].footprint_minor;
             pos_now[k] = in[k].position;
           }
         }
@@ -629,9 +651,14 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         PMC_FETCH4(B, 1);
         PMC_FETCH4(T, 2);
         for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          /* T[1]: the uv chain's footprint scale; the ellipse only where the
+           * chain keeps its direction (PMC_IMAGE_ANISO) */
           pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
-          float4 c = pmc_texture_sample(ts, imm, make_float2(A[0][k], A[1][k]), footprint_now[k] * T[1][k],
-                                        bits & 3u, (bits >> 2) & 3u, (bits >> 4) & 3u, pmc_lanes4(B, k));
+          const float s = T[1][k];
+          const float2 axis = (bits & PMC_IMAGE_ANISO) ? axis_now[k] * s : make_float2(0.0f, 0.0f);
+          float4 c = pmc_texture_sample_ellipse(ts, imm, make_float2(A[0][k], A[1][k]), footprint_now[k] * s,
+                                                axis, minor_now[k] * s, bits & 3u, (bits >> 2) & 3u,
+                                                (bits >> 4) & 3u, pmc_lanes4(B, k));
           /* A float image reads the first channel. */
           pmc_set_lanes4(R, k, width == 1u ? pmc_broadcast(c.x) : c);
         }
@@ -640,13 +667,20 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
       case PMC_OP_HEXIMAGE:       /* see PMC_OPCODES for the operands; imm = texture index */
       case PMC_OP_HEXNORMALMAP: { /* more operands than arrays: the tiles first, then the rest */
         PmcHexTiles tiles[PMC_LANES];
-        float gain[PMC_LANES]; /* the tiling's footprint gain */
+        float gain[PMC_LANES];  /* the tiling's footprint gain */
+        float2 axis[PMC_LANES]; /* the ellipse's major half-axis, tiled */
         PMC_FETCH4(A, 0);
         PMC_FETCH4(B, 1);
         for (int k = 0; k < PMC_BATCH(nn); ++k) {
           A[0][k] *= B[0][k];
           A[1][k] *= B[1][k];
           gain[k] = fmax(fabs(B[0][k]), fabs(B[1][k]));
+          /* An even tiling (|x| = |y|: a uniform scale, perhaps mirrored)
+           * maps the ellipse's axes onto the tiled ellipse's; an uneven one
+           * would not: isotropic there. */
+          axis[k] = fabs(B[0][k]) == fabs(B[1][k])
+                        ? make_float2(axis_now[k].x * B[0][k], axis_now[k].y * B[1][k])
+                        : make_float2(0.0f, 0.0f);
         }
         PMC_FETCH4(B, 2);
         PMC_FETCH4(T, 3);
@@ -669,13 +703,16 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
         }
         for (int k = 0; k < PMC_BATCH(nn); ++k) {
           pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
-          float footprint = footprint_now[k] * T[1][k] * gain[k];
+          PmcFootprint fp;
+          fp.width = footprint_now[k] * T[1][k] * gain[k];
+          fp.axis = (bits & PMC_IMAGE_ANISO) ? axis[k] * T[1][k] : make_float2(0.0f, 0.0f);
+          fp.minor = minor_now[k] * T[1][k] * gain[k];
           float4 r =
               op == PMC_OP_HEXIMAGE
-                  ? pmc_hextile_image(ts, imm, &tiles[k], footprint, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
+                  ? pmc_hextile_image(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
                                       make_float3(E[0][k], E[1][k], E[2][k]))
-                  : pmc_hextile_normalmap(ts, imm, &tiles[k], footprint, bits, pmc_lanes4(B, k), A[0][k],
-                                          D[0][k], E[0][k] != 0.0f, make_float3(F[0][k], F[1][k], F[2][k]),
+                  : pmc_hextile_normalmap(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
+                                          E[0][k] != 0.0f, make_float3(F[0][k], F[1][k], F[2][k]),
                                           make_float3(R[0][k], R[1][k], R[2][k]));
           pmc_set_lanes4(R, k, r);
         }

@@ -56,6 +56,33 @@ PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p
   if (isfinite(r2.x) && isfinite(r2.y)) *g2 = r2;
 }
 
+/* The footprint's ellipse in uv. g1, g2 are the images of the cone's
+ * orthogonal half-axes, so conjugate half-diameters of the uv ellipse
+ * {g1 cos t + g2 sin t}: its axes are the eigenvectors of
+ * M = g1 g1^T + g2 g2^T, its half-axes the square roots of M's eigenvalues
+ * l1 >= l2, and l1 l2 = det(g1, g2)^2. Out: the major half-axis (length
+ * sqrt(l1)) and the minor width 2 sqrt(l2); a round ellipse takes the u axis,
+ * a degenerate or non-finite one gives zeros (an isotropic lookup). */
+PMC_FN void pmc_ray_cone_ellipse(float2 g1, float2 g2, float2* axis, float* minor) {
+  *axis = make_float2(0.0f, 0.0f);
+  *minor = 0.0f;
+  const float a = g1.x * g1.x + g2.x * g2.x, b = g1.x * g1.y + g2.x * g2.y, c = g1.y * g1.y + g2.y * g2.y;
+  const float h = 0.5f * (a - c);
+  const float r = sqrt(h * h + b * b);
+  const float l1 = 0.5f * (a + c) + r;
+  if (!(l1 > 0.0f) || !(l1 < 1e30f)) return;
+  /* l1's eigenvector, (l1 - c, b) or (b, l1 - a), whichever is the larger */
+  float2 e = h >= 0.0f ? make_float2(h + r, b) : make_float2(b, r - h);
+  const float le = sqrt(e.x * e.x + e.y * e.y);
+  const float major = sqrt(l1);
+  e = le > 0.0f ? e * (major / le) : make_float2(major, 0.0f);
+  const float det = g1.x * g2.y - g1.y * g2.x;
+  const float m = 2.0f * fabs(det) / major;
+  if (!isfinite(e.x) || !isfinite(e.y) || !isfinite(m)) return;
+  *axis = e;
+  *minor = m;
+}
+
 /* The material cache's cone (beyond the paper, whose cones grow with distance
  * alone): at each bounce its spread also grows by c times the angle of the
  * lobe that one sample stands for. A direction sampled with solid-angle pdf p

@@ -4,7 +4,9 @@
  * levels of all textures back to back, see PmcTexture). A lookup takes a uv,
  * MaterialX address modes (constant, clamp, periodic, mirror), a filter, and
  * a footprint in uv units from the ray cone; the footprint picks the mip
- * level (trilinear between the two nearest levels). sRGB-encoded texels are
+ * level (trilinear between the two nearest levels). With the footprint's
+ * ellipse (pmc_texture_sample_ellipse) a few such lookups along its major
+ * axis, each at the level of its minor axis, filter anisotropically. sRGB-encoded texels are
  * decoded through a 256-entry table. OBJ/MaterialX convention: v = 0 is the
  * bottom row of the image. The host runs the same code for the CPU reference
  * interpreter and the cut-out opacity filter.
@@ -114,6 +116,50 @@ PMC_FN float4 pmc_texture_sample(const PmcTextureSet* ts, pmc_u32 index, float2 
   if (t <= 0.0f || l0 + 1 > (int)max_lod) return c0;
   float4 c1 = pmc_texture_level(ts, tex, uv, l0 + 1, umode, vmode, filter, fallback);
   return c0 + (c1 - c0) * t;
+}
+
+/* A lookup's footprint: the isotropic width and the ellipse (see below). */
+typedef struct PmcFootprint {
+  float width;
+  float2 axis;
+  float minor;
+} PmcFootprint;
+
+/* Anisotropic filtering over the footprint's ellipse, as GPUs do it: a few
+ * trilinear taps spaced along the major axis, each at the level of the
+ * ellipse's width across it. `axis` is the major half-axis in uv (its length
+ * half the major width P), `minor` the width across it (clamped to P),
+ * `footprint` the isotropic width (what pmc_texture_sample takes).
+ *
+ * n = ceil(P / minor) taps, at most PMC_TEXTURE_MAX_TAPS, each of width
+ * w = max(P / n, minor) (the cap widens them: the taps then still cover the
+ * major axis, blurrier across it), their centres spread evenly so that
+ * together they span P: the outer ones at +-(P - w) / 2. An ellipse rounder
+ * than PMC_TEXTURE_ROUND (axis 0 among them: no ellipse known) is one tap at
+ * `footprint`, the isotropic lookup bit for bit; as P / minor tends to 1 the
+ * taps merge into that one anyway (w -> P, spread -> 0). */
+#define PMC_TEXTURE_MAX_TAPS 8
+#define PMC_TEXTURE_ROUND 1.0625f
+PMC_FN float4 pmc_texture_sample_ellipse(const PmcTextureSet* ts, pmc_u32 index, float2 uv, float footprint,
+                                         float2 axis, float minor, pmc_u32 umode, pmc_u32 vmode,
+                                         pmc_u32 filter, float4 fallback) {
+  const float major = 2.0f * sqrt(axis.x * axis.x + axis.y * axis.y);
+  const float m = minor > 0.0f ? fmin(minor, major) : 0.0f; /* NaN: 0 */
+  if (!(major > m * PMC_TEXTURE_ROUND) || !(major < 1e30f))
+    return pmc_texture_sample(ts, index, uv, footprint, umode, vmode, filter, fallback);
+  const float ratio = major / fmax(m, 1e-30f);
+  const int n = ratio < (float)PMC_TEXTURE_MAX_TAPS ? (int)ceil(ratio) : PMC_TEXTURE_MAX_TAPS;
+  const float w = fmax(major / (float)n, m);
+  /* tap i at uv + axis * (s0 + i * ds): s from -(1 - w / P) to +(1 - w / P) */
+  const float s0 = w / major - 1.0f;
+  const float ds = -2.0f * s0 / (float)(n - 1);
+  float4 sum = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
+  for (int i = 0; i < PMC_TEXTURE_MAX_TAPS; ++i) {
+    if (i >= n) break;
+    const float s = s0 + (float)i * ds;
+    sum = sum + pmc_texture_sample(ts, index, uv + axis * s, w, umode, vmode, filter, fallback);
+  }
+  return sum * (1.0f / (float)n);
 }
 
 #endif /* PMC_TEXTURE_H */

@@ -278,7 +278,7 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
   sp->normal = hp->ns;
   sp->tangent = hp->tangent;
   sp->bitangent = cross(hp->ns, hp->tangent);
-  sp->footprint = 2.0f * fmax(length(hp->g1), length(hp->g2));
+  pmc_shading_footprint(sp, hp->g1, hp->g2); /* width and ellipse */
   if (cache) {
     cache->table = pmc_frame_cache_table(frame, cache_entries);
     cache->g1 = hp->g1;

@@ -43,7 +43,9 @@ namespace pmc {
 namespace {
 
 constexpr int kPreload = 60;  // stack floats preloaded per work-item (15 operands x 4 lanes)
-constexpr int kShading = 16;  // uv(2) position(3) normal(3) tangent(3) bitangent(3) footprint(1) pad
+// uv(2) position(3) normal(3) tangent(3) bitangent(3) footprint(1) footprint_axis(2) footprint_minor(1)
+// pad(2)
+constexpr int kShading = 20;
 constexpr int kData = kPreload + kShading;
 constexpr uint32_t kDst = 64;  // result slot, outside the preloaded range
 constexpr float kSentinel = -1234.5f;
@@ -166,7 +168,8 @@ std::vector<OpSpec> op_specs() {
          v[0][2] = uniform(rng, 0.0f, 2.0f);   // value
        }});
 
-  // IMAGE: uv, default, mode = (u mode | v mode << 2 | filter << 4, footprint scale).
+  // IMAGE: uv, default, mode = (u mode | v mode << 2 | filter << 4 | PMC_IMAGE_ANISO half
+  // the time, footprint scale).
   // imm cycles through texture 0 (sRGB 8x4), 1 (linear 5x3) and 2 (absent: default).
   add({PMC_OP_IMAGE,
        all,
@@ -175,7 +178,8 @@ std::vector<OpSpec> op_specs() {
        false,
        [](int, int index, Rng&) { return uint32_t(index % 3); },
        [](Rng& rng, std::array<float, 4>* v) {
-         v[2][0] = float(std::uniform_int_distribution<int>(0, 31)(rng));
+         v[2][0] = float(std::uniform_int_distribution<int>(0, 31)(rng) |
+                         (uniform(rng, 0, 1) < 0.5f ? PMC_IMAGE_ANISO : 0u));
          v[2][1] = uniform(rng, 0.5f, 4.0f);
        }});
   // Hex tiling: texcoord, tiling, rotation, rotationrange, scale, scalerange,
@@ -194,8 +198,10 @@ std::vector<OpSpec> op_specs() {
                                         {1, 0, 1},       {2, 0.5f, 2}, {1, 0, 1}, {2, -1, 1},
                                         {1, 0.1f, 0.9f}, {0, -1, 2},   {2, 0, 1}};
   auto hextile_mode = [](Rng& rng, std::array<float, 4>* v) {
-    v[10][0] = float(std::uniform_int_distribution<int>(0, 31)(rng));
+    v[10][0] = float(std::uniform_int_distribution<int>(0, 31)(rng) |
+                     (uniform(rng, 0, 1) < 0.5f ? PMC_IMAGE_ANISO : 0u));
     v[10][1] = uniform(rng, 0.5f, 4.0f);
+    if (uniform(rng, 0, 1) < 0.5f) v[1][1] = v[1][0];  // an even tiling: the ellipse's axis follows
   };
   std::vector<ArgSpec> heximage = hextile;
   heximage.insert(heximage.end(), {{1, 0, 1}, {3, 0, 1}});
@@ -483,10 +489,21 @@ struct Case {
 void draw_shading(Rng& rng, float* d) {
   d[0] = uniform(rng, -2, 3);  // uv
   d[1] = uniform(rng, -2, 3);
-  for (int k = 2; k < 5; ++k) d[k] = uniform(rng, -100, 100);        // position
-  for (int k = 5; k < 14; ++k) d[k] = uniform(rng, -1, 1);           // normal, tangent, bitangent
-  d[14] = uniform(rng, 0, 1) < 0.1f ? 0.0f : uniform(rng, 0, 0.3f);  // footprint
-  d[15] = 0;
+  for (int k = 2; k < 5; ++k) d[k] = uniform(rng, -100, 100);  // position
+  for (int k = 5; k < 14; ++k) d[k] = uniform(rng, -1, 1);     // normal, tangent, bitangent
+  // The footprint and its ellipse from random ray-cone gradients, often
+  // long and thin (one of them short), sometimes none.
+  const float g = uniform(rng, 0, 1) < 0.1f ? 0.0f : uniform(rng, 0, 0.15f);
+  const float ga = uniform(rng, 0, 6.2831853f), gb = ga + uniform(rng, 0.5f, 2.6f);
+  const float g2 = g * (uniform(rng, 0, 1) < 0.5f ? uniform(rng, 0, 0.2f) : uniform(rng, 0.2f, 1.0f));
+  PmcShadingInputs in{};
+  pmc_shading_footprint(&in, make_float2(g * std::cos(ga), g * std::sin(ga)),
+                        make_float2(g2 * std::cos(gb), g2 * std::sin(gb)));
+  d[14] = in.footprint;
+  d[15] = in.footprint_axis.x;
+  d[16] = in.footprint_axis.y;
+  d[17] = in.footprint_minor;
+  d[18] = d[19] = 0;
 }
 
 PmcShadingInputs unpack_shading(const float* d) {
@@ -497,6 +514,8 @@ PmcShadingInputs unpack_shading(const float* d) {
   in.tangent = make_float3(d[8], d[9], d[10]);
   in.bitangent = make_float3(d[11], d[12], d[13]);
   in.footprint = d[14];
+  in.footprint_axis = make_float2(d[15], d[16]);
+  in.footprint_minor = d[17];
   return in;
 }
 
@@ -538,6 +557,8 @@ __kernel void interp_parity(__global const uint* code, __global const uint* entr
   in.tangent = make_float3(s[8], s[9], s[10]);
   in.bitangent = make_float3(s[11], s[12], s[13]);
   in.footprint = s[14];
+  in.footprint_axis = make_float2(s[15], s[16]);
+  in.footprint_minor = s[17];
   PmcTextureSet ts;
   ts.textures = textures;
   ts.texels = texels;
@@ -574,6 +595,8 @@ __kernel void interp_parity_lanes(__global const uint* code, __global const uint
     in[l].tangent = make_float3(s[8], s[9], s[10]);
     in[l].bitangent = make_float3(s[11], s[12], s[13]);
     in[l].footprint = s[14];
+    in[l].footprint_axis = make_float2(s[15], s[16]);
+    in[l].footprint_minor = s[17];
   }
   PmcTextureSet ts;
   ts.textures = textures;

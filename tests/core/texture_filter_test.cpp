@@ -1,0 +1,212 @@
+// texture_filter_test.cpp — anisotropic texture filtering
+// (pmc_texture_sample_ellipse, core/device/pmc_texture.h) and the footprint's
+// ellipse from the ray cone's gradients (pmc_ray_cone_ellipse).
+//
+// * A long thin ellipse over stripes gives the stripes' average over the
+//   ellipse, computed here by brute force from the finest texels (nearest,
+//   the image's own pixels), within 0.06: stripes along the major axis keep
+//   their value (the old isotropic lookup at the major axis' level averages
+//   them to grey), stripes across it average out (so the taps do follow the
+//   major axis, not the minor one). Both axes, and a diagonal ellipse over
+//   diagonal stripes.
+// * A round ellipse (or none) is the isotropic lookup bit for bit.
+// * The ellipse of two gradients: orthogonal ones give their own lengths,
+//   sheared ones the eigen-axes of g1 g1^T + g2 g2^T (checked by sampling
+//   the ellipse's boundary), degenerate ones zeros.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "core/device/pmc_raycone.h"
+#include "core/device/pmc_texture.h"
+#include "core/texture.h"
+
+namespace pmc {
+namespace {
+
+constexpr int kSize = 256;
+
+// A linear (not sRGB) kSize x kSize grey texture whose texel (x, y) (y down
+// from the top row) is white where stripe(x, y) holds.
+struct StripeTexture {
+  std::function<bool(int, int)> stripe;
+  TexturePool pool;
+  std::vector<uint32_t> words;
+  std::vector<float> lut = srgb_decode_table();
+  PmcTextureSet ts{};
+
+  explicit StripeTexture(std::function<bool(int, int)> f) : stripe(std::move(f)) {
+    std::vector<uint8_t> px(size_t(kSize) * kSize * 4);
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
+        uint8_t v = stripe(x, y) ? 255 : 0;
+        uint8_t* p = &px[(size_t(y) * kSize + size_t(x)) * 4];
+        p[0] = p[1] = p[2] = v;
+        p[3] = 255;
+      }
+    pool.add("stripes", kSize, kSize, px, false);
+    words.assign(pool.words()->begin(), pool.words()->end());
+    ts.textures = pool.textures().data();
+    ts.texels = words.data();
+    ts.srgb_lut = lut.data();
+    ts.count = 1;
+  }
+
+  // The image at uv (periodic), nearest texel of the finest level.
+  double at(double u, double v) const {
+    int x = int(std::floor(u * kSize)) % kSize, y = int(std::floor((1.0 - v) * kSize)) % kSize;
+    return stripe(x < 0 ? x + kSize : x, y < 0 ? y + kSize : y) ? 1.0 : 0.0;
+  }
+
+  // The image's average over the ellipse {uv + axis a + perp b}, a^2 + b^2 <= 1
+  // (perp: the minor half-axis), brute force on a 400 x 400 grid.
+  double ellipse_average(float2 uv, float2 axis, float minor) const {
+    const double len = std::hypot(axis.x, axis.y);
+    const double px = -axis.y / len * 0.5 * minor, py = axis.x / len * 0.5 * minor;
+    double sum = 0.0;
+    int count = 0;
+    const int n = 400;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) {
+        double a = (i + 0.5) / n * 2.0 - 1.0, b = (j + 0.5) / n * 2.0 - 1.0;
+        if (a * a + b * b > 1.0) continue;
+        sum += at(uv.x + axis.x * a + px * b, uv.y + axis.y * a + py * b);
+        ++count;
+      }
+    return sum / count;
+  }
+
+  float sample(float2 uv, float2 axis, float minor) const {
+    float footprint = 2.0f * std::hypot(axis.x, axis.y);
+    return pmc_texture_sample_ellipse(&ts, 0, uv, footprint, axis, minor, PMC_ADDR_PERIODIC,
+                                      PMC_ADDR_PERIODIC, PMC_FILTER_LINEAR, make_float4(0, 0, 0, 0))
+        .x;
+  }
+  float isotropic(float2 uv, float footprint) const {
+    return pmc_texture_sample(&ts, 0, uv, footprint, PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC, PMC_FILTER_LINEAR,
+                              make_float4(0, 0, 0, 0))
+        .x;
+  }
+};
+
+// Stripes 16 texels wide: along u (rows alternate) or along v (columns do).
+bool rows(int, int y) { return (y / 16) % 2 == 0; }
+bool columns(int x, int) { return (x / 16) % 2 == 0; }
+
+TEST(TextureFilter, ThinEllipseAveragesTheStripesOverItself) {
+  const StripeTexture across_v(rows), across_u(columns);
+  const float major = 64.0f / kSize, minor = 8.0f / kSize;  // 64 x 8 texels: 8 taps at level 3
+  // Centred in a white stripe: rows 32..47 (v = 1 - 40/256), columns 32..47.
+  const float2 uv = make_float2(40.0f / kSize, 1.0f - 40.0f / kSize);
+  struct Case {
+    const StripeTexture* t;
+    float2 axis;
+    bool along;  // the stripes run along the major axis
+  };
+  const Case cases[] = {
+      {&across_v, make_float2(0.5f * major, 0.0f), true},
+      {&across_v, make_float2(0.0f, 0.5f * major), false},
+      {&across_u, make_float2(0.0f, 0.5f * major), true},
+      {&across_u, make_float2(0.0f, -0.5f * major), true},
+      {&across_u, make_float2(0.5f * major, 0.0f), false},
+  };
+  for (const Case& c : cases) {
+    const double expect = c.t->ellipse_average(uv, c.axis, minor);
+    const float got = c.t->sample(uv, c.axis, minor);
+    const float old = c.t->isotropic(uv, major);
+    SCOPED_TRACE(testing::Message() << "axis " << c.axis.x << " " << c.axis.y << " expect " << expect
+                                    << " anisotropic " << got << " isotropic " << old);
+    EXPECT_NEAR(got, expect, 0.06);
+    if (c.along) {
+      EXPECT_NEAR(expect, 1.0, 1e-9);  // the ellipse lies inside the white stripe
+      EXPECT_GT(std::fabs(old - expect), 0.3) << "the isotropic lookup greys the stripe";
+      EXPECT_LT(std::fabs(got - expect), 0.2 * std::fabs(old - expect));
+    }
+  }
+}
+
+TEST(TextureFilter, DiagonalEllipseFollowsDiagonalStripes) {
+  // Stripes along the diagonal x = y, 16 texels across (about 11.3 texels
+  // perpendicular to the stripes: (x - y) / 16 alternates).
+  const StripeTexture diag([](int x, int y) { return ((x - y + 4096) / 16) % 2 == 0; });
+  const float major = 64.0f / kSize, minor = 6.0f / kSize;
+  // x - y = 8 (inside a white band: x - y in [0, 16)); in uv, y = (1 - v) kSize.
+  const float2 uv = make_float2(100.5f / kSize, 1.0f - 92.5f / kSize);
+  const float h = 0.5f * major / std::sqrt(2.0f);
+  // x and y grow together along the stripes: u up, v down.
+  const float2 along = make_float2(h, -h), across = make_float2(h, h);
+  const double e_along = diag.ellipse_average(uv, along, minor);
+  const double e_across = diag.ellipse_average(uv, across, minor);
+  EXPECT_GT(e_along, 0.9);
+  // The taps' mip texels are axis-aligned squares, which straddle diagonal
+  // stripes: 0.83 here, still far above the isotropic lookup's grey.
+  const float got = diag.sample(uv, along, minor), old = diag.isotropic(uv, major);
+  EXPECT_NEAR(got, e_along, 0.2);
+  EXPECT_LT(std::fabs(got - e_along), 0.5 * std::fabs(old - e_along));
+  EXPECT_NEAR(diag.sample(uv, across, minor), e_across, 0.1);
+}
+
+TEST(TextureFilter, RoundEllipseIsTheIsotropicLookupBitForBit) {
+  const StripeTexture t(rows);
+  for (float f : {0.0f, 1e-4f, 3.0f / kSize, 0.05f, 0.4f, 3.0f})
+    for (float u : {0.1f, 0.37f, 0.9f}) {
+      const float2 uv = make_float2(u, 1.0f - u * 0.7f);
+      const float iso = t.isotropic(uv, f);
+      auto ellipse = [&](float2 axis, float minor) {
+        return pmc_texture_sample_ellipse(&t.ts, 0, uv, f, axis, minor, PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC,
+                                          PMC_FILTER_LINEAR, make_float4(0, 0, 0, 0))
+            .x;
+      };
+      EXPECT_EQ(ellipse(make_float2(0, 0), 0.0f), iso) << "no ellipse";
+      EXPECT_EQ(ellipse(make_float2(0.5f * f, 0), f), iso) << "a circle";
+      EXPECT_EQ(ellipse(make_float2(0, 0.5f * f), 1.05f * f), iso) << "nearly round (ratio 1/1.05)";
+      const float s = 0.5f * f / std::sqrt(2.0f);
+      EXPECT_EQ(ellipse(make_float2(s, -s), f * 0.95f), iso) << "nearly round, diagonal";
+    }
+}
+
+TEST(TextureFilter, EllipseOfTheRayConeGradients) {
+  float2 axis;
+  float minor;
+  // Orthogonal gradients: their own lengths, along the longer.
+  pmc_ray_cone_ellipse(make_float2(0.0f, 0.2f), make_float2(0.05f, 0.0f), &axis, &minor);
+  EXPECT_NEAR(axis.x, 0.0f, 1e-7f);
+  EXPECT_NEAR(std::fabs(axis.y), 0.2f, 1e-6f);
+  EXPECT_NEAR(minor, 0.1f, 1e-6f);
+  // Sheared: the ellipse g1 cos t + g2 sin t's farthest and nearest points.
+  const float2 g1 = make_float2(0.3f, 0.1f), g2 = make_float2(0.2f, -0.05f);
+  pmc_ray_cone_ellipse(g1, g2, &axis, &minor);
+  double rmax = 0, rmin = 1e9;
+  double dir_x = 0, dir_y = 0;
+  for (int i = 0; i < 100000; ++i) {
+    double t = i * 2.0 * M_PI / 100000;
+    double x = g1.x * std::cos(t) + g2.x * std::sin(t), y = g1.y * std::cos(t) + g2.y * std::sin(t);
+    double r = std::hypot(x, y);
+    if (r > rmax) rmax = r, dir_x = x, dir_y = y;
+    rmin = std::min(rmin, r);
+  }
+  EXPECT_NEAR(std::hypot(axis.x, axis.y), rmax, 1e-5);
+  EXPECT_NEAR(minor, 2.0 * rmin, 1e-5);
+  EXPECT_NEAR(std::fabs(axis.x * dir_y - axis.y * dir_x), 0.0, 1e-5)
+      << "the axis points at the farthest point";
+  // Round, degenerate, not finite.
+  pmc_ray_cone_ellipse(make_float2(0.1f, 0.0f), make_float2(0.0f, 0.1f), &axis, &minor);
+  EXPECT_NEAR(2.0f * std::hypot(axis.x, axis.y), minor, 1e-7f);
+  pmc_ray_cone_ellipse(make_float2(0, 0), make_float2(0, 0), &axis, &minor);
+  EXPECT_EQ(axis.x, 0.0f);
+  EXPECT_EQ(axis.y, 0.0f);
+  EXPECT_EQ(minor, 0.0f);
+  pmc_ray_cone_ellipse(make_float2(1e30f, 0), make_float2(0, 1), &axis, &minor);
+  EXPECT_EQ(axis.x, 0.0f);
+  EXPECT_EQ(minor, 0.0f);
+  // A needle (parallel gradients): minor 0, the axis along them.
+  pmc_ray_cone_ellipse(make_float2(0.1f, 0.1f), make_float2(0.05f, 0.05f), &axis, &minor);
+  EXPECT_NEAR(minor, 0.0f, 1e-6f);
+  EXPECT_NEAR(std::fabs(axis.x), std::sqrt(0.0125f), 1e-6f);
+}
+
+}  // namespace
+}  // namespace pmc

@@ -1,0 +1,163 @@
+// grazing_texture_render_test.cpp — anisotropic texture filtering in a
+// render: a ground plane striped along the view direction (black and white
+// stripes 1 unit wide, running away from the camera), seen at a grazing
+// angle. Far away the footprint is long along the stripes and thin across
+// them: filtered at the major axis' level (isotropic) the stripes fade to
+// grey, filtered along the ellipse they keep their contrast.
+//
+// The expectation is independent of the renderer's filtering: each
+// pixel's 4 x 4 sub-pixel rays are intersected with the plane here and the stripes they land on
+// read from the texture's definition (a box average); the rows 12-30 units away
+// (footprints 8-20 times longer than wide) are compared by their variance
+// across the row. The material is pure emission (no base, no specular, a
+// black environment), so a pixel is its texture value.
+//   * image(uv * 0.125): a uniform scale, filtered anisotropically: at least
+//     60% of the expected variance;
+//   * image(uv * (0.125, 0.12501)): an uneven scale, which the compiler
+//     leaves isotropic (PMC_IMAGE_ANISO), the filtering before anisotropy:
+//     less than half the anisotropic render's variance.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tests/hard_cases/hard_support.h"
+#include "tests/support/test_support.h"
+
+namespace pmc {
+namespace {
+
+constexpr int kW = 96, kH = 48, kTex = 64;
+constexpr double kFrom[3] = {0.0, 2.0, 0.0}, kAt[3] = {0.0, 1.2, -10.0};
+constexpr double kFov = 30.0;
+
+// The ground y = 0, x in [-60, 60], z in [-120, 0]; uv = (x, -z) in world units
+// (the material scales them: 8 units a texture repeat).
+const char* kGround = R"(v -60 0 0
+v 60 0 0
+v 60 0 -120
+v -60 0 -120
+vt -60 0
+vt 60 0
+vt 60 120
+vt -60 120
+vn 0 1 0
+usemtl M
+f 1/1/1 2/2/1 3/3/1
+f 1/1/1 3/3/1 4/4/1
+)";
+
+// Texture column x is white in every other band of 8 (8 bands: 1 unit each).
+bool white(int x) { return (x / 8) % 2 == 0; }
+
+std::string document(const std::string& image, const std::string& scale) {
+  return R"(<?xml version="1.0"?><materialx version="1.39">
+<texcoord name="uv" type="vector2"/>
+<multiply name="uvs" type="vector2"><input name="in1" type="vector2" nodename="uv"/><input name="in2" type="vector2" value=")" +
+         scale + R"("/></multiply>
+<image name="c" type="color3"><input name="file" type="filename" value=")" +
+         image + R"("/><input name="texcoord" type="vector2" nodename="uvs"/></image>
+<standard_surface name="S" type="surfaceshader"><input name="base" type="float" value="0"/><input name="specular" type="float" value="0"/><input name="emission" type="float" value="1"/><input name="emission_color" type="color3" nodename="c"/></standard_surface>
+<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S"/></surfacematerial></materialx>)";
+}
+
+// Where pixel (x, y)'s ray through (ox, oy) inside it (the centre by default) meets the ground: world x and
+// distance; false for the sky.
+bool ground_hit(int px, int py, double* gx, double* dist, double ox = 0.5, double oy = 0.5) {
+  double f[3] = {kAt[0] - kFrom[0], kAt[1] - kFrom[1], kAt[2] - kFrom[2]};
+  double fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+  for (double& c : f) c /= fl;
+  // right = f x up(0,1,0), up' = right x f
+  double r[3] = {-f[2], 0.0, f[0]};
+  double rl = std::sqrt(r[0] * r[0] + r[2] * r[2]);
+  for (double& c : r) c /= rl;
+  double u[3] = {r[1] * f[2] - r[2] * f[1], r[2] * f[0] - r[0] * f[2], r[0] * f[1] - r[1] * f[0]};
+  const double t = std::tan(kFov * M_PI / 360.0);
+  const double sx = (2.0 * (px + ox) / kW - 1.0) * t * double(kW) / kH;
+  const double sy = (1.0 - 2.0 * (py + oy) / kH) * t;
+  double d[3];
+  for (int i = 0; i < 3; ++i) d[i] = f[i] + r[i] * sx + u[i] * sy;
+  if (!(d[1] < 0.0)) return false;
+  const double s = -kFrom[1] / d[1];
+  *gx = kFrom[0] + s * d[0];
+  *dist = s * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  return true;
+}
+
+// Mean over the far rows of the variance across each row (channel 0).
+double far_row_variance(const std::vector<double>& v, const std::vector<int>& rows) {
+  double total = 0.0;
+  for (int y : rows) {
+    double m = 0.0, m2 = 0.0;
+    for (int x = 0; x < kW; ++x) m += v[size_t(y) * kW + size_t(x)];
+    m /= kW;
+    for (int x = 0; x < kW; ++x) m2 += std::pow(v[size_t(y) * kW + size_t(x)] - m, 2.0);
+    total += m2 / kW;
+  }
+  return total / double(rows.size());
+}
+
+TEST(GrazingTextureRender, StripesFarAwayKeepTheirContrast) {
+  const std::string dir = test::temp_dir();
+  std::vector<float> px;
+  for (int y = 0; y < kTex; ++y)
+    for (int x = 0; x < kTex; ++x)
+      for (int c = 0; c < 3; ++c) px.push_back(white(x) ? 1.0f : 0.0f);
+  hard::write_image(dir + "/stripes.png", kTex, kTex, 3, px);
+  test::write_file(dir + "/ground.obj", kGround);
+  test::write_file(dir + "/aniso.mtlx", document(dir + "/stripes.png", "0.125, 0.125"));
+  test::write_file(dir + "/iso.mtlx", document(dir + "/stripes.png", "0.125, 0.12501"));
+
+  // The expectation, and the far rows: every pixel on the ground 12-30 away.
+  std::vector<double> expect(size_t(kW) * kH, 0.0);
+  std::vector<int> rows;
+  for (int y = 0; y < kH; ++y) {
+    bool far = true;
+    for (int x = 0; x < kW; ++x) {
+      double gx = 0, dist = 0;
+      if (!ground_hit(x, y, &gx, &dist)) {
+        far = false;
+        continue;
+      }
+      // the pixel's box average along the row (4 x 4 sub-pixel rays)
+      double sum = 0.0;
+      for (int j = 0; j < 16; ++j) {
+        double sgx = 0, sd = 0;
+        if (!ground_hit(x, y, &sgx, &sd, (j % 4 + 0.5) / 4.0, (j / 4 + 0.5) / 4.0)) continue;
+        double u = sgx * 0.125;
+        sum += white(int(std::floor((u - std::floor(u)) * kTex))) ? 1.0 : 0.0;
+      }
+      expect[size_t(y) * kW + size_t(x)] = sum / 16.0;
+      far = far && dist > 12.0 && dist < 30.0;
+    }
+    if (far) rows.push_back(y);
+  }
+  ASSERT_GE(rows.size(), 3u);
+  const double v_expect = far_row_variance(expect, rows);
+  ASSERT_GT(v_expect, 0.15);
+
+  RenderConfig s = hard::small_config(kW, kH, 16, 1);
+  hard::set_camera(s, kFrom[0], kFrom[1], kFrom[2], kAt[0], kAt[1], kAt[2], float(kFov));
+  s.env = {0.0f, 0.0f, 0.0f};
+  auto variance = [&](const std::string& mtlx) {
+    hard::Rendered r = hard::render({dir + "/ground.obj", {dir + "/" + mtlx}, ""}, s, false);
+    hard::expect_clean(r.out, mtlx);
+    EXPECT_EQ(r.out.image.width, kW);
+    EXPECT_EQ(r.out.image.height, kH);
+    std::vector<double> v(size_t(kW) * kH);
+    const int ch = r.out.image.channels;
+    for (size_t i = 0; i < v.size(); ++i) v[i] = r.out.image.pixels[i * size_t(ch)];
+    return far_row_variance(v, rows);
+  };
+  const double v_aniso = variance("aniso.mtlx");
+  const double v_iso = variance("iso.mtlx");
+  std::printf("far-row variance: expected %.4f, anisotropic %.4f, isotropic %.4f (%zu rows)\n", v_expect,
+              v_aniso, v_iso, rows.size());
+  EXPECT_GT(v_aniso, 0.6 * v_expect);
+  EXPECT_LT(v_aniso, 1.1 * v_expect);
+  EXPECT_LT(v_iso, 0.5 * v_aniso);
+}
+
+}  // namespace
+}  // namespace pmc
