@@ -1,12 +1,15 @@
 // scene_buffers.cpp — uploads geometry, bytecode, textures and lights.
 #include "gpu/scene_buffers.h"
 
+#include "core/device/pmc_octahedral.h"
 #include "core/parallel.h"
+#include "core/vertex_tangents.h"
 
 namespace pmc {
 
 std::vector<PmcTriangleRecord> triangle_records_of(const Scene& scene) {
   std::vector<PmcTriangleRecord> records(scene.triangles.size());
+  const VertexTangents tangents = vertex_tangents(scene);
   parallel_for_each_index(records.size(), [&](size_t i) {
     const PmcTriangle& t = scene.triangles[i];
     PmcTriangleRecord r{};
@@ -22,6 +25,13 @@ std::vector<PmcTriangleRecord> triangle_records_of(const Scene& scene) {
       r.flags |= PMC_TRI_UVS;
       for (int k = 0; k < 3; ++k)
         for (int c = 0; c < 2; ++c) r.t[2 * k + c] = scene.uvs[2 * size_t(t.t[k]) + size_t(c)];
+      if (tangents.valid[i]) {
+        r.flags |= PMC_TRI_TANGENTS;
+        for (int k = 0; k < 3; ++k) {
+          const float* c = &tangents.corners[i][size_t(3 * k)];
+          r.tangent[k] = pmc_oct_encode(make_float3(c[0], c[1], c[2]));
+        }
+      }
     }
     records[i] = r;
   });

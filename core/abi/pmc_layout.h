@@ -57,6 +57,7 @@
   X(PmcTriangleRecord, t)          \
   X(PmcTriangleRecord, material)   \
   X(PmcTriangleRecord, flags)      \
+  X(PmcTriangleRecord, tangent)    \
   X(PmcFilmPixel, sum)             \
   X(PmcFilmPixel, bad_samples)     \
   X(PmcFilmPixel, cache_hits)      \

@@ -79,13 +79,15 @@ typedef struct PmcTriangle {
  * normals and uvs are zeros). */
 #define PMC_TRI_NORMALS 1u
 #define PMC_TRI_UVS 2u
+#define PMC_TRI_TANGENTS 4u /* `tangent` holds the corners' smooth uv tangents (core/vertex_tangents.h) */
 typedef struct __attribute__((aligned(64))) PmcTriangleRecord {
   float p[9];
   float n[9];
   float t[6];
   pmc_i32 material;
   pmc_u32 flags;
-  float pad[6];
+  pmc_u32 tangent[3]; /* corners' unit tangents, octahedral (core/device/pmc_octahedral.h) */
+  float pad[3];
 } PmcTriangleRecord;
 
 /* Accumulated film pixel: the exact sum of its samples' rgb (per channel a

@@ -21,6 +21,7 @@
 #include "pmc_geometry.h"
 #include "pmc_interp.h"
 #include "pmc_lights.h"
+#include "pmc_octahedral.h"
 #include "pmc_raycone.h"
 #include "pmc_rng.h"
 #include "pmc_scene_args.h"
@@ -211,6 +212,14 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     pmc_basis(ns, &tangent, &tb);
   } else {
     tangent = tangent * ((det < 0.0f ? -1.0f : 1.0f) / tl);
+  }
+  /* Smooth corner tangents (core/vertex_tangents.h), where the mesh has them. */
+  if (tri->flags & PMC_TRI_TANGENTS) {
+    float3 tv = pmc_oct_decode(tri->tangent[0]) * b0 + pmc_oct_decode(tri->tangent[1]) * b1 +
+                pmc_oct_decode(tri->tangent[2]) * b2;
+    tv = tv - ns * dot(ns, tv);
+    const float tvl = length(tv);
+    if (tvl > 1e-6f && isfinite(tvl)) tangent = tv * (1.0f / tvl);
   }
 
   hp->dir = dir;
