@@ -166,13 +166,16 @@ Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
 
   // Base: Kd (times map_Kd).
   set("base", F, 1.0f);
-  set("base_color", C3, m.kd[0], m.kd[1], m.kd[2]);
-  if (!m.map_kd.empty()) {
-    int img = b.image(m.map_kd, C3, true, "map_Kd");
-    link("base_color", C3,
-         b.multiply(C3, Input::link("", C3, img), Input::constant("", C3, m.kd[0], m.kd[1], m.kd[2]),
-                    "Kd*map_Kd"));
-  }
+  // A colour statement times its (sRGB) map, when it has one.
+  auto textured_color = [&](const char* input, const float* rgb, const std::string& map, const char* what) {
+    set(input, C3, rgb[0], rgb[1], rgb[2]);
+    if (map.empty()) return;
+    const int img = b.image(map, C3, true, std::string("map_") + what);
+    link(input, C3,
+         b.multiply(C3, Input::link("", C3, img), Input::constant("", C3, rgb[0], rgb[1], rgb[2]),
+                    std::string(what) + "*map_" + what));
+  };
+  textured_color("base_color", m.kd, m.map_kd, "Kd");
 
   // The PBR extension: a material that uses any of it takes its roughness
   // from Pr (0 when absent), every other material from Ns.
@@ -228,13 +231,7 @@ Graph mtl_to_graph(const MtlMaterial& m, const std::string& mtl_file) {
 
   // Emission: Ke (times map_Ke).
   set("emission", F, 1.0f);
-  set("emission_color", C3, m.ke[0], m.ke[1], m.ke[2]);
-  if (!m.map_ke.empty()) {
-    int img = b.image(m.map_ke, C3, true, "map_Ke");
-    link("emission_color", C3,
-         b.multiply(C3, Input::link("", C3, img), Input::constant("", C3, m.ke[0], m.ke[1], m.ke[2]),
-                    "Ke*map_Ke"));
-  }
+  textured_color("emission_color", m.ke, m.map_ke, "Ke");
 
   // Cut-out: d, or map_d's alpha channel (its first channel without one).
   *surface.input("opacity") = Input::constant("opacity", F, m.dissolve);
