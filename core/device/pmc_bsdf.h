@@ -134,10 +134,11 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
 
   /* Coat: what it reflects, and what it lets through (tinted). */
   float3 below = one;
+  float c1 = 0.0f, c5 = 0.0f; /* the coat's table albedos */
   if (b->coat > 0.0f) {
     const float rc = pmc_table_rough(l.coat_alpha);
-    const float c1 = pmc_table_lookup(pmc_ggx_e1_table, mu, rc);
-    const float c5 = pmc_table_lookup(pmc_ggx_e5_table, mu, rc);
+    c1 = pmc_table_lookup(pmc_ggx_e1_table, mu, rc);
+    c5 = pmc_table_lookup(pmc_ggx_e5_table, mu, rc);
     const float f0 = b->coat_f0;
     pmc_schlick_lobe(make_float3(b->coat, b->coat, b->coat), make_float3(f0, f0, f0), c1, &l.coat_p,
                      &l.coat_q);
@@ -176,11 +177,7 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
 
   /* Sampling probabilities, proportional to each lobe's albedo at wo. */
   const float a_spec = pmc_luminance(l.spec_p * e1 + l.spec_q * e5);
-  const float a_coat =
-      b->coat > 0.0f
-          ? pmc_luminance(l.coat_p * pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.coat_alpha)) +
-                          l.coat_q * pmc_table_lookup(pmc_ggx_e5_table, mu, pmc_table_rough(l.coat_alpha)))
-          : 0.0f;
+  const float a_coat = b->coat > 0.0f ? pmc_luminance(l.coat_p * c1 + l.coat_q * c5) : 0.0f;
   const float a_glass = 0.5f * (pmc_luminance(l.glass_r) + pmc_luminance(l.glass_t));
   const float a_cos = pmc_luminance(l.kd) + pmc_luminance(l.sheen_w) * 0.5f;
   const float sum = a_spec + a_coat + a_glass + a_cos;

@@ -8,6 +8,7 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
     bench.cache_position  --cache-keys uv vs uv+position on scenes with solid (position-driven) textures
     bench.cache_replay  the hits any replacement policy could get from a smaller table (lookup trace + replay)
     bench.cacheless   the cacheless path against a pmc built from before the cache existed
+    bench.layered_bsdf  the layered BSDF's cost and the cache's speedup, against the pmc before it
     bench.materials   how much of the render time goes into material networks
     bench.material_peers  pmc's materials against Mitsuba 3's (scripts/setup-peers installs Mitsuba)
     bench.node_costs  what one node of each costly pattern family (noises, tiled shapes) costs
