@@ -18,6 +18,7 @@
 #include <string>
 
 #include "core/camera.h"
+#include "core/device/pmc_cache.h"
 #include "core/embree_tracer.h"
 #include "core/film_sum.h"
 #include "core/image_io.h"
@@ -55,22 +56,32 @@ struct CacheSettings {
   bool audit = false;
 };
 
-// Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one
-// of inserts (into an empty entry), replaced, already_present, dropped_full,
-// not_encodable; camera_* count the lookups at camera-ray hits, position_*
-// those of position-keyed cache points.
+// The counters of core/device/pmc_cache.h, one field each, named by its
+// PMC_CACHE_COUNTERS key (lookups, hits, misses, inserts, ...: see there for
+// what each counts), then the table's size and occupancy.
 struct CacheStats {
-  uint64_t lookups = 0, hits = 0, misses = 0, inserts = 0, already_present = 0, dropped_full = 0,
-           not_encodable = 0;
-  uint64_t replaced = 0;  // --cache-policy priority: camera inserts that replaced a deeper entry
-  uint64_t camera_lookups = 0, camera_hits = 0;
-  uint64_t position_lookups = 0, position_hits = 0;  // of position-keyed points (the rest are uv-keyed)
-  uint64_t bypassed =
-      0;  // cache points evaluated without the cache: level floor too far above the footprint's
+#define PMC_CSTAT_FIELD_(NAME, key, meaning) uint64_t key = 0;
+  PMC_CACHE_COUNTERS(PMC_CSTAT_FIELD_)
+#undef PMC_CSTAT_FIELD_
   uint64_t occupied = 0;  // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }
 };
+
+// Each PMC_CACHE_COUNTERS counter: its buffer index, CacheStats field, stats
+// key and meaning, for code that handles them all alike (read back, JSON).
+struct CacheCounter {
+  int index;  // PMC_CSTAT_*
+  uint64_t CacheStats::*field;
+  const char* key;
+  const char* meaning;
+};
+inline constexpr CacheCounter kCacheCounters[] = {
+#define PMC_CSTAT_ROW_(NAME, key, meaning) {PMC_CSTAT_##NAME, &CacheStats::key, #key, meaning},
+    PMC_CACHE_COUNTERS(PMC_CSTAT_ROW_)
+#undef PMC_CSTAT_ROW_
+};
+static_assert(sizeof(kCacheCounters) / sizeof(kCacheCounters[0]) == PMC_CSTAT_COUNT);
 
 struct RenderSettings {
   int width = 640;
