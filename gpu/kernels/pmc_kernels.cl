@@ -640,9 +640,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
 }
 
 __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global const uchar* occluded,
-                                  __global PmcPathState* paths, uint first, uint count) {
+                                  __global PmcPathState* paths, uint first, uint end) {
   uint i = first + (uint)get_global_id(0);
-  if (i >= count || occluded[i]) return;
+  if (i >= end || occluded[i]) return;
   __global PmcPathState* p = &paths[loads[i].path];
   p->radiance[0] += loads[i].rgb[0];
   p->radiance[1] += loads[i].rgb[1];
