@@ -37,17 +37,17 @@ struct CacheSettings {
   uint64_t cells = 0;
   uint32_t ways = 0;  // entries per cell
   float mip_bias = 0.0f;
-  // --cache-fit on: levels the texels are coarsened by so the frame's keys fit
+  // cache_fit on: levels the texels are coarsened by so the frame's keys fit
   // the table (0 when they fit or with fit off); the kernels' level bias is
   // mip_bias - fit_levels.
   float fit_levels = 0.0f;
-  bool center = false;          // --cache-eval center
-  bool bilinear = false;        // --cache-filter bilinear (center mode)
-  bool priority = false;        // --cache-policy priority: camera inserts may replace deeper entries
-  bool bandwidth = false;       // --cache-bandwidth on: materials carry level floors (bandwidth.h)
-  float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
-  int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
-  float lobe_spread = 0.0f;     // --cache-lobe-spread: position cells' widening per bounce (pmc_raycone.h)
+  bool center = false;          // cache_eval center
+  bool bilinear = false;        // cache_filter bilinear (center mode)
+  bool priority = false;        // cache_policy priority: camera inserts may replace deeper entries
+  bool bandwidth = false;       // cache_bandwidth on: materials carry level floors (bandwidth.h)
+  float feature_texels = 2.0f;  // cache_feature_texels: texels across a pattern's smallest feature
+  int max_refine = 2;           // cache_max_refine: floor levels above the footprint's before bypass
+  float lobe_spread = 0.0f;     // cache_lobe_spread: position cells' widening per bounce (pmc_raycone.h)
   std::string reason;           // why this size (printed, and written to stats)
   // Count the occupied entries by reading the table back after the render
   // (tests check that this equals `inserts`). Otherwise occupied = inserts:
@@ -89,9 +89,9 @@ struct RenderSettings {
   int spp = 16;  // the frame's samples per pixel
   // The samples rendered: indices [sample_begin, sample_end) of the frame's
   // spp (sample_end 0: spp). The RNG is keyed by the index, so a range draws
-  // the same samples in any process (`pmc render --samples`, farm chunks).
+  // the same samples in any process (the samples setting, farm chunks).
   int sample_begin = 0, sample_end = 0;
-  // The window rendered, pixels [x0, x1) x [y0, y1) of the frame (--crop);
+  // The window rendered, pixels [x0, x1) x [y0, y1) of the frame (crop);
   // x1 == 0: the whole frame. Pixels keep their frame coordinates (camera
   // ray, RNG key), so a window equals the same pixels of the full render.
   int crop[4] = {0, 0, 0, 0};

@@ -29,7 +29,7 @@
  * (materials/bandwidth.h), or evaluates those points uncached when the floor
  * is too far above the footprint's level (pmc_cache_floored_level).
  *
- * Replacement policy (PmcCacheTable.policy, --cache-policy):
+ * Replacement policy (PmcCacheTable.policy, cache_policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops
  *    the insert. The high word is the whole 32-bit fingerprint.
  *  - priority: the high word is {30 bits of fingerprint << 2 | depth tag},
@@ -167,7 +167,7 @@ PMC_FN long pmc_cache_texel_jittered(float u, int lambda, float offset) {
 
 PMC_FN long pmc_cache_texel(float u, int lambda) { return pmc_cache_texel_jittered(u, lambda, 0.0f); }
 
-/* Centre of a texel, in uv (for --cache-eval center); always finite. Beyond
+/* Centre of a texel, in uv (for cache_eval center); always finite. Beyond
  * +-2^62 the index holds the float itself (see above): give back that uv
  * (the largest float for the texel of the infinite uvs). */
 PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
@@ -181,7 +181,7 @@ PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
   return ((float)texel + 0.5f) * pmc_exp2i(-lambda);
 }
 
-/* Texture footprint (uv diameter) for a --cache-eval center miss: what the
+/* Texture footprint (uv diameter) for a cache_eval center miss: what the
  * ray cone gives at this level without the mip bias, 2 * 2^-(lambda - bias)
  * (callers pass the footprint's level, not one raised to a level floor).
  * It depends on the level alone, so the stored value does not depend on the
