@@ -17,6 +17,7 @@
 namespace cli = pmc::cli;
 
 int main(int argc, char** argv) {
+  pmc::set_warning_settings(cli::flag_name);  // warnings from below app/ name flags, not settings
   CLI::App pmc("", "pmc");
   auto formatter = std::make_shared<pmc::cli::HelpFormatter>();
   pmc.formatter(formatter);

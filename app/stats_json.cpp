@@ -22,23 +22,11 @@ nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
   c["entries"] = st.ways;
   c["memory_bytes"] = st.memory_bytes;
   c["size_reason"] = s.on || !s.reason.empty() ? cli::with_flags(s.reason) : std::string("--cache off");
-  c["lookups"] = st.lookups;
-  c["hits"] = st.hits;
-  c["misses"] = st.misses;
+  for (const CacheCounter& k : kCacheCounters) c[k.key] = st.*k.field;
   c["hit_rate"] = hit_rate(st);
-  c["inserts"] = st.inserts;
-  c["already_present"] = st.already_present;
-  c["dropped_full"] = st.dropped_full;
-  c["not_encodable"] = st.not_encodable;
-  c["replaced"] = st.replaced;
-  c["camera_lookups"] = st.camera_lookups;
-  c["camera_hits"] = st.camera_hits;
   c["camera_hit_rate"] = camera_hit_rate(st);
-  c["position_lookups"] = st.position_lookups;
-  c["position_hits"] = st.position_hits;
   c["position_hit_rate"] = position_hit_rate(st);
   c["uv_hit_rate"] = uv_hit_rate(st);
-  c["bypassed"] = st.bypassed;
   c["occupancy"] = st.occupancy();
   return c;
 }

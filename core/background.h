@@ -2,7 +2,7 @@
 //
 // Background<T> job([] { return ...; }) hands the function to TBB (a
 // tbb::task_group), so it runs on a TBB worker while the caller goes on, and
-// the thread limit (--threads, tbb::global_control) holds: with one thread
+// the thread limit (the threads setting, tbb::global_control) holds: with one thread
 // there is no worker, and the function runs on the caller's thread when it
 // asks for the result. get() waits and returns the value, or rethrows the
 // function's exception unchanged (same type, same message), so an error on

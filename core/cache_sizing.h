@@ -1,6 +1,6 @@
 // cache_sizing.h — choosing the cache table's size from the scene.
 //
-// Without --cache-cells the table is sized for the keys a render is expected
+// Without cache_cells the table is sized for the keys a render is expected
 // to create: about one virtual texel per pixel and cache point for camera
 // hits (the ray cone's footprint is about a pixel), times a factor for the
 // samples: later samples' sub-pixel jitter, bilinear texel selection and
@@ -9,7 +9,7 @@
 // material), keys / (pixels x points) = 1.12 at 1 spp, 2.14 at 4, 2.69 at
 // 16, 2.90 at 64; the rule 1 + 3 (1 - 1/sqrt(spp)) (1, 2.5, 3.25, 3.6) stays
 // above that from 4 spp on, and the load factor of one half absorbs the rest.
-// Cells hold 8 entries (one 64-byte cache line) unless --cache-entries says
+// Cells hold 8 entries (one 64-byte cache line) unless cache_entries says
 // otherwise. The reason is kept for the log and stats.
 #pragma once
 
@@ -29,7 +29,7 @@ struct CacheSize {
 double expected_keys_per_pixel_point(int spp);
 // Entries a frame's expected keys need at load factor 1/2 (before rounding to cells).
 double expected_entries(int width, int height, int spp, double cache_points_per_material);
-// --cache-fit: the levels to coarsen texels by so that `expected` entries' worth
+// cache_fit: the levels to coarsen texels by so that `expected` entries' worth
 // of keys fit in `table_entries`: half a level per halving (a level has 4x
 // fewer texels, and cells cut by a surface scale like area); 0 when they fit.
 float fit_levels(double expected, uint64_t table_entries);

@@ -6,8 +6,6 @@
 
 namespace pmc {
 
-void warn(const std::string& message) { std::fprintf(stderr, "pmc: warning: %s\n", message.c_str()); }
-
 std::string printable(const std::string& text) {
   std::string out;
   for (unsigned char c : text) {
@@ -54,6 +52,19 @@ ConfigError::ConfigError(const std::string& marked)
 
 std::string phrase_settings(const std::string& marked, const SettingRename& rename) {
   return render_marked(marked, rename, nullptr);
+}
+
+namespace {
+SettingRename& warning_rename() {
+  static SettingRename rename;
+  return rename;
+}
+}  // namespace
+
+void set_warning_settings(const SettingRename& rename) { warning_rename() = rename; }
+
+void warn(const std::string& message) {
+  std::fprintf(stderr, "pmc: warning: %s\n", phrase_settings(message, warning_rename()).c_str());
 }
 
 std::vector<std::string> ConfigError::settings() const {

@@ -11,6 +11,8 @@
 // cache_entries), not by command-line flags: they throw ConfigError, whose
 // message marks each setting it names (fail_config(setting("spp"), ": must
 // be at least 1")). what() shows the plain names; app/ shows the flags.
+// Warnings mark settings the same way; warn() shows them through the rename
+// that app/ installs (set_warning_settings), by their plain names without one.
 #pragma once
 
 #include <functional>
@@ -52,6 +54,9 @@ using SettingRename = std::function<std::string(const std::string&)>;
 // plain name without `rename`). Messages and reasons kept for later display
 // (the cache size's reason) are stored marked and shown through this.
 std::string phrase_settings(const std::string& marked, const SettingRename& rename = nullptr);
+// How warn() shows the settings marked in a warning (app/: their flags).
+// Install it before any thread may warn.
+void set_warning_settings(const SettingRename& rename);
 
 class ConfigError : public Error {
  public:

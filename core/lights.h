@@ -2,9 +2,9 @@
 // table that next-event estimation samples.
 //
 // Data flow: read_lights_file() parses and checks a lights JSON file
-// (--lights FILE, or SCENE.lights.json beside the OBJ) into SceneLights and
+// (the lights setting, or SCENE.lights.json beside the OBJ) into SceneLights and
 // loads its environment map (core/env_map.h); the command line may replace
-// the environment (--env, --env-map). At render time build_light_table()
+// the environment (the env and env_map settings). At render time build_light_table()
 // turns SceneLights plus the scene's emissive triangles into one PmcLight
 // array in the order the kernels expect (environment, sun disks, quads, the
 // rest), each with its probability of being picked (proportional to power),
@@ -59,9 +59,9 @@ struct SceneLights {
 // Reads a lights file (and loads its environment map, resolved relative to
 // the file). Any problem is a pmc::Error naming the file and the field.
 SceneLights read_lights_file(const std::string& path);
-// An environment from a map file (the --env-map option).
+// An environment from a map file (the env_map setting).
 EnvironmentSpec environment_from_map(const std::string& path, float scale, float rotate_y_deg);
-// An environment of constant radiance (the --env option); absent when black.
+// An environment of constant radiance (the env setting); absent when black.
 EnvironmentSpec constant_environment(const float radiance[3]);
 
 struct LightTable {

@@ -3,7 +3,7 @@
 // pmc reads OBJ geometry itself instead of through tinyobjloader: on the
 // 2-core machines the single-threaded tinyobj parse was the longest serial
 // step of loading Sponza (0.35 s of 26 MB). The text is cut at line ends into
-// chunks that TBB parses side by side (core/parallel.h; `--threads` holds),
+// chunks that TBB parses side by side (core/parallel.h; the threads setting holds),
 // numbers are read with std::from_chars, and the chunks are joined in order,
 // so the result does not depend on the thread count.
 //

@@ -1,7 +1,7 @@
 // parallel.h — one parallel loop for host work outside Embree.
 //
 // parallel_for_each_index(n, fn) runs fn(i) for i in [0, n) on TBB's workers
-// (which --threads limits). In a ThreadSanitizer build it runs serially on the
+// (which the threads setting limits). In a ThreadSanitizer build it runs serially on the
 // calling thread: TBB's task hand-offs synchronise inside uninstrumented libtbb
 // and would be reported as races (scripts/sanitize says what that leaves
 // unchecked).

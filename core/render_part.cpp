@@ -118,9 +118,10 @@ RenderPart read_part_exr(const std::string& path) {
   PartInfo& info = part.info;
   info.settings_hash = in->string_attribute("pmc:settings_hash");
   if (info.settings_hash.empty())
-    fail(path,
-         ": not a pmc render part (no pmc:settings_hash attribute; render parts with "
-         "'pmc render --samples A:B' and/or '--crop')");
+    fail_config(path,
+                ": not a pmc render part (no pmc:settings_hash attribute; render parts with "
+                "'pmc render ",
+                setting("samples"), " A:B' and/or '", setting("crop"), "')");
   info.scene_hash = in->string_attribute("pmc:scene_hash");
   info.scene = in->string_attribute("pmc:scene");
   info.spp = in->int_attribute("pmc:spp");
@@ -156,9 +157,8 @@ RenderPart read_part_exr(const std::string& path) {
   auto read_channel = [&](const std::string& name) {
     const int c = spec.channel_index(name);
     if (c < 0)
-      fail(path, ": no channel ", name,
-           " (a part needs the film's sums: render it with 'pmc render --samples "
-           "A:B')");
+      fail_config(path, ": no channel ", name, " (a part needs the film's sums: render it with 'pmc render ",
+                  setting("samples"), " A:B')");
     if (!in->read(c, c + 1, PixelFormat::U32, channel.data()))
       fail(path, ": cannot decode channel ", name, ": ", in->error());
   };
@@ -243,9 +243,9 @@ MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial
       if (x >= p.crop[0] && x < p.crop[2] && y >= p.crop[1] && y < p.crop[3])
         covered += " " + ranges_text(p.sample_begin, p.sample_end) + " (" + part.path + ")";
     }
-    fail("merge: samples missing: pixel (", x, ",", y, ") has ", have, " of ", a.spp, " samples; covered by",
-         covered.empty() ? std::string(" no part") : covered,
-         " (pass --allow-partial to merge what there is)");
+    fail_config("merge: samples missing: pixel (", x, ",", y, ") has ", have, " of ", a.spp,
+                " samples; covered by", covered.empty() ? std::string(" no part") : covered, " (pass ",
+                setting("allow_partial"), " to merge what there is)");
   }
   m.info.partial = m.missing_pixel_samples > 0;
   return m;

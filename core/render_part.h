@@ -1,6 +1,7 @@
 // render_part.h — one part of a frame (a sample range, a window) as an EXR, and merging parts.
 //
-// `pmc render --samples A:B --crop x0,y0,x1,y1` writes a part: an EXR whose
+// A render of the samples A:B (the samples setting) in the window x0,y0,x1,y1
+// (crop) writes a part: an EXR whose
 // data window is the crop inside the frame's display window, with the mean
 // rgb (R, G, B, float) and the film's exact sums (core/film_sum.h) as extra
 // 32-bit unsigned channels (pmc.sum0..pmc.sum11, pmc.samples, pmc.bad,

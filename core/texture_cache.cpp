@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <sstream>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -198,9 +199,11 @@ void TextureCache::write(const std::string& key, const void* src, size_t bytes) 
   std::lock_guard<std::mutex> lock(mutex_);
   if (warned_) return;
   warned_ = true;
-  warn("texture cache: cannot write to " + dir + " (" + why +
-       "): decoded textures are not kept between runs (--texture-cache DIR chooses another folder, "
-       "--texture-cache off turns the cache off)");
+  std::ostringstream os;
+  os << "texture cache: cannot write to " << printable(dir) << " (" << why
+     << "): decoded textures are not kept between runs (" << setting("texture_cache")
+     << " DIR chooses another folder, " << setting("texture_cache") << " off turns the cache off)";
+  warn(os.str());
 }
 
 void TextureCache::trim() {

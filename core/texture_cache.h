@@ -19,7 +19,7 @@
 // ctest -j) share the folder safely. The folder is kept under a size limit:
 // after a write, the least recently used entries are removed.
 //
-// Where: --texture-cache DIR|off, else $PMC_TEXTURE_CACHE (DIR or "off"),
+// Where: the texture_cache setting (DIR or off), else $PMC_TEXTURE_CACHE (DIR or "off"),
 // else $XDG_CACHE_HOME/pmc/textures, else ~/.cache/pmc/textures. A folder
 // that cannot be written costs one warning and the render goes on.
 #pragma once

@@ -8,8 +8,8 @@
 //              x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1]:
 //              highlights roll off instead of clipping (the default);
 //   standard : clamp to [0, 1] (linear values above 1 clip to white).
-// NaN/Inf and negative values display as 0. Display options (--exposure,
-// --view) belong in ToneMap, so every caller gets them.
+// NaN/Inf and negative values display as 0. Display options (exposure_ev,
+// view) belong in ToneMap, so every caller gets them.
 #pragma once
 
 #include <string>

@@ -8,8 +8,8 @@
 // crop), bounce by bounce, batch by batch; within one kernel launch the
 // work-items race. That is the order a replacement policy sees, so a trace
 // can be replayed against other policies, table sizes and orders
-// (scripts/bench/cache_policy_sim.cpp; docs/BENCHMARKS.md, "Cache replacement
-// policy"). PMC_CACHE_TRACE_RECORDS sets the capacity (default 2^24 records,
+// (core/cache_replay.h, `pmc cache-replay`; docs/BENCHMARKS.md, "Cache
+// replacement bounds"). PMC_CACHE_TRACE_RECORDS sets the capacity (default 2^24 records,
 // 256 MiB of device memory); lookups past it are counted, not kept. The trace
 // costs an atomic per lookup: time a render without it.
 //

@@ -1,6 +1,6 @@
 // cl_context.h — the only place that talks to the OpenCL runtime directly.
 //
-// Picks a platform/device (a name substring from --device, else the first GPU,
+// Picks a platform/device (a name substring from the device setting, else the first GPU,
 // else the first CPU device such as PoCL), and wraps the handful of objects the
 // renderer needs (context, in-order queue with profiling, buffers, programs,
 // kernels) in small RAII types. Every call is checked; failures become

@@ -64,7 +64,7 @@ void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheS
   }
   // A table smaller than the frame's keys need misses more and more (below
   // about 1/4 of that the cached render is slower than the cacheless one,
-  // docs/BENCHMARKS.md); --cache-fit coarsens the texels until they fit.
+  // docs/BENCHMARKS.md); cache_fit coarsens the texels until they fit.
   const double expected = expected_entries(width, height, spp, per_material);
   const uint64_t entries = cache.cells * cache.ways;
   const float short_levels = fit_levels(expected, entries);

@@ -50,8 +50,10 @@ class WaveKernels {
 
   // Pixels [frame.pixel_offset, + count) -> camera rays in rays[queue] and fresh paths.
   void camera_rays(WaveBuffers& wave, int queue, size_t count, cl_event* done);
-  // Hits of rays[queue][first, end) -> rays[1 - queue], shadow rays, path updates.
-  void shade(const SceneBuffers& scene, WaveBuffers& wave, int queue, size_t first, size_t end,
+  // `batches` batches of lanes() hits of rays[queue], read from the
+  // material-sorted wave.order starting at order[order_first] -> rays[1 - queue],
+  // shadow rays, path updates.
+  void shade(const SceneBuffers& scene, WaveBuffers& wave, int queue, size_t order_first, size_t batches,
              cl_event* done);
   // Adds the unoccluded light samples [first, end) to their paths.
   void resolve_shadows(WaveBuffers& wave, size_t first, size_t end, cl_event* done);

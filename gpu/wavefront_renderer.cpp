@@ -231,19 +231,7 @@ void resolve_film(const std::vector<PmcFilmPixel>& film, int width, int height, 
 void read_cache_stats(const ClContext& cl, const WaveBuffers& wave, const CacheSettings& cs, CacheStats& c) {
   uint64_t counts[PMC_CSTAT_COUNT];
   cl.read(wave.cache_stats, 0, sizeof(counts), counts);
-  c.lookups = counts[PMC_CSTAT_LOOKUPS];
-  c.hits = counts[PMC_CSTAT_HITS];
-  c.misses = counts[PMC_CSTAT_MISSES];
-  c.already_present = counts[PMC_CSTAT_ALREADY_PRESENT];
-  c.inserts = counts[PMC_CSTAT_INSERTS];
-  c.dropped_full = counts[PMC_CSTAT_DROPPED_FULL];
-  c.not_encodable = counts[PMC_CSTAT_NOT_ENCODABLE];
-  c.replaced = counts[PMC_CSTAT_REPLACED];
-  c.camera_lookups = counts[PMC_CSTAT_CAMERA_LOOKUPS];
-  c.camera_hits = counts[PMC_CSTAT_CAMERA_HITS];
-  c.position_lookups = counts[PMC_CSTAT_POSITION_LOOKUPS];
-  c.position_hits = counts[PMC_CSTAT_POSITION_HITS];
-  c.bypassed = counts[PMC_CSTAT_BYPASSED];
+  for (const CacheCounter& k : kCacheCounters) c.*k.field = counts[k.index];
   const size_t words = size_t(cs.cells) * cs.ways;
   c.occupied = c.inserts;
   if (cs.audit) {

@@ -18,6 +18,7 @@
 #include <string>
 
 #include "core/camera.h"
+#include "core/device/pmc_cache.h"
 #include "core/embree_tracer.h"
 #include "core/film_sum.h"
 #include "core/image_io.h"
@@ -36,17 +37,17 @@ struct CacheSettings {
   uint64_t cells = 0;
   uint32_t ways = 0;  // entries per cell
   float mip_bias = 0.0f;
-  // --cache-fit on: levels the texels are coarsened by so the frame's keys fit
+  // cache_fit on: levels the texels are coarsened by so the frame's keys fit
   // the table (0 when they fit or with fit off); the kernels' level bias is
   // mip_bias - fit_levels.
   float fit_levels = 0.0f;
-  bool center = false;          // --cache-eval center
-  bool bilinear = false;        // --cache-filter bilinear (center mode)
-  bool priority = false;        // --cache-policy priority: camera inserts may replace deeper entries
-  bool bandwidth = false;       // --cache-bandwidth on: materials carry level floors (bandwidth.h)
-  float feature_texels = 2.0f;  // --cache-feature-texels: texels across a pattern's smallest feature
-  int max_refine = 2;           // --cache-max-refine: floor levels above the footprint's before bypass
-  float lobe_spread = 0.0f;     // --cache-lobe-spread: position cells' widening per bounce (pmc_raycone.h)
+  bool center = false;          // cache_eval center
+  bool bilinear = false;        // cache_filter bilinear (center mode)
+  bool priority = false;        // cache_policy priority: camera inserts may replace deeper entries
+  bool bandwidth = false;       // cache_bandwidth on: materials carry level floors (bandwidth.h)
+  float feature_texels = 2.0f;  // cache_feature_texels: texels across a pattern's smallest feature
+  int max_refine = 2;           // cache_max_refine: floor levels above the footprint's before bypass
+  float lobe_spread = 0.0f;     // cache_lobe_spread: position cells' widening per bounce (pmc_raycone.h)
   std::string reason;           // why this size (printed, and written to stats)
   // Count the occupied entries by reading the table back after the render
   // (tests check that this equals `inserts`). Otherwise occupied = inserts:
@@ -55,22 +56,32 @@ struct CacheSettings {
   bool audit = false;
 };
 
-// Counters of core/device/pmc_cache.h (PMC_CSTAT_*): every miss ends in one
-// of inserts (into an empty entry), replaced, already_present, dropped_full,
-// not_encodable; camera_* count the lookups at camera-ray hits, position_*
-// those of position-keyed cache points.
+// The counters of core/device/pmc_cache.h, one field each, named by its
+// PMC_CACHE_COUNTERS key (lookups, hits, misses, inserts, ...: see there for
+// what each counts), then the table's size and occupancy.
 struct CacheStats {
-  uint64_t lookups = 0, hits = 0, misses = 0, inserts = 0, already_present = 0, dropped_full = 0,
-           not_encodable = 0;
-  uint64_t replaced = 0;  // --cache-policy priority: camera inserts that replaced a deeper entry
-  uint64_t camera_lookups = 0, camera_hits = 0;
-  uint64_t position_lookups = 0, position_hits = 0;  // of position-keyed points (the rest are uv-keyed)
-  uint64_t bypassed =
-      0;  // cache points evaluated without the cache: level floor too far above the footprint's
+#define PMC_CSTAT_FIELD_(NAME, key, meaning) uint64_t key = 0;
+  PMC_CACHE_COUNTERS(PMC_CSTAT_FIELD_)
+#undef PMC_CSTAT_FIELD_
   uint64_t occupied = 0;  // non-empty entries after the render
   uint64_t cells = 0, ways = 0, memory_bytes = 0;
   double occupancy() const { return cells * ways > 0 ? double(occupied) / double(cells * ways) : 0.0; }
 };
+
+// Each PMC_CACHE_COUNTERS counter: its buffer index, CacheStats field, stats
+// key and meaning, for code that handles them all alike (read back, JSON).
+struct CacheCounter {
+  int index;  // PMC_CSTAT_*
+  uint64_t CacheStats::*field;
+  const char* key;
+  const char* meaning;
+};
+inline constexpr CacheCounter kCacheCounters[] = {
+#define PMC_CSTAT_ROW_(NAME, key, meaning) {PMC_CSTAT_##NAME, &CacheStats::key, #key, meaning},
+    PMC_CACHE_COUNTERS(PMC_CSTAT_ROW_)
+#undef PMC_CSTAT_ROW_
+};
+static_assert(sizeof(kCacheCounters) / sizeof(kCacheCounters[0]) == PMC_CSTAT_COUNT);
 
 struct RenderSettings {
   int width = 640;
@@ -78,9 +89,9 @@ struct RenderSettings {
   int spp = 16;  // the frame's samples per pixel
   // The samples rendered: indices [sample_begin, sample_end) of the frame's
   // spp (sample_end 0: spp). The RNG is keyed by the index, so a range draws
-  // the same samples in any process (`pmc render --samples`, farm chunks).
+  // the same samples in any process (the samples setting, farm chunks).
   int sample_begin = 0, sample_end = 0;
-  // The window rendered, pixels [x0, x1) x [y0, y1) of the frame (--crop);
+  // The window rendered, pixels [x0, x1) x [y0, y1) of the frame (crop);
   // x1 == 0: the whole frame. Pixels keep their frame coordinates (camera
   // ray, RNG key), so a window equals the same pixels of the full render.
   int crop[4] = {0, 0, 0, 0};

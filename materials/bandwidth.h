@@ -36,7 +36,7 @@
 //
 // The cache plan turns a point's feature w into a level floor
 // ceil(log2(n / w)): n texels across the feature, 2 by default
-// (--cache-feature-texels).
+// (cache_feature_texels).
 #pragma once
 
 #include <string>

@@ -63,7 +63,7 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, d
 
 // A material's level floor for one key kind: the highest of its points' (the
 // points of one evaluation share one texel or cell, so their sub-graphs run
-// once, at its centre in --cache-eval center); PMC_LEVEL_NO_FLOOR if none.
+// once, at its centre in cache_eval center); PMC_LEVEL_NO_FLOOR if none.
 int material_level_floor(const CachePlan& plan, CacheKey key);
 // Nodes of the sub-graph under `node` (itself included), inputs first.
 std::vector<int> subgraph_order(const Graph& g, int node);

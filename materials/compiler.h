@@ -16,7 +16,7 @@
 // (each node once, its own texcoord included, in group-local slots), then a
 // CACHE_STORE per point that inserts and delivers the values that missed.
 // The last lookup jumps past the group when every lookup hit. The group is
-// self-contained, so a hit skips all of its work and --cache-eval center can
+// self-contained, so a hit skips all of its work and cache_eval center can
 // re-evaluate it at a texel centre. With the cache off the program has no
 // cache instructions at all.
 #pragma once
@@ -38,7 +38,7 @@ struct CompileOptions {
   int cache_min_nodes = kDefaultCacheMinNodes;
   bool cache_position_keys = true;  // position-only sub-graphs become position-keyed points
   // Level floors: texels across a pattern's smallest feature (bandwidth.h);
-  // 0: none (the default, as --cache-bandwidth off).
+  // 0: none (the default, as cache_bandwidth off).
   double cache_feature_texels = 0;
 };
 

@@ -13,7 +13,7 @@
 // confuses a shifted evaluation with the centre's: they have other node ids
 // (other cache keys), and when the whole normal depends on uv alone it is one
 // cache point whose block evaluates all three heights at the same point (the
-// texel centre in --cache-eval center). Parts of the height that do not
+// texel centre in cache_eval center). Parts of the height that do not
 // depend on uv (position, normal) are shared by the copies, so they add
 // nothing to the gradient: like MaterialX's own GLSL (which can only offset
 // texture samples), pmc bumps with uv-driven heights.

@@ -36,7 +36,7 @@ void assign_by_looks(Scene& scene, const std::map<std::string, Graph>& mtlx,
                      const std::vector<MtlxAssignment>& assignments) {
   for (const MtlxAssignment& a : assignments)
     if (!mtlx.count(a.material))
-      fail(a.origin, ": material '", a.material, "' is not in the --mtlx documents");
+      fail_config(a.origin, ": material '", a.material, "' is not in the ", setting("mtlx"), " documents");
   if (scene.triangle_shapes.size() != scene.triangles.size()) return;  // a scene built without shapes
   auto material_index = [&](const std::string& name) {
     for (size_t i = 0; i < scene.materials.size(); ++i)

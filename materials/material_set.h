@@ -3,7 +3,7 @@
 // build_material_set() binds each material the scene's triangles use: a
 // MaterialX <look>'s <materialassign> covering the triangle's OBJ object or
 // group ("/NAME") wins; else its `usemtl NAME` takes the MaterialX
-// `surfacematerial` called NAME from the --mtlx documents (whether or not an
+// `surfacematerial` called NAME from the mtlx documents (whether or not an
 // MTL defines NAME), else its own MTL entry turned into a network. One
 // warning lists the usemtl names that match nothing (they render with the
 // default material). Only used
@@ -29,8 +29,8 @@ struct MaterialSet;
 
 struct MaterialOptions {
   std::vector<std::string> mtlx_files;
-  MtlxReadOptions mtlx;           // --mtlx-library, --mtlx-search-path
-  std::string override_material;  // --material: one material for every triangle
+  MtlxReadOptions mtlx;           // mtlx_library, mtlx_search_paths
+  std::string override_material;  // material: one material for every triangle
   CompileOptions compile;         // cache instructions on/off, cache threshold
   // Called once every material is compiled, before the textures decode (the
   // longest step after it): a render session starts its kernel build there.

@@ -10,7 +10,7 @@
 // and upgrades each included file by its own version before merging, so
 // content of different versions is never upgraded twice. Rules:
 //  - FILE is found relative to the including file's folder, then in each
-//    search path (MATERIALX_SEARCH_PATH, then --mtlx-search-path), and must
+//    search path (MATERIALX_SEARCH_PATH, then mtlx_search_paths), and must
 //    be a regular file;
 //  - the included root's inherited attributes (colorspace, fileprefix,
 //    namespace) go onto its children that do not set their own, and the

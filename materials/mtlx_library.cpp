@@ -23,8 +23,8 @@ bool looks_like_library(const std::string& dir) {
 std::string find_mtlx_library(const std::string& explicit_dir) {
   if (!explicit_dir.empty()) {
     if (!looks_like_library(explicit_dir))
-      fail("--mtlx-library ", explicit_dir,
-           ": not a MaterialX data library folder (expected stdlib/stdlib_defs.mtlx inside it)");
+      fail_config(setting("mtlx_library"), " ", explicit_dir,
+                  ": not a MaterialX data library folder (expected stdlib/stdlib_defs.mtlx inside it)");
     return explicit_dir;
   }
   if (const char* env = std::getenv("PMC_MTLX_LIBRARY")) {

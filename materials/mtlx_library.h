@@ -7,7 +7,7 @@
 // (stdlib_ng.mtlx: NG_separate3_color3, NG_switch_float ...). The library
 // is never copied into pmc: it is the `libraries` folder of a MaterialX
 // installation (the PyPI `materialx` package ships one, which scripts/setup
-// installs into .venv). Which folder: --mtlx-library DIR, else the
+// installs into .venv). Which folder: mtlx_library DIR, else the
 // PMC_MTLX_LIBRARY environment variable, else the folder CMake found at
 // configure time (PMC_DEFAULT_MTLX_LIBRARY), else none: documents that only
 // use table nodes still load, and one that needs the library gets an error

@@ -875,7 +875,7 @@ class Reader {
       if (!library())
         fail(context, ": unsupported node '", node.category,
              "' (not in pmc's node table, and no MaterialX data library to expand it from: run "
-             "scripts/setup, pass --mtlx-library DIR or set PMC_MTLX_LIBRARY)");
+             "scripts/setup, set PMC_MTLX_LIBRARY or name a library folder in the mtlx_library setting)");
       fail(context, ": unsupported node '", node.category, "' of type ", type.empty() ? "(none)" : type,
            " (no definition matches it in the document or the MaterialX library in ", library()->dir(), ")");
     }

@@ -34,8 +34,8 @@
 namespace pmc {
 
 struct MtlxReadOptions {
-  std::string library_dir;                // --mtlx-library; "" = find_mtlx_library's default
-  std::vector<std::string> search_paths;  // --mtlx-search-path, after MATERIALX_SEARCH_PATH
+  std::string library_dir;                // mtlx_library; "" = find_mtlx_library's default
+  std::vector<std::string> search_paths;  // mtlx_search_paths, after MATERIALX_SEARCH_PATH
 };
 
 std::vector<Graph> read_mtlx_file(const std::string& path, const MtlxReadOptions& options = {});

@@ -4,7 +4,8 @@
 // for cycles (graph_analysis.h), fold constants and the node table's
 // identities (x*1, x+0, x*0, mix by 0 or 1, pass-throughs), deduplicate equal
 // sub-graphs, remove nodes that reach no output. Each pass reports the live
-// node count before and after, which `pmc info --dump-bytecode` prints.
+// node count before and after, which pmc info's bytecode dump prints
+// (app/info_command.cpp).
 #pragma once
 
 #include <cstdint>

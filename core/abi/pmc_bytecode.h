@@ -238,7 +238,7 @@ PMC_FN pmc_u32 pmc_operand_width(pmc_u32 o) { return ((o >> 28) & 3u) + 1u; }
 
 /* Floats of stack per shading point: the compiler's limit. Kernels are built
  * with -DPMC_STACK_SIZE=<the scene's peak rounded up to a power of two, at
- * least 16> (gpu/wavefront_renderer.cpp), so private memory is about as large
+ * least 16> (wave_program_options, gpu/wave_kernels.cpp), so private memory is about as large
  * as the loaded materials need while few distinct kernel builds exist. */
 #ifndef PMC_STACK_SIZE
 #define PMC_STACK_SIZE 128

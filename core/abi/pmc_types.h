@@ -43,7 +43,7 @@ typedef struct PmcPathState {
   float radiance[3];
   float cone_width;   /* ray-cone width at the ray origin (world units); its spread is the
                          camera's pixel angle, PmcFrame.cam_spread */
-  pmc_u32 cache_cone; /* position cells' cone beyond the texture's (--cache-lobe-spread): extra
+  pmc_u32 cache_cone; /* position cells' cone beyond the texture's (cache_lobe_spread): extra
                          width at the ray origin and extra spread, as two bfloat16s
                          (pmc_pack_cone, core/device/pmc_raycone.h) */
   float bsdf_pdf;     /* solid-angle pdf of the direction that produced the ray */
@@ -185,7 +185,7 @@ typedef struct PmcFrame {
   float cam_eye[3];
   float cam_spread; /* spread angle of one pixel (radians) */
   float cam_forward[3];
-  pmc_u32 crop_x0;    /* the window rendered (--crop): path k of the render is */
+  pmc_u32 crop_x0;    /* the window rendered (crop): path k of the render is */
   float cam_right[3]; /* scaled by tan(fov/2) * aspect */
   pmc_u32 crop_y0;    /* pixel (crop_x0 + k % crop_width, crop_y0 + k / crop_width) */
   float cam_up[3];    /* scaled by tan(fov/2) */
@@ -197,14 +197,14 @@ typedef struct PmcFrame {
   pmc_i32 max_depth;
   pmc_u32 texture_count;
   pmc_u32 cache_on;     /* the programs contain cache instructions */
-  pmc_u32 cache_center; /* --cache-eval center */
+  pmc_u32 cache_center; /* cache_eval center */
   pmc_u32 cache_ways;   /* entries per cell */
   pmc_u32 cache_cells_lo, cache_cells_hi;
   float mip_bias;
-  pmc_u32 cache_bilinear;   /* --cache-filter bilinear: jittered texel selection */
-  pmc_u32 cache_policy;     /* --cache-policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
-  pmc_i32 cache_max_refine; /* --cache-max-refine: level floors above the footprint's before bypass */
-  float cache_lobe_spread;  /* --cache-lobe-spread: position cells widen per bounce (pmc_lobe_spread) */
+  pmc_u32 cache_bilinear;   /* cache_filter bilinear: jittered texel selection */
+  pmc_u32 cache_policy;     /* cache_policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
+  pmc_i32 cache_max_refine; /* cache_max_refine: level floors above the footprint's before bypass */
+  float cache_lobe_spread;  /* cache_lobe_spread: position cells widen per bounce (pmc_lobe_spread) */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

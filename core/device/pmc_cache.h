@@ -29,7 +29,7 @@
  * (materials/bandwidth.h), or evaluates those points uncached when the floor
  * is too far above the footprint's level (pmc_cache_floored_level).
  *
- * Replacement policy (PmcCacheTable.policy, --cache-policy):
+ * Replacement policy (PmcCacheTable.policy, cache_policy):
  *  - keep-first (the paper's rule, the default): as above; a full cell drops
  *    the insert. The high word is the whole 32-bit fingerprint.
  *  - priority: the high word is {30 bits of fingerprint << 2 | depth tag},
@@ -69,26 +69,34 @@
 #define PMC_ENC_RGB9E5 1u
 #define PMC_ENC_HALF2 2u
 
-/* Statistics counters (indices into the counter buffer). */
-#define PMC_CSTAT_LOOKUPS 0
-#define PMC_CSTAT_HITS 1
-#define PMC_CSTAT_INSERTS 2
-#define PMC_CSTAT_DROPPED_FULL 3
-#define PMC_CSTAT_NOT_ENCODABLE 4
-#define PMC_CSTAT_MISSES 5            /* lookups that found nothing */
-#define PMC_CSTAT_ALREADY_PRESENT 6   /* inserts that found the key (another work-item won) */
-#define PMC_CSTAT_REPLACED 7          /* priority: camera inserts that replaced a deeper entry */
-#define PMC_CSTAT_CAMERA_LOOKUPS 8    /* lookups at camera-ray hits (depth 0) */
-#define PMC_CSTAT_CAMERA_HITS 9       /* ... that hit */
-#define PMC_CSTAT_POSITION_LOOKUPS 10 /* lookups of position-keyed points */
-#define PMC_CSTAT_POSITION_HITS 11    /* ... that hit */
-#define PMC_CSTAT_BYPASSED                                    \
-  12 /* points evaluated without the cache: their level floor \
-      * was more than the refinement limit above the footprint's */
-#define PMC_CSTAT_COUNT 13
-/* Every lookup is a hit or a miss, and every miss ends in exactly one of
- * insert (into an empty entry), replaced, already present, dropped (cell
- * full) or not encodable. Bypassed points are no lookups. */
+/* Statistics counters: the one list of them. X(NAME, key, meaning):
+ * PMC_CSTAT_<NAME> indexes the counter buffer (the list's order is the
+ * buffer's layout: append new counters at the end), `key` names the host's
+ * CacheStats field (gpu/wavefront_renderer.h) and the key in the stats
+ * JSON's "cache" object, `meaning` says what it counts. Every lookup is a
+ * hit or a miss, and every miss ends in exactly one of inserts (into an
+ * empty entry), replaced, already_present, dropped_full (cell full) or
+ * not_encodable. Bypassed points are no lookups. */
+// clang-format off
+#define PMC_CACHE_COUNTERS(X)                                                                         \
+  X(LOOKUPS, lookups, "cache lookups")                                                                \
+  X(HITS, hits, "lookups that found their key")                                                       \
+  X(INSERTS, inserts, "misses inserted into an empty entry")                                          \
+  X(DROPPED_FULL, dropped_full, "misses not inserted: their cell was full")                           \
+  X(NOT_ENCODABLE, not_encodable, "misses whose value the encoding cannot hold (not inserted)")       \
+  X(MISSES, misses, "lookups that found nothing")                                                     \
+  X(ALREADY_PRESENT, already_present, "inserts that found the key (another work-item won)")           \
+  X(REPLACED, replaced, "priority policy: camera inserts that replaced a deeper entry")               \
+  X(CAMERA_LOOKUPS, camera_lookups, "lookups at camera-ray hits (depth 0)")                           \
+  X(CAMERA_HITS, camera_hits, "camera lookups that hit")                                              \
+  X(POSITION_LOOKUPS, position_lookups, "lookups of position-keyed points (the rest are uv-keyed)")   \
+  X(POSITION_HITS, position_hits, "position lookups that hit")                                        \
+  X(BYPASSED, bypassed, "points evaluated without the cache: their level floor was more than the "    \
+                        "refinement limit above the footprint's")
+// clang-format on
+#define PMC_CSTAT_ENUMERATOR_(NAME, key, meaning) PMC_CSTAT_##NAME,
+enum { PMC_CACHE_COUNTERS(PMC_CSTAT_ENUMERATOR_) PMC_CSTAT_COUNT };
+#undef PMC_CSTAT_ENUMERATOR_
 
 /* Replacement policies (PmcCacheTable.policy). */
 #define PMC_CACHE_KEEP_FIRST 0u
@@ -159,7 +167,7 @@ PMC_FN long pmc_cache_texel_jittered(float u, int lambda, float offset) {
 
 PMC_FN long pmc_cache_texel(float u, int lambda) { return pmc_cache_texel_jittered(u, lambda, 0.0f); }
 
-/* Centre of a texel, in uv (for --cache-eval center); always finite. Beyond
+/* Centre of a texel, in uv (for cache_eval center); always finite. Beyond
  * +-2^62 the index holds the float itself (see above): give back that uv
  * (the largest float for the texel of the infinite uvs). */
 PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
@@ -173,7 +181,7 @@ PMC_FN float pmc_cache_texel_center(long texel, int lambda) {
   return ((float)texel + 0.5f) * pmc_exp2i(-lambda);
 }
 
-/* Texture footprint (uv diameter) for a --cache-eval center miss: what the
+/* Texture footprint (uv diameter) for a cache_eval center miss: what the
  * ray cone gives at this level without the mip bias, 2 * 2^-(lambda - bias)
  * (callers pass the footprint's level, not one raised to a level floor).
  * It depends on the level alone, so the stored value does not depend on the

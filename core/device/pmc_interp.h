@@ -29,7 +29,7 @@
  *
  * A cache point is keyed on the shading point's uv texel or, when its
  * sub-graph reads the position only, on its position cell (pmc_cache.h); each
- * point of a lane computes either at most once. In --cache-eval center the
+ * point of a lane computes either at most once. In cache_eval center the
  * group's sub-graphs read the texel's centre uv and the cell's centre
  * position, so a stored value depends on its key alone.
  */
@@ -70,23 +70,23 @@ PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2) {
 }
 
 /* The material cache as one evaluation sees it. A null context (the host
- * reference, or --cache off, whose programs have no cache instructions)
+ * reference, or the cache off, whose programs have no cache instructions)
  * makes every lookup a miss. */
 typedef struct PmcCacheContext {
   PmcCacheTable table;
   float2 g1, g2;            /* ray-cone uv gradients at the hit */
-  float bias;               /* --mip-bias */
+  float bias;               /* mip_bias */
   float4 jitter;            /* added to uv * 2^lambda (x, y) and to the position *
                              * 2^lambda (x, y, z) before flooring, in [-0.5, 0.5): 0 is
                              * the nearest texel; uniform random offsets pick a neighbour
-                             * with its bilinear (trilinear) weight (--cache-filter) */
+                             * with its bilinear (trilinear) weight (cache_filter) */
   float radius;             /* ray-cone radius at the hit, scene units (position keys) */
   pmc_u32 floors;           /* 0: no level floors (the three fields below are ignored) */
   int level_floor_uv;       /* the material's level floors (pmc_cache_floored_level; */
   int level_floor_position; /* PMC_LEVEL_NO_FLOOR: none) for uv and position points */
   int max_refine;           /* levels a floor may lie above the footprint's before bypass */
   pmc_u32 material;
-  pmc_u32 center;      /* --cache-eval center: evaluate misses at the texel centre */
+  pmc_u32 center;      /* cache_eval center: evaluate misses at the texel centre */
   pmc_u32 depth;       /* surface hits before this one (0: a camera-ray hit); the
                         * priority policy tags entries with it, and camera
                         * lookups are counted apart */
@@ -313,7 +313,7 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
    * identity but inside a cache group's sub-graphs, where the points that
    * missed are packed to the front). uv_now / footprint_now are the uv and
    * the texture footprint the virtual lane's nodes read: the point's own, or
-   * in --cache-eval center the centre and width of its texel, so the stored
+   * in cache_eval center the centre and width of its texel, so the stored
    * value depends on the texel alone (and the footprint is round there: no
    * ellipse, axis_now 0). */
   int nn = n;

@@ -7,7 +7,7 @@
  * Pettineo's visibility term, as MaterialX's sheen_bsdf). Directions are in
  * the local shading frame (normal = +z, tangent = +x). No tables: the albedo
  * tables (pmc_bsdf_tables.h) are integrated from these functions by
- * scripts/make_bsdf_tables.cpp, so this file must not depend on them.
+ * scripts/bsdf_tables/make_bsdf_tables.cpp, so this file must not depend on them.
  */
 #ifndef PMC_MICROFACET_H
 #define PMC_MICROFACET_H

@@ -31,9 +31,3 @@ static inline void pmc_eval_material_lanes(const PmcMaterialData* md, int materi
     bsdf[k] = pmc_surface_to_bsdf(p);
   }
 }
-
-/* Emitted radiance of a material, for light sampling (its constant part). */
-static inline float3 pmc_material_emission(const PmcMaterialData* md, int material) {
-  __global const PmcMaterialInfo* m = &md->materials[material];
-  return make_float3(m->emission[0], m->emission[1], m->emission[2]);
-}

@@ -34,7 +34,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
                               __global PmcPathState* paths) {
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
-  uint k = frame->pixel_offset + i; /* index into the window (--crop), row by row */
+  uint k = frame->pixel_offset + i; /* index into the window (crop), row by row */
   uint x = frame->crop_x0 + k % frame->crop_width;
   uint y = frame->crop_y0 + k / frame->crop_width;
   uint pixel = y * (uint)frame->width + x; /* in the full frame: the RNG key is the same in any window */
@@ -104,7 +104,7 @@ typedef struct PmcHitPoint {
   uint path;
   int surface;              /* 0: the ray escaped */
   int front;                /* the ray arrived on the side the surface's normals point to */
-  float4 cache_jitter;      /* --cache-filter bilinear: texel selection offsets (x, y); cells take
+  float4 cache_jitter;      /* cache_filter bilinear: texel selection offsets (x, y); cells take
                                them in the tangent plane (pmc_cache_plane_jitter) */
   PmcCacheTexel texel;      /* ready when the material has uv-keyed cache points */
   PmcCacheTexel cell;       /* ready when it has position-keyed ones */
@@ -263,7 +263,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
           uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
           (uint)tri->material, info->cache_level_floor_uv, frame->cache_max_refine);
     if (hp->cache_position_mask != 0u) {
-      /* Level floors (--cache-bandwidth) count from the texture cone's level:
+      /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
        * the widening coarsens cells down to a floor at most, and a point is
        * bypassed exactly where it would be without the widening. */
       int max_refine = frame->cache_max_refine;
@@ -649,9 +649,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
 }
 
 __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global const uchar* occluded,
-                                  __global PmcPathState* paths, uint first, uint count) {
+                                  __global PmcPathState* paths, uint first, uint end) {
   uint i = first + (uint)get_global_id(0);
-  if (i >= count || occluded[i]) return;
+  if (i >= end || occluded[i]) return;
   __global PmcPathState* p = &paths[loads[i].path];
   p->radiance[0] += loads[i].rgb[0];
   p->radiance[1] += loads[i].rgb[1];
@@ -663,7 +663,7 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
   __global const PmcPathState* p = &paths[i];
-  /* the film holds the window only (--crop) */
+  /* the film holds the window only (crop) */
   uint x = p->pixel % (uint)frame->width - frame->crop_x0;
   uint y = p->pixel / (uint)frame->width - frame->crop_y0;
   __global PmcFilmPixel* px = &film[y * frame->crop_width + x];

@@ -148,7 +148,10 @@ TEST(MergeCli, RefusesMismatchedPartsNamingTheFileAndWritesNothing) {
       {"a.exr other.exr", "other.exr: a different scene from"},
       {"a.exr over.exr", "over.exr: samples 2:6"},
       {"a.exr short.exr", "samples missing: pixel (0,0) has 5 of 6"},
-      {"a.exr plain.exr", "plain.exr: no channel pmc.sum0"},
+      {"a.exr short.exr", "(pass --allow-partial to merge what there is)"},  // core names the setting
+      {"a.exr plain.exr",
+       "plain.exr: no channel pmc.sum0 (a part needs the film's sums: render it with "
+       "'pmc render --samples A:B')"},
       {"a.exr nothing.exr", "nothing.exr"},
   };
   for (const Case& c : cases) {

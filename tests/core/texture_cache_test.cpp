@@ -143,6 +143,9 @@ TEST_F(TextureCacheTest, AnUnwritableFolderWarnsOnceAndTexturesStillDecode) {
   decoded(dir_ + "/other.png");
   const std::string err = testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("texture cache: cannot write to " + dir_ + "/a_file/cache"), std::string::npos) << err;
+  EXPECT_NE(err.find("(texture_cache DIR chooses another folder, texture_cache off turns the cache off)"),
+            std::string::npos)
+      << "below app/ a warning names the setting, not its flag: " << err;
   EXPECT_EQ(err.find("texture cache", err.find("texture cache") + 1), std::string::npos)
       << "one warning, not one per texture: " << err;
 }

@@ -473,8 +473,9 @@ TEST(MtlxReader, InputWithoutValueOrConnectionTakesItsDefault) {
 // Materials that are not top-level surfacematerial nodes: a nodegraph that
 // outputs a material (named after the nodegraph, so a look can assign it),
 // and an instance of a custom node of type material whose definition's
-// nodegraph builds one from the instance's inputs (MaterialX's test suite:
-// materials/material_node_discovery.mtlx, definition/surfacematerial_definition.mtlx).
+// nodegraph builds one from the instance's inputs (MaterialX's test suite,
+// TestSuite/stdlib/materials/material_node_discovery.mtlx and
+// TestSuite/stdlib/definition/surfacematerial_definition.mtlx).
 TEST(MtlxReader, NodegraphAndCustomNodeMaterials) {
   const std::string xml = R"(<?xml version="1.0"?>
 <materialx version="1.39">
