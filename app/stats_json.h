@@ -12,12 +12,13 @@
 
 namespace pmc {
 
-// The cache's settings and counters: enabled, eval, filter, policy, mip_bias,
+// The cache's settings (the table's with a stats key, gpu/render_settings_table.h)
+// and counters: enabled, eval, filter, policy, mip_bias,
 // cells, entries, memory_bytes, size_reason (in flag names), lookups, hits,
 // misses, hit_rate, inserts, already_present, dropped_full, not_encodable,
 // replaced, camera_lookups, camera_hits, camera_hit_rate, position_lookups,
 // position_hits, position_hit_rate, uv_hit_rate, occupancy.
-nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats);
+nlohmann::json cache_json(const RenderSettings& settings, const CacheStats& stats);
 // Where a session's setup went (gpu/render_session.h): opencl_device (the
 // wait for the device), scene, materials, lights, bvh, renderer, total (their
 // sum: wall seconds), and background: {opencl_device: seconds opening it
