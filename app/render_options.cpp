@@ -44,8 +44,10 @@ CLI::Option* vec3(CLI::App& app, const std::string& flag, const char* setting, s
 }
 
 // The options of the table's settings in `group` (gpu/render_settings_table.h),
-// each bound to its RenderConfig field.
-void declare_table_options(CLI::App& app, RenderConfig& c, SettingGroup group) {
+// each bound to its RenderConfig field; `after(name)` runs after each one (to
+// keep an option outside the table in its place in --help).
+void declare_table_options(CLI::App& app, RenderConfig& c, SettingGroup group,
+                           const std::function<void(const std::string&)>& after = nullptr) {
   visit_render_settings([&](const auto& info, auto config_field, auto) {
     if (info.group != group) return;
     using T = std::decay_t<decltype(info.dflt)>;
@@ -67,6 +69,7 @@ void declare_table_options(CLI::App& app, RenderConfig& c, SettingGroup group) {
     } else {
       field(app, info.flag, info.name, value, info.value, info.help)->capture_default_str();
     }
+    if (after) after(info.name);
   });
 }
 
@@ -144,18 +147,20 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
         app, "--cache-cells", "cache_cells", [&c](const int64_t& v) { c.cache_cells = v; }, "N",
         "cache cells (with --cache-entries; a cell of 8 entries is one 64-byte line)")
         ->default_str("sized from the scene");
-    declare_table_options(app, c, SettingGroup::Cache);
-    // Optional: unset, it follows --cache-eval.
-    setter<std::string>(
-        app, "--cache-filter", "cache_filter",
-        [&c](const std::string& v) {
-          c.cache_filter = v == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
-        },
-        "nearest|bilinear",
-        "texel a lookup reads: the one under the hit, or a neighbour picked at random with its bilinear "
-        "weight (center mode only)")
-        ->check(cli::one_of({"nearest", "bilinear"}))
-        ->default_str("bilinear with center, nearest with hit");
+    declare_table_options(app, c, SettingGroup::Cache, [&](const std::string& name) {
+      if (name != "cache_eval") return;
+      // Optional (unset, it follows --cache-eval): declared here, listed after --cache-eval.
+      setter<std::string>(
+          app, "--cache-filter", "cache_filter",
+          [&c](const std::string& v) {
+            c.cache_filter = v == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
+          },
+          "nearest|bilinear",
+          "texel a lookup reads: the one under the hit, or a neighbour picked at random with its bilinear "
+          "weight (center mode only)")
+          ->check(cli::one_of({"nearest", "bilinear"}))
+          ->default_str("bilinear with center, nearest with hit");
+    });
   }
 
   app.option_defaults()->group("machine");
