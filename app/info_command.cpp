@@ -99,10 +99,11 @@ struct InfoArgs {
   std::string scene, material;
   std::string mtlx_library;
   std::vector<std::string> mtlx, mtlx_search_paths;
-  int cache_min_nodes = kDefaultCacheMinNodes;
-  bool cache_position_keys = true;
-  bool cache_bandwidth = false;
-  double cache_feature_texels = 2.0;
+  // pmc render's defaults (gpu/render_settings_table.h).
+  int cache_min_nodes = RenderConfig{}.cache_min_nodes;
+  bool cache_position_keys = RenderConfig{}.cache_position_keys;
+  bool cache_bandwidth = RenderConfig{}.cache_bandwidth;
+  double cache_feature_texels = RenderConfig{}.cache_feature_texels;
 };
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
