@@ -5,8 +5,12 @@
 // setting comes from that line:
 //   * the RenderConfig field and its default (render_config.h expands it);
 //   * its flag, value name, help and default in `--help` (app/render_options.cpp);
-//   * the range validate() checks, with the error text (gpu/render_config.cpp);
-//   * its copy into RenderSettings (base_render_settings) where it is a straight one;
+//   * the range validate() checks, with the error text (gpu/render_config.cpp),
+//     and the same range on its RenderSettings copy (validate_render_settings,
+//     which the renderer and `pmc sweep`'s rows run);
+//   * its copy into RenderSettings (base_render_settings) where it is a straight
+//     one (make_frame's copies into the kernel's PmcFrame are written out in
+//     gpu/wavefront_renderer.cpp: they convert, mask and combine);
 //   * its key in `pmc render --stats` (app/stats_json.cpp);
 //   * whether it enters the part's settings hash (gpu/part_identity.cpp);
 //   * `pmc info --settings` (app/info_command.cpp), which scripts/farm reads.
