@@ -18,8 +18,12 @@ void check_finite(const std::optional<Vec3>& v, const char* name) {
 // A number of the table (`v`: the setting or its RenderSettings copy) in its range.
 template <typename T, typename V>
 void check_range(const SettingInfo<T>& info, const V& v) {
-  if (*info.check && !(double(v) >= info.lo && double(v) <= info.hi))
-    fail_config(setting(info.name), ": ", info.check, ", got ", v);
+  if (*info.check && !(double(v) >= info.lo && double(v) <= info.hi)) {
+    const std::string check = info.check;
+    const size_t at = check.find("{}");
+    if (at == std::string::npos) fail_config(setting(info.name), ": ", check);
+    fail_config(setting(info.name), ": ", check.substr(0, at), v, check.substr(at + 2));
+  }
 }
 
 // A table setting's own check (gpu/render_settings_table.h): a number in its

@@ -24,8 +24,8 @@
 //          the enum's 0|1|...). On/off switches list "off|on" (shown "on|off").
 //   dflt   the default.
 //   lo hi  numbers: the valid range, inclusive (kNone: no bound; NaN is out).
-//   check  numbers: the error after "NAME: " when out of range ("" when
-//          validate() checks the setting with others); ", got VALUE" follows.
+//   check  numbers: the error after "NAME: " when out of range, "{}" standing
+//          for the value ("" when validate() checks the setting with others).
 //   group  where --help lists it, and which subcommands take it:
 //          Image, CacheSwitch (--cache: `pmc render` only), Cache (not sweep,
 //          which takes lists), Machine.
@@ -96,68 +96,68 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
 }  // namespace settings_table
 
 // clang-format off
-#define PMC_RENDER_SETTINGS(X)                                                                              \
-  X(width, "width", "--width", int, 640, 1, settings_table::kNone, "", Image, FIXED, S(width), "width",      \
-    "W", "image width in pixels")                                                                           \
-  X(height, "height", "--height", int, 360, 1, settings_table::kNone, "", Image, FIXED, S(height), "height", \
-    "H", "image height in pixels")                                                                          \
-  X(spp, "spp", "--spp", int, 16, 1, settings_table::kNone, "samples per pixel must be at least 1", Image,   \
-    FIXED, S(spp), "spp", "N", "samples per pixel")                                                         \
-  X(max_depth, "max_depth", "--max-depth", int, 8, 1, 1024, "must be in 1..1024", Image, FIXED,              \
-    S(max_depth), "max_depth", "D", "maximum number of surface hits per path, 1..1024")                     \
-  X(seed, "seed", "--seed", int64_t, 0, 0, 4294967295.0, "must be in 0..4294967295", Image, FIXED, S(seed),  \
-    "seed", "S",                                                                                            \
-    "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "       \
-    "center, not hit)")                                                                                     \
-  X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",   \
-    "progressive material cache")                                                                           \
-  X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024", Cache,     \
-    FIXED, NONE, "", "N", "entries per cache cell, 1..1024")                                       \
-  X(mip_bias, "mip_bias", "--mip-bias", float, 0.0f, -32, 32, "must be within -32..32", Cache, FIXED,        \
-    S(cache.mip_bias), "mip_bias", "B",                                                                     \
-    "added to the cache's virtual mip level (higher: finer, more accurate), -32..32")                       \
-  X(cache_eval, "cache_eval", "--cache-eval", CacheEval, CacheEval::Center, 0, 0, "", Cache, FIXED,          \
-    S(cache.center), "eval", "hit|center",                                                                  \
-    "values stored for a texel: at the inserting hit, or at the texel centre")                              \
-  X(cache_policy, "cache_policy", "--cache-policy", CachePolicy, CachePolicy::KeepFirst, 0, 0, "", Cache,    \
-    FIXED, S(cache.priority), "policy", "keep-first|priority",                                              \
-    "when a cache cell is full: keep its first entries (the paper's rule), or let a camera-ray hit "        \
-    "replace an entry from a deeper bounce")                                                                \
-  X(cache_position_keys, "cache_keys", "--cache-keys", bool, true, 0, 0, "", Cache, PROGRAM, NONE, "",       \
-    "uv|uv+position",                                                                                       \
-    "what cache points are keyed on: uv texels only (the paper), or also 3D position cells for "            \
-    "sub-graphs that read the position alone (noise3d, fractal3d, ...)")                                    \
-  X(cache_min_nodes, "cache_min_nodes", "--cache-min-nodes", int, kDefaultCacheMinNodes, 1,                  \
-    settings_table::kNone, "must be at least 1", Cache, PROGRAM, NONE, "", "N",                             \
-    "smallest sub-graph (in nodes) worth a cache point")                                                    \
-  X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", bool, false, 0, 0, "", Cache, FIXED,            \
-    S(cache.bandwidth), "bandwidth", "off|on",                                                              \
-    "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "       \
-    "lines, tile gaps, a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the "         \
-    "footprint where needed; off: texels follow the footprint alone (the paper; faster: on the default "    \
-    "scene the floors cost most of the cache's speedup, docs/BENCHMARKS.md)")                               \
-  X(cache_feature_texels, "cache_feature_texels", "--cache-feature-texels", double, 2.0, 0.125, 64,          \
-    "must be 0.125..64", Cache, FIXED, S(cache.feature_texels), "feature_texels", "N",                      \
-    "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "      \
-    "aliasing, fewer hits)")                                                                                \
-  X(cache_fit, "cache_fit", "--cache-fit", bool, false, 0, 0, "", Cache, NO, NONE, "", "off|on",             \
-    "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "     \
-    "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "      \
-    "and cells by half a level per halving, so the keys fit (faster, blurrier material detail); off: "      \
-    "texels follow the footprint whatever the table's size (the paper)")                                    \
-  X(cache_lobe_spread, "cache_lobe_spread", "--cache-lobe-spread", float, kDefaultCacheLobeSpread, 0, 4,     \
-    "must be 0..4", Cache, TAG("lobe"), S(cache.lobe_spread), "lobe_spread", "C",                           \
-    "after each bounce, position cells follow a cone whose spread grows by C times the angle of the "       \
-    "lobe one sample stands for (a diffuse bounce: about 2C radians), so hits after rough bounces "         \
-    "share coarser cells, whose detail that lobe averages out (uv texels keep the texture's cone; "         \
-    "0.03125: fewer misses at the same bias, but a noisier same-seed match with the cacheless render); "    \
-    "0: the texture's cone (the paper), 0..4")                                                              \
-  X(cache_max_refine, "cache_max_refine", "--cache-max-refine", int, 2, 0, 16, "must be 0..16", Cache,       \
-    FIXED, S(cache.max_refine), "max_refine", "LEVELS",                                                     \
-    "how many levels finer than the footprint a pattern may make its texels (each level splits a "          \
-    "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")      \
-  X(chunk_rays, "chunk_rays", "--chunk-rays", int64_t, 65536, 0, settings_table::kNone,                      \
-    "must not be negative", Machine, NO, S(chunk_rays), "", "N",                                            \
+#define PMC_RENDER_SETTINGS(X)                                                                                \
+  X(width, "width", "--width", int, 640, 1, settings_table::kNone, "", Image, FIXED, S(width), "width", "W",  \
+    "image width in pixels")                                                                                  \
+  X(height, "height", "--height", int, 360, 1, settings_table::kNone, "", Image, FIXED, S(height), "height",  \
+    "H", "image height in pixels")                                                                            \
+  X(spp, "spp", "--spp", int, 16, 1, settings_table::kNone, "samples per pixel must be at least 1, got {}",   \
+    Image, FIXED, S(spp), "spp", "N", "samples per pixel")                                                    \
+  X(max_depth, "max_depth", "--max-depth", int, 8, 1, 1024, "must be in 1..1024, got {}", Image, FIXED,       \
+    S(max_depth), "max_depth", "D", "maximum number of surface hits per path, 1..1024")                       \
+  X(seed, "seed", "--seed", int64_t, 0, 0, 4294967295.0, "must be in 0..4294967295, got {}", Image, FIXED,    \
+    S(seed), "seed", "S",                                                                                     \
+    "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "         \
+    "center, not hit)")                                                                                       \
+  X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",    \
+    "progressive material cache")                                                                             \
+  X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024, got {}",     \
+    Cache, FIXED, NONE, "", "N", "entries per cache cell, 1..1024")                                           \
+  X(mip_bias, "mip_bias", "--mip-bias", float, 0.0f, -32, 32, "must be within -32..32, got {}", Cache,        \
+    FIXED, S(cache.mip_bias), "mip_bias", "B",                                                                \
+    "added to the cache's virtual mip level (higher: finer, more accurate), -32..32")                         \
+  X(cache_eval, "cache_eval", "--cache-eval", CacheEval, CacheEval::Center, 0, 0, "", Cache, FIXED,           \
+    S(cache.center), "eval", "hit|center",                                                                    \
+    "values stored for a texel: at the inserting hit, or at the texel centre")                                \
+  X(cache_policy, "cache_policy", "--cache-policy", CachePolicy, CachePolicy::KeepFirst, 0, 0, "", Cache,     \
+    FIXED, S(cache.priority), "policy", "keep-first|priority",                                                \
+    "when a cache cell is full: keep its first entries (the paper's rule), or let a camera-ray hit "          \
+    "replace an entry from a deeper bounce")                                                                  \
+  X(cache_position_keys, "cache_keys", "--cache-keys", bool, true, 0, 0, "", Cache, PROGRAM, NONE, "",        \
+    "uv|uv+position",                                                                                         \
+    "what cache points are keyed on: uv texels only (the paper), or also 3D position cells for "              \
+    "sub-graphs that read the position alone (noise3d, fractal3d, ...)")                                      \
+  X(cache_min_nodes, "cache_min_nodes", "--cache-min-nodes", int, kDefaultCacheMinNodes, 1,                   \
+    settings_table::kNone, "must be at least 1", Cache, PROGRAM, NONE, "", "N",                               \
+    "smallest sub-graph (in nodes) worth a cache point")                                                      \
+  X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", bool, false, 0, 0, "", Cache, FIXED,             \
+    S(cache.bandwidth), "bandwidth", "off|on",                                                                \
+    "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "         \
+    "lines, tile gaps, a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the "           \
+    "footprint where needed; off: texels follow the footprint alone (the paper; faster: on the default "      \
+    "scene the floors cost most of the cache's speedup, docs/BENCHMARKS.md)")                                 \
+  X(cache_feature_texels, "cache_feature_texels", "--cache-feature-texels", double, 2.0, 0.125, 64,           \
+    "must be 0.125..64, got {}", Cache, FIXED, S(cache.feature_texels), "feature_texels", "N",                \
+    "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "        \
+    "aliasing, fewer hits)")                                                                                  \
+  X(cache_fit, "cache_fit", "--cache-fit", bool, false, 0, 0, "", Cache, NO, NONE, "", "off|on",              \
+    "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "       \
+    "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "        \
+    "and cells by half a level per halving, so the keys fit (faster, blurrier material detail); off: "        \
+    "texels follow the footprint whatever the table's size (the paper)")                                      \
+  X(cache_lobe_spread, "cache_lobe_spread", "--cache-lobe-spread", float, kDefaultCacheLobeSpread, 0, 4,      \
+    "must be 0..4, got {}", Cache, TAG("lobe"), S(cache.lobe_spread), "lobe_spread", "C",                    \
+    "after each bounce, position cells follow a cone whose spread grows by C times the angle of the "         \
+    "lobe one sample stands for (a diffuse bounce: about 2C radians), so hits after rough bounces "           \
+    "share coarser cells, whose detail that lobe averages out (uv texels keep the texture's cone; "           \
+    "0.03125: fewer misses at the same bias, but a noisier same-seed match with the cacheless render); "      \
+    "0: the texture's cone (the paper), 0..4")                                                                \
+  X(cache_max_refine, "cache_max_refine", "--cache-max-refine", int, 2, 0, 16, "must be 0..16, got {}",       \
+    Cache, FIXED, S(cache.max_refine), "max_refine", "LEVELS",                                                \
+    "how many levels finer than the footprint a pattern may make its texels (each level splits a "            \
+    "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")        \
+  X(chunk_rays, "chunk_rays", "--chunk-rays", int64_t, 65536, 0, settings_table::kNone,                       \
+    "must not be negative", Machine, NO, S(chunk_rays), "", "N",                                              \
     "rays per streamed chunk with --transfer copy (0: the whole queue)")
 // clang-format on
 

@@ -124,7 +124,8 @@ TEST(RenderSettingsTable, OutOfRangeValuesAreRefusedNamingTheSetting) {
         } catch (const ConfigError& e) {
           ASSERT_FALSE(e.settings().empty()) << e.what();
           EXPECT_EQ(e.settings()[0], info.name) << e.what();
-          EXPECT_NE(std::string(e.what()).find(info.check), std::string::npos) << e.what();
+          const std::string check = info.check, text = check.substr(0, check.find("{}"));
+          EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
         }
         ++checked;
       }
@@ -147,7 +148,8 @@ TEST(RenderSettingsTable, OutOfRangeFlagsAreRefusedByTheBinaryWithTheFlagsName) 
                                          std::string(info.flag) + "=" + value.str(),
                                      &log);
       EXPECT_EQ(code, 2) << log;
-      EXPECT_NE(log.find(std::string(info.flag) + ": " + info.check), std::string::npos) << log;
+      const std::string check = info.check, text = check.substr(0, check.find("{}"));
+      EXPECT_NE(log.find(std::string(info.flag) + ": " + text), std::string::npos) << log;
     }
   });
   EXPECT_FALSE(test::file_exists(dir + "/out.exr"));
