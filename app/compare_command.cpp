@@ -202,7 +202,7 @@ int run_compare(CompareArgs& a) {
   m["max_abs_error"] = e.max_abs;
   m["hit_rate"] = hit_rate(cs);
   m["cache_memory_bytes"] = cs.memory_bytes;
-  m["cache"] = cache_json(on_settings.cache, cs);
+  m["cache"] = cache_json(on_settings, cs);
   m["diff_scale"] = diff_scale;
   m["nan_pixels"] = {{"off", off.stats.nan_pixels}, {"on", on.stats.nan_pixels}};
   if (have_reference) {

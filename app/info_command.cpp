@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <nlohmann/json.hpp>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -9,6 +10,7 @@
 #include "core/error.h"
 #include "core/obj_loader.h"
 #include "gpu/cl_context.h"
+#include "gpu/render_config.h"
 #include "materials/material_set.h"
 
 namespace pmc {
@@ -45,22 +47,71 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m, bool ba
     std::printf("    - %s: %s\n", node_label(*g, n).c_str(), why.c_str());
 }
 
+const char* hash_name(SettingHash h) {
+  switch (h) {
+    case SettingHash::Tag:
+      return "tag";
+    case SettingHash::Fixed:
+      return "fixed";
+    case SettingHash::Program:
+      return "program";
+    case SettingHash::No:
+      break;
+  }
+  return "no";
+}
+
+// The table of gpu/render_settings_table.h as JSON (scripts/farm reads the
+// defaults from it): each setting's name, flag, type, default (as the flag
+// takes it), range ([lo, hi], null for no bound; words: their list), value
+// name, help, whether it enters the part's settings hash and how, stats key.
+nlohmann::json settings_json() {
+  nlohmann::json list = nlohmann::json::array();
+  visit_render_settings([&list](const auto& info, auto, auto) {
+    using T = std::decay_t<decltype(info.dflt)>;
+    nlohmann::json e;
+    e["name"] = info.name;
+    e["flag"] = info.flag;
+    if constexpr (kWordSetting<T>) {
+      e["type"] = "word";
+      e["words"] = shown_setting_words(info.value);
+      e["default"] = setting_words(info.value).at(size_t(frame_value<int>(info.dflt)));
+      e["range"] = nullptr;
+    } else {
+      auto bound = [](double b) { return std::isinf(b) ? nlohmann::json(nullptr) : nlohmann::json(T(b)); };
+      e["type"] = std::is_integral_v<T> ? "integer" : "number";
+      e["default"] = info.dflt;
+      e["range"] = {bound(info.lo), bound(info.hi)};
+    }
+    e["value"] = info.value;
+    e["help"] = info.help;
+    e["hashed"] = info.hash == SettingHash::Tag || info.hash == SettingHash::Fixed;
+    e["hash"] = hash_name(info.hash);
+    e["stats"] = info.stats;
+    list.push_back(e);
+  });
+  return list;
+}
+
 struct InfoArgs {
+  bool settings = false;
   bool devices = false, dump_bytecode = false, dump_cache_plan = false;
   std::string scene, material;
   std::string mtlx_library;
   std::vector<std::string> mtlx, mtlx_search_paths;
-  int cache_min_nodes = kDefaultCacheMinNodes;
-  bool cache_position_keys = true;
-  bool cache_bandwidth = false;
-  double cache_feature_texels = 2.0;
+  // pmc render's defaults (gpu/render_settings_table.h).
+  int cache_min_nodes = RenderConfig{}.cache_min_nodes;
+  bool cache_position_keys = RenderConfig{}.cache_position_keys;
+  bool cache_bandwidth = RenderConfig{}.cache_bandwidth;
+  double cache_feature_texels = RenderConfig{}.cache_feature_texels;
 };
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
-  if (!a.devices && a.scene.empty()) {
+  if (!a.devices && !a.settings && a.scene.empty()) {
     std::printf("%s", app.help().c_str());
     return 2;
   }
+  if (a.settings) std::printf("%s\n", settings_json().dump(2).c_str());
   if (a.devices) {
     std::vector<ClDeviceInfo> devices = list_cl_devices();
     ClContext chosen;
@@ -121,13 +172,19 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
 
 CommandRun add_info_command(CLI::App& pmc) {
   auto a = std::make_shared<InfoArgs>();
-  CLI::App* app = pmc.add_subcommand("info", "list OpenCL devices (--devices), summarise a scene (--scene)");
-  cli::formatter(pmc).usage(
-      app, "pmc info [--devices] [--scene SCENE.obj [--mtlx F ...] [--dump-bytecode] [--dump-cache-plan]]",
-      "Prints what pmc sees: OpenCL devices, scene contents, compiled materials.");
+  CLI::App* app = pmc.add_subcommand(
+      "info",
+      "list OpenCL devices (--devices), the render settings (--settings), summarise a scene (--scene)");
+  cli::formatter(pmc).usage(app,
+                            "pmc info [--devices] [--settings] [--scene SCENE.obj [--mtlx F ...] "
+                            "[--dump-bytecode] [--dump-cache-plan]]",
+                            "Prints what pmc sees: OpenCL devices, scene contents, compiled materials.");
   app->option_defaults()->group("options");
   app->set_help_flag("-h,--help", "print this help and exit");
   app->add_flag("--devices", a->devices, "list OpenCL platforms and devices");
+  app->add_flag("--settings", a->settings,
+                "the render settings' table as JSON: name, flag, type, default, range, help, whether the "
+                "part hash covers it");
   app->add_option("--scene", a->scene, "summarise a scene: triangles, materials, textures, bounds")
       ->type_name("SCENE.obj");
   app->add_option("--mtlx", a->mtlx, "MaterialX document to bind (repeatable)")

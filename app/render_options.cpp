@@ -1,6 +1,7 @@
 // render_options.cpp — the shared render options and the RenderConfig fields they set.
 #include "app/render_options.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -42,6 +43,36 @@ CLI::Option* vec3(CLI::App& app, const std::string& flag, const char* setting, s
   return cli::add_vec3(app, flag, std::move(set), help)->type_name(value_name);
 }
 
+// The options of the table's settings in `group` (gpu/render_settings_table.h),
+// each bound to its RenderConfig field; `after(name)` runs after each one (to
+// keep an option outside the table in its place in --help).
+void declare_table_options(CLI::App& app, RenderConfig& c, SettingGroup group,
+                           const std::function<void(const std::string&)>& after = nullptr) {
+  visit_render_settings([&](const auto& info, auto config_field, auto) {
+    if (info.group != group) return;
+    using T = std::decay_t<decltype(info.dflt)>;
+    T& value = config_field(c);
+    if constexpr (kWordSetting<T>) {
+      const std::vector<std::string> words = setting_words(info.value),
+                                     shown = shown_setting_words(info.value);
+      std::string value_name;
+      for (const std::string& w : shown) value_name += (value_name.empty() ? "" : "|") + w;
+      setter<std::string>(
+          app, info.flag, info.name,
+          [&value, words](const std::string& w) {
+            const size_t i = size_t(std::find(words.begin(), words.end(), w) - words.begin());
+            value = frame_value<T>(i);  // one_of() let only the words through
+          },
+          value_name, info.help)
+          ->check(cli::one_of(shown))
+          ->default_str(words[size_t(frame_value<int>(info.dflt))]);
+    } else {
+      field(app, info.flag, info.name, value, info.value, info.help)->capture_default_str();
+    }
+    if (after) after(info.name);
+  });
+}
+
 }  // namespace
 
 void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_flags) {
@@ -70,15 +101,7 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
       ->default_str("$PMC_TEXTURE_CACHE, else $XDG_CACHE_HOME/pmc/textures, else ~/.cache/pmc/textures");
 
   app.option_defaults()->group("image");
-  field(app, "--width", "width", c.width, "W", "image width in pixels")->capture_default_str();
-  field(app, "--height", "height", c.height, "H", "image height in pixels")->capture_default_str();
-  field(app, "--spp", "spp", c.spp, "N", "samples per pixel")->capture_default_str();
-  field(app, "--max-depth", "max_depth", c.max_depth, "D", "maximum number of surface hits per path, 1..1024")
-      ->capture_default_str();
-  field(app, "--seed", "seed", c.seed, "S",
-        "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "
-        "center, not hit)")
-      ->capture_default_str();
+  declare_table_options(app, c, SettingGroup::Image);
 
   app.option_defaults()->group("camera");
   vec3(
@@ -118,91 +141,26 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
       ->default_str("0");
 
   app.option_defaults()->group("cache");
-  if (cache_flags == CacheFlags::All)
-    setter<std::string>(
-        app, "--cache", "cache", [&c](const std::string& v) { c.cache = v == "on"; }, "on|off",
-        "progressive material cache")
-        ->check(cli::one_of({"on", "off"}))
-        ->default_str("on");
+  if (cache_flags == CacheFlags::All) declare_table_options(app, c, SettingGroup::CacheSwitch);
   if (cache_flags != CacheFlags::None) {
     setter<int64_t>(
         app, "--cache-cells", "cache_cells", [&c](const int64_t& v) { c.cache_cells = v; }, "N",
         "cache cells (with --cache-entries; a cell of 8 entries is one 64-byte line)")
         ->default_str("sized from the scene");
-    field(app, "--cache-entries", "cache_entries", c.cache_entries, "N", "entries per cache cell, 1..1024")
-        ->capture_default_str();
-    field(app, "--mip-bias", "mip_bias", c.mip_bias, "B",
-          "added to the cache's virtual mip level (higher: finer, more accurate), -32..32")
-        ->default_str("0");
-    setter<std::string>(
-        app, "--cache-eval", "cache_eval",
-        [&c](const std::string& v) { c.cache_eval = v == "hit" ? CacheEval::Hit : CacheEval::Center; },
-        "hit|center", "values stored for a texel: at the inserting hit, or at the texel centre")
-        ->check(cli::one_of({"hit", "center"}))
-        ->default_str("center");
-    setter<std::string>(
-        app, "--cache-filter", "cache_filter",
-        [&c](const std::string& v) {
-          c.cache_filter = v == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
-        },
-        "nearest|bilinear",
-        "texel a lookup reads: the one under the hit, or a neighbour picked at random with its bilinear "
-        "weight (center mode only)")
-        ->check(cli::one_of({"nearest", "bilinear"}))
-        ->default_str("bilinear with center, nearest with hit");
-    setter<std::string>(
-        app, "--cache-policy", "cache_policy",
-        [&c](const std::string& v) {
-          c.cache_policy = v == "priority" ? CachePolicy::Priority : CachePolicy::KeepFirst;
-        },
-        "keep-first|priority",
-        "when a cache cell is full: keep its first entries (the paper's rule), or let a camera-ray hit "
-        "replace an entry from a deeper bounce")
-        ->check(cli::one_of({"keep-first", "priority"}))
-        ->default_str("keep-first");
-    setter<std::string>(
-        app, "--cache-keys", "cache_keys", [&c](const std::string& v) { c.cache_position_keys = v != "uv"; },
-        "uv|uv+position",
-        "what cache points are keyed on: uv texels only (the paper), or also 3D position cells for "
-        "sub-graphs that read the position alone (noise3d, fractal3d, ...)")
-        ->check(cli::one_of({"uv", "uv+position"}))
-        ->default_str("uv+position");
-    field(app, "--cache-min-nodes", "cache_min_nodes", c.cache_min_nodes, "N",
-          "smallest sub-graph (in nodes) worth a cache point")
-        ->capture_default_str();
-    setter<std::string>(
-        app, "--cache-bandwidth", "cache_bandwidth",
-        [&c](const std::string& v) { c.cache_bandwidth = v == "on"; }, "on|off",
-        "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "
-        "lines, tile gaps, "
-        "a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the footprint where needed; "
-        "off: texels follow the footprint alone (the paper; faster: on the default scene the floors cost "
-        "most of the cache's speedup, docs/BENCHMARKS.md)")
-        ->check(cli::one_of({"on", "off"}))
-        ->default_str("off");
-    field(app, "--cache-feature-texels", "cache_feature_texels", c.cache_feature_texels, "N",
-          "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "
-          "aliasing, fewer hits)")
-        ->capture_default_str();
-    setter<std::string>(
-        app, "--cache-fit", "cache_fit", [&c](const std::string& v) { c.cache_fit = v == "on"; }, "on|off",
-        "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "
-        "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "
-        "and cells by half a level per halving, so the keys fit (faster, blurrier material detail); off: "
-        "texels follow the footprint whatever the table's size (the paper)")
-        ->check(cli::one_of({"on", "off"}))
-        ->default_str("off");
-    field(app, "--cache-lobe-spread", "cache_lobe_spread", c.cache_lobe_spread, "C",
-          "after each bounce, position cells follow a cone whose spread grows by C times the angle of the "
-          "lobe one sample stands for (a diffuse bounce: about 2C radians), so hits after rough bounces "
-          "share coarser cells, whose detail that lobe averages out (uv texels keep the texture's cone; "
-          "0.03125: fewer misses at the same bias, but a noisier same-seed match with the cacheless render); "
-          "0: the texture's cone (the paper), 0..4")
-        ->capture_default_str();
-    field(app, "--cache-max-refine", "cache_max_refine", c.cache_max_refine, "LEVELS",
-          "how many levels finer than the footprint a pattern may make its texels (each level splits a "
-          "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")
-        ->capture_default_str();
+    declare_table_options(app, c, SettingGroup::Cache, [&](const std::string& name) {
+      if (name != "cache_eval") return;
+      // Optional (unset, it follows --cache-eval): declared here, listed after --cache-eval.
+      setter<std::string>(
+          app, "--cache-filter", "cache_filter",
+          [&c](const std::string& v) {
+            c.cache_filter = v == "bilinear" ? CacheFilter::Bilinear : CacheFilter::Nearest;
+          },
+          "nearest|bilinear",
+          "texel a lookup reads: the one under the hit, or a neighbour picked at random with its bilinear "
+          "weight (center mode only)")
+          ->check(cli::one_of({"nearest", "bilinear"}))
+          ->default_str("bilinear with center, nearest with hit");
+    });
   }
 
   app.option_defaults()->group("machine");
@@ -217,9 +175,7 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
       "MODE", "Embree query style: single, stream or packet16")
       ->check(cli::one_of({"single", "stream", "packet16"}))
       ->default_str("stream");
-  field(app, "--chunk-rays", "chunk_rays", c.chunk_rays, "N",
-        "rays per streamed chunk with --transfer copy (0: the whole queue)")
-      ->capture_default_str();
+  declare_table_options(app, c, SettingGroup::Machine);
   setter<std::string>(
       app, "--transfer", "transfer", [&c](const std::string& v) { c.transfer = parse_transfer_mode(v); },
       "auto|zero-copy|copy",

@@ -2,7 +2,8 @@
 //
 // declare_render_options() adds --mtlx ... --shade-lanes to a subcommand,
 // each bound to the RenderConfig field it sets (and named for ConfigError
-// messages, app/cli.h). The config is checked by RenderConfig::validate()
+// messages, app/cli.h); the plain settings' options come from the table in
+// gpu/render_settings_table.h, the rest are declared here. The config is checked by RenderConfig::validate()
 // (gpu/render_config.h), not here: the flags only carry values.
 #pragma once
 

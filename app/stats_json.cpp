@@ -2,21 +2,38 @@
 #include "app/stats_json.h"
 
 #include "app/cli.h"
+#include "gpu/render_config.h"
 #include "gpu/render_session.h"
 
 namespace pmc {
+namespace {
 
-nlohmann::json cache_json(const CacheSettings& s, const CacheStats& st) {
+bool cache_group(SettingGroup g) { return g == SettingGroup::Cache || g == SettingGroup::CacheSwitch; }
+
+// The table's settings that have a stats key (gpu/render_settings_table.h),
+// from their RenderSettings copies: a word setting as its word, a number as
+// itself; the cache's settings (`cache`) or the others.
+void table_stats(const RenderSettings& s, bool cache, nlohmann::json& j) {
+  visit_render_settings([&](const auto& info, auto, auto frame_field) {
+    using T = std::decay_t<decltype(info.dflt)>;
+    if constexpr (!std::is_null_pointer_v<decltype(frame_field)>) {
+      if (!*info.stats || cache_group(info.group) != cache) return;
+      const auto& v = frame_field(s);
+      if constexpr (std::is_enum_v<T>)
+        j[info.stats] = setting_words(info.value).at(size_t(v));
+      else
+        j[info.stats] = v;
+    }
+  });
+}
+
+}  // namespace
+
+nlohmann::json cache_json(const RenderSettings& settings, const CacheStats& st) {
+  const CacheSettings& s = settings.cache;
   nlohmann::json c;
-  c["enabled"] = s.on;
-  c["eval"] = s.center ? "center" : "hit";
+  table_stats(settings, true, c);  // enabled, eval, policy, bandwidth, max_refine, lobe_spread, ...
   c["filter"] = s.bilinear ? "bilinear" : "nearest";
-  c["policy"] = s.priority ? "priority" : "keep-first";
-  c["bandwidth"] = s.bandwidth;
-  c["max_refine"] = s.max_refine;
-  c["lobe_spread"] = s.lobe_spread;
-  c["feature_texels"] = s.feature_texels;
-  c["mip_bias"] = s.mip_bias;
   c["fit_levels"] = s.fit_levels;
   c["cells"] = st.cells;
   c["entries"] = st.ways;
@@ -58,13 +75,9 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
   j["render_seconds"] = st.render_seconds;
   j["kernel_build_seconds"] = st.kernel_build_seconds;
   j["kernel_warmup_seconds"] = st.kernel_warmup_seconds;
-  j["width"] = s.width;
-  j["height"] = s.height;
-  j["spp"] = s.spp;
+  table_stats(s, false, j);  // width, height, spp, max_depth, seed
   j["samples"] = {s.sample_begin, s.sample_end > 0 ? s.sample_end : s.spp};
   if (s.crop[2] > 0) j["crop"] = {s.crop[0], s.crop[1], s.crop[2], s.crop[3]};
-  j["max_depth"] = s.max_depth;
-  j["seed"] = s.seed;
   j["paths"] = st.paths;
   j["rays"] = st.rays;
   j["shadow_rays"] = st.shadow_rays;
@@ -78,7 +91,7 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
   j["transfer_mode"] = st.transfer;
   j["shade_lanes"] = st.shade_lanes;
   j["device"] = st.device;
-  j["cache"] = cache_json(s.cache, st.cache);
+  j["cache"] = cache_json(s, st.cache);
   return j;
 }
 

@@ -12,12 +12,13 @@
 
 namespace pmc {
 
-// The cache's settings and counters: enabled, eval, filter, policy, mip_bias,
-// cells, entries, memory_bytes, size_reason (in flag names), each counter of
+// The cache's settings (the table's with a stats key, gpu/render_settings_table.h)
+// and counters: enabled, eval, filter, policy, mip_bias, cells, entries,
+// memory_bytes, size_reason (in flag names), each counter of
 // PMC_CACHE_COUNTERS (core/device/pmc_cache.h) under its key (lookups, hits,
 // misses, inserts, ...), hit_rate, camera_hit_rate, position_hit_rate,
 // uv_hit_rate, occupancy.
-nlohmann::json cache_json(const CacheSettings& settings, const CacheStats& stats);
+nlohmann::json cache_json(const RenderSettings& settings, const CacheStats& stats);
 // Where a session's setup went (gpu/render_session.h): opencl_device (the
 // wait for the device), scene, materials, lights, bvh, renderer, total (their
 // sum: wall seconds), and background: {opencl_device: seconds opening it

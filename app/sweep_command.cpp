@@ -11,7 +11,8 @@
 //
 // The render options of `pmc render` apply to every row; the cache options a
 // sweep varies are lists here, and each row's cache settings are set on the
-// cached session's settings. --cache-filter sets the filter of every
+// cached session's settings and checked by validate_render_settings()
+// (gpu/render_config.h), as the renderer checks them. --cache-filter sets the filter of every
 // center-mode row; --cache-min-nodes shapes the one cached program all
 // cached rows share. With --plots png the figures of sweep.csv are drawn into
 // the out-dir as well (app/sweep_plots.h).
@@ -106,6 +107,7 @@ int run_sweep(SweepArgs& a) {
     r.row.cache_eval = "off";
     r.settings = base;
     r.settings.spp = r.row.spp = spp;
+    validate_render_settings(r.settings);  // as every render's (gpu/render_config.h)
     r.label = label;
     runs.push_back(r);
   };
@@ -119,6 +121,7 @@ int run_sweep(SweepArgs& a) {
     r.settings.cache.center = m.center;
     r.settings.cache.bilinear = m.bilinear;
     r.settings.spp = spp;
+    validate_render_settings(r.settings);  // the row's edits, checked as every render's (gpu/render_config.h)
     r.cached = true;
     r.row.kind = kind;
     r.row.cache_eval = m.name();

@@ -2,11 +2,40 @@
 #include "gpu/part_identity.h"
 
 #include "core/content_hash.h"
+#include "gpu/render_config.h"
 
 namespace pmc {
 namespace {
 
 void add_floats(ContentHash& h, const float* v, size_t n) { h.bytes(v, n * sizeof(float)); }
+
+// A TAG word of gpu/render_settings_table.h as a hash word: its first 8 bytes, big-endian ("lobe":
+// 0x6c6f6265).
+uint64_t tag_word(const char* tag) {
+  uint64_t w = 0;
+  for (int i = 0; i < 8 && tag[i]; ++i) w = (w << 8) | uint8_t(tag[i]);
+  return w;
+}
+
+// The table's TAG settings of the cache (`cache`) or of the rest, in table
+// order: each one's word and value when the value is not its default, so a
+// part rendered before a setting existed (at its default) keeps its hash.
+void add_tagged_settings(ContentHash& h, const RenderSettings& s, bool cache) {
+  visit_render_settings([&](const auto& info, auto, auto frame_field) {
+    if constexpr (!std::is_null_pointer_v<decltype(frame_field)>) {
+      const bool cache_setting = info.group == SettingGroup::Cache || info.group == SettingGroup::CacheSwitch;
+      if (info.hash != SettingHash::Tag || cache_setting != cache) return;
+      using F = std::decay_t<decltype(frame_field(s))>;
+      const F v = frame_field(s);
+      if (v == frame_value<F>(info.dflt)) return;
+      h.word(tag_word(info.hash_tag));
+      if constexpr (std::is_floating_point_v<F>)
+        h.bytes(&v, sizeof(F));
+      else
+        h.word(uint64_t(v));
+    }
+  });
+}
 
 }  // namespace
 
@@ -26,6 +55,10 @@ std::string scene_hash(const RenderSession& session) {
   return h.hex();
 }
 
+// The settings that were hashed before gpu/render_settings_table.h (its
+// FIXED ones and the resolved values: camera, lights, table size, fit) keep
+// their order here, so parts rendered by earlier builds keep their hashes;
+// the table's TAG settings follow their groups.
 std::string settings_hash(const RenderSettings& s) {
   ContentHash h;
   h.word(uint64_t(s.width));
@@ -72,16 +105,14 @@ std::string settings_hash(const RenderSettings& s) {
       h.word(0x666974ull);                          // "fit"
       add_floats(h, &c.fit_levels, 1);
     }
-    if (c.lobe_spread != 0.0f) {  // wider cells after rough bounces change the image
-      h.word(0x6c6f6265ull);      // "lobe"
-      add_floats(h, &c.lobe_spread, 1);
-    }
+    add_tagged_settings(h, s, true);  // cache_lobe_spread ("lobe") ...
     if (c.bandwidth) {                // level floors change the image
       h.word(0x62616e6477696474ull);  // "bandwidt(h)"
       h.word(uint64_t(c.max_refine));
       add_floats(h, &c.feature_texels, 1);
     }
   }
+  add_tagged_settings(h, s, false);
   return h.hex();
 }
 

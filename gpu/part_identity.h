@@ -7,7 +7,9 @@
 // covers every resolved setting that changes the image (size, frame spp,
 // depth, seed, camera, lights, environment, the cache's mode and table).
 // It leaves out what only changes speed (threads, device, trace mode,
-// transfers, shade lanes) and the part's own sample range and window.
+// transfers, shade lanes) and the part's own sample range and window. Which
+// of the plain settings it covers, and how, is the `hash` column of
+// gpu/render_settings_table.h.
 #pragma once
 
 #include <string>

@@ -15,7 +15,57 @@ void check_finite(const std::optional<Vec3>& v, const char* name) {
   if (v && !finite3(*v)) fail_config(setting(name), ": must be three finite numbers");
 }
 
+// A number of the table (`v`: the setting or its RenderSettings copy) in its range.
+template <typename T, typename V>
+void check_range(const SettingInfo<T>& info, const V& v) {
+  if (*info.check && !(double(v) >= info.lo && double(v) <= info.hi)) {
+    const std::string check = info.check;
+    const size_t at = check.find("{}");
+    if (at == std::string::npos) fail_config(setting(info.name), ": ", check);
+    fail_config(setting(info.name), ": ", check.substr(0, at), v, check.substr(at + 2));
+  }
+}
+
+// A table setting's own check (gpu/render_settings_table.h): a number in its
+// range, an enum one of its words.
+template <typename T>
+void check_setting(const SettingInfo<T>& info, const T& v) {
+  if constexpr (std::is_enum_v<T>) {
+    const std::vector<std::string> words = setting_words(info.value);
+    const auto i = static_cast<std::underlying_type_t<T>>(v);
+    if (i < 0 || size_t(i) >= words.size()) {
+      std::string list;
+      for (size_t w = 0; w < words.size(); ++w)
+        list += (w == 0 ? "" : w + 1 == words.size() ? " or " : ", ") + words[w];
+      fail_config(setting(info.name), ": must be ", list, ", got value ", int(i));
+    }
+  } else if constexpr (!std::is_same_v<T, bool>) {
+    check_range(info, v);
+  }
+}
+
 }  // namespace
+
+std::vector<std::string> setting_words(const char* value) {
+  std::vector<std::string> words;
+  std::string w;
+  for (const char* p = value;; ++p) {
+    if (*p == '|' || *p == '\0') {
+      words.push_back(w);
+      w.clear();
+      if (*p == '\0') break;
+    } else {
+      w += *p;
+    }
+  }
+  return words;
+}
+
+std::vector<std::string> shown_setting_words(const char* value) {
+  std::vector<std::string> words = setting_words(value);
+  if (words == std::vector<std::string>{"off", "on"}) std::swap(words[0], words[1]);
+  return words;
+}
 
 CacheFilter RenderConfig::effective_cache_filter() const {
   if (cache_filter) return *cache_filter;
@@ -30,7 +80,9 @@ void RenderConfig::validate() const {
   if (size_t(width) * size_t(height) > (size_t(1) << 28))
     fail_config(setting("width"), "/", setting("height"), ": image too large (", width, "x", height,
                 " pixels; at most 2^28)");
-  if (spp <= 0) fail_config(setting("spp"), ": samples per pixel must be at least 1, got ", spp);
+  // Each table setting in its range (gpu/render_settings_table.h).
+  visit_render_settings(
+      [this](const auto& info, auto config_field, auto) { check_setting(info, config_field(*this)); });
   if (samples && !((*samples)[0] >= 0 && (*samples)[0] < (*samples)[1] && (*samples)[1] <= spp))
     fail_config(setting("samples"), ": the range A:B must satisfy 0 <= A < B <= ", setting("spp"), " (", spp,
                 "), got ", (*samples)[0], ":", (*samples)[1]);
@@ -41,9 +93,6 @@ void RenderConfig::validate() const {
                   " (", width, ") and 0 <= y0 < y1 <= ", setting("height"), " (", height, "), got ", w[0],
                   ",", w[1], ",", w[2], ",", w[3]);
   }
-  if (max_depth <= 0 || max_depth > 1024)
-    fail_config(setting("max_depth"), ": must be in 1..1024, got ", max_depth);
-  if (seed < 0 || seed > 0xffffffffLL) fail_config(setting("seed"), ": must be in 0..4294967295, got ", seed);
   if (!finite3(env)) fail_config(setting("env"), ": radiance must be finite");
   for (float v : env)
     if (v < 0.0f) fail_config(setting("env"), ": radiance must not be negative");
@@ -53,7 +102,6 @@ void RenderConfig::validate() const {
     fail_config(setting("env_scale"), ": must be a finite number >= 0, got ", *env_scale);
   if (env_rotate && !std::isfinite(*env_rotate))
     fail_config(setting("env_rotate"), ": must be a finite angle in degrees, got ", *env_rotate);
-  if (chunk_rays < 0) fail_config(setting("chunk_rays"), ": must not be negative");
   if (shade_lanes < 0 || shade_lanes > 64 || (shade_lanes & (shade_lanes - 1)) != 0)
     fail_config(setting("shade_lanes"), ": must be 0 (automatic) or a power of two up to 64, got ",
                 shade_lanes);
@@ -67,59 +115,61 @@ void RenderConfig::validate() const {
   check_finite(camera_at, "camera_at");
   check_finite(camera_up, "camera_up");
 
-  if (cache_min_nodes < 1) fail_config(setting("cache_min_nodes"), ": must be at least 1");
-  if (!(cache_feature_texels >= 0.125 && cache_feature_texels <= 64))
-    fail_config(setting("cache_feature_texels"), ": must be 0.125..64, got ", cache_feature_texels);
-  if (cache_max_refine < 0 || cache_max_refine > 16)
-    fail_config(setting("cache_max_refine"), ": must be 0..16, got ", cache_max_refine);
-  if (!(cache_lobe_spread >= 0.0f && cache_lobe_spread <= 4.0f))
-    fail_config(setting("cache_lobe_spread"), ": must be 0..4, got ", cache_lobe_spread);
   if (!material.empty() && mtlx.empty())
     fail_config(setting("material"), " needs at least one ", setting("mtlx"), " document");
-  if (!(std::fabs(mip_bias) <= 32.0f))
-    fail_config(setting("mip_bias"), ": must be within -32..32, got ", mip_bias);
   if (cache_filter == CacheFilter::Bilinear && cache_eval != CacheEval::Center)
     fail_config(setting("cache_filter"), " bilinear needs ", setting("cache_eval"),
                 " center (a hit-mode texel holds the value at one sample's uv, not at its centre, so "
                 "there is nothing to interpolate)");
-  if (cache_policy != CachePolicy::KeepFirst && cache_policy != CachePolicy::Priority)
-    fail_config(setting("cache_policy"), ": must be keep-first or priority, got value ", int(cache_policy));
   // Checked even when this scene will not use the cache: a bad value is bad input either way.
   if (cache_cells && *cache_cells <= 0)
     fail_config(setting("cache_cells"), ": must be at least 1, got ", *cache_cells);
-  if (cache_entries <= 0 || cache_entries > 1024)
-    fail_config(setting("cache_entries"), ": must be in 1..1024, got ", cache_entries);
   if (cache_cells)
     if (std::string problem = table_memory_problem(uint64_t(*cache_cells), uint64_t(cache_entries));
         !problem.empty())
       fail_config(setting("cache_cells"), "/", setting("cache_entries"), ": ", problem);
 }
 
+void validate_render_settings(const RenderSettings& s) {
+  if (s.width <= 0 || s.height <= 0)
+    fail_config(setting("width"), "/", setting("height"), ": the image size must be positive, got ", s.width,
+                "x", s.height);
+  // Each table setting's RenderSettings copy in the setting's range.
+  visit_render_settings([&s](const auto& info, auto, auto frame_field) {
+    using T = std::decay_t<decltype(info.dflt)>;
+    if constexpr (!std::is_null_pointer_v<decltype(frame_field)> && !kWordSetting<T>)
+      check_range(info, frame_field(s));
+  });
+  const int first_sample = s.sample_begin, end_sample = s.sample_end > 0 ? s.sample_end : s.spp;
+  if (first_sample < 0 || first_sample >= end_sample || end_sample > s.spp)
+    fail_config(setting("samples"), ": the sample range must lie within 0..", setting("spp"),
+                " and hold at least one sample, got ", first_sample, ":", end_sample);
+  if (s.crop[2] > 0 && !(s.crop[0] >= 0 && s.crop[1] >= 0 && s.crop[0] < s.crop[2] && s.crop[1] < s.crop[3] &&
+                         s.crop[2] <= s.width && s.crop[3] <= s.height))
+    fail_config(setting("crop"), ": the window must lie within the image and hold at least one pixel");
+  if (s.cache.on && (s.cache.cells == 0 || s.cache.ways == 0))
+    fail_config(setting("cache_cells"), "/", setting("cache_entries"),
+                ": the table needs at least one cell and one entry");
+}
+
 RenderSettings base_render_settings(const RenderConfig& c) {
   RenderSettings s;
-  s.width = c.width;
-  s.height = c.height;
-  s.spp = c.spp;
+  // The table's settings that are straight copies (gpu/render_settings_table.h's `frame`).
+  visit_render_settings([&](const auto&, auto config_field, auto frame_field) {
+    if constexpr (!std::is_null_pointer_v<decltype(frame_field)>) {
+      auto& to = frame_field(s);
+      to = frame_value<std::decay_t<decltype(to)>>(config_field(c));
+    }
+  });
   if (c.samples) {
     s.sample_begin = (*c.samples)[0];
     s.sample_end = (*c.samples)[1];
   }
   if (c.crop)
     for (int i = 0; i < 4; ++i) s.crop[i] = (*c.crop)[size_t(i)];
-  s.max_depth = c.max_depth;
-  s.seed = uint32_t(c.seed);
   for (int i = 0; i < 3; ++i) s.env[i] = c.env[size_t(i)];
-  s.chunk_rays = size_t(c.chunk_rays);
   s.transfer = c.transfer;
-  s.cache.on = c.cache;
-  s.cache.mip_bias = c.mip_bias;
-  s.cache.center = c.cache_eval == CacheEval::Center;
   s.cache.bilinear = c.effective_cache_filter() == CacheFilter::Bilinear;
-  s.cache.priority = c.cache_policy == CachePolicy::Priority;
-  s.cache.bandwidth = c.cache_bandwidth;
-  s.cache.max_refine = c.cache_max_refine;
-  s.cache.lobe_spread = c.cache_lobe_spread;
-  s.cache.feature_texels = float(c.cache_feature_texels);
   s.cache.audit = c.cache_audit;
   return s;
 }

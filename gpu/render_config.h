@@ -23,31 +23,13 @@
 #include <vector>
 
 #include "core/embree_tracer.h"
+#include "gpu/render_settings_table.h"
 #include "gpu/wavefront_renderer.h"
 #include "materials/cache_plan.h"
 
 namespace pmc {
 
-// --cache-lobe-spread's default: how much position cells widen per bounce, C
-// of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
-// renders the solid room 3-7% faster at the same bias, but its paths part from
-// the cacheless render's more often, so same-seed comparisons at low sample
-// counts (scripts/ci-compare) lose up to 8 dB (docs/BENCHMARKS.md, "Coarser
-// cells after rough bounces").
-constexpr float kDefaultCacheLobeSpread = 0.0f;
-
 using Vec3 = std::array<float, 3>;
-
-// What a cache miss stores for a texel: the value at the inserting hit, or
-// at the texel's centre (then the image does not depend on the table).
-enum class CacheEval { Hit, Center };
-// The texel a lookup reads: the one under the hit, or a neighbour picked at
-// random with its bilinear weight (center mode only).
-enum class CacheFilter { Nearest, Bilinear };
-// When a cell is full: keep the first entries (the paper's rule), or let an
-// insert from a camera-ray hit replace an entry from a deeper bounce
-// (core/device/pmc_cache.h).
-enum class CachePolicy { KeepFirst, Priority };
 
 struct RenderConfig {
   // The scene and its materials.
@@ -60,16 +42,19 @@ struct RenderConfig {
   // or "" for $PMC_TEXTURE_CACHE, else the user's cache folder.
   std::string texture_cache;
 
-  // The image.
-  int width = 640, height = 360;  // pixels
-  int spp = 16;                   // samples per pixel
+  // The plain settings, each with its default, flag, range and help
+  // (gpu/render_settings_table.h): width, height, spp, max_depth, seed, the
+  // cache's switch, entries, mip bias, eval mode, policy, keys, min nodes,
+  // bandwidth, feature texels, fit, lobe spread and max refine, chunk_rays.
+#define PMC_CONFIG_FIELD(field, name, flag, type, dflt, ...) type field = dflt;
+  PMC_RENDER_SETTINGS(PMC_CONFIG_FIELD)
+#undef PMC_CONFIG_FIELD
+
   // Part of the frame (a farm chunk; `pmc merge` adds parts up): the sample
   // indices [first, second) of the frame's spp, and the window x0, y0, x1, y1
   // (pixels [x0, x1) x [y0, y1)). Unset: all samples, the whole frame.
   std::optional<std::array<int, 2>> samples;
   std::optional<std::array<int, 4>> crop;
-  int max_depth = 8;  // surface hits per path, 1..1024
-  int64_t seed = 0;   // 0..2^32-1; equal seeds give identical images (cache: center mode)
   Vec3 env = {0.0f, 0.0f,
               0.0f};  // constant environment radiance; when not black it replaces the lights file's
 
@@ -88,23 +73,10 @@ struct RenderConfig {
   std::optional<Vec3> camera_from, camera_at, camera_up;  // up: 0,1,0 when not given
   std::optional<float> fov;                               // vertical, degrees, (0, 180); 45 when not given
 
-  // The progressive material cache.
-  bool cache = true;
-  std::optional<int64_t> cache_cells;  // cells; unset: sized from the scene
-  int64_t cache_entries = 8;           // entries per cell, 1..1024
-  float mip_bias = 0.0f;               // added to the virtual mip level (higher: finer), -32..32
-  CacheEval cache_eval = CacheEval::Center;
+  // The progressive material cache (its plain settings are in the table).
+  std::optional<int64_t> cache_cells;       // cells; unset: sized from the scene
   std::optional<CacheFilter> cache_filter;  // unset: bilinear with center, nearest with hit
-  CachePolicy cache_policy = CachePolicy::KeepFirst;
-  int cache_min_nodes = kDefaultCacheMinNodes;  // smallest sub-graph worth a cache point
-  bool cache_position_keys = true;              // --cache-keys uv+position (false: uv)
-  bool cache_bandwidth = false;                 // --cache-bandwidth on: level floors from the patterns
-  double cache_feature_texels = 2.0;            // --cache-feature-texels: texels across the smallest feature
-  int cache_max_refine = 2;                     // --cache-max-refine: levels of refinement before bypass
-  // --cache-lobe-spread: position cells' widening per bounce (pmc_lobe_spread)
-  float cache_lobe_spread = kDefaultCacheLobeSpread;
-  bool cache_fit = false;    // --cache-fit on: coarser texels for a table too small
-  bool cache_audit = false;  // count occupied entries by reading the table (tests)
+  bool cache_audit = false;                 // count occupied entries by reading the table (tests)
 
   // The machine.
   std::string device;          // OpenCL device or platform name substring ("": first GPU, else CPU)
@@ -112,7 +84,6 @@ struct RenderConfig {
   // stream: rtcIntersect1M over the queue; on Sponza 5-10% less render time
   // than single (docs/BENCHMARKS.md, Tracing), images identical.
   TraceMode trace_mode = TraceMode::Stream;
-  int64_t chunk_rays = 65536;                  // copy transfers: rays per streamed chunk (0: the whole queue)
   TransferMode transfer = TransferMode::Auto;  // how hits reach the device (gpu/host_link.h)
   int shade_lanes = 0;  // hits per shade work-item: 1, 2, 4 ... 64 (0: 64 on CPU devices, fewer for large
                         // material stacks; 1 on GPUs)
@@ -124,6 +95,13 @@ struct RenderConfig {
   void validate() const;
   CacheFilter effective_cache_filter() const;
 };
+
+// Throws ConfigError when `settings`, made or edited without a RenderConfig
+// (`pmc sweep`'s rows, tests) or resolved from one, cannot be rendered: the
+// table's settings out of their ranges (gpu/render_settings_table.h), an
+// empty image, sample range, window or cache table. The renderer checks
+// every render with it.
+void validate_render_settings(const RenderSettings& settings);
 
 // The renderer's settings for `config` (validated) that need no scene: image,
 // samples, seed, environment, chunking and the cache's mode (not its size).

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "gpu/cache_trace.h"
 #include "gpu/material_sort.h"
+#include "gpu/render_config.h"
 #include "gpu/scene_buffers.h"
 #include "gpu/stage_timer.h"
 #include "gpu/wave_buffers.h"
@@ -261,11 +262,8 @@ WavefrontRenderer::~WavefrontRenderer() = default;
 
 RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn& progress) {
   Impl& m = *impl_;
-  if (s.width <= 0 || s.height <= 0 || s.spp <= 0 || s.max_depth <= 0)
-    fail("render settings: width, height, spp and max depth must be positive");
+  validate_render_settings(s);  // gpu/render_config.h: the table's ranges, the samples, window and table
   const CacheSettings& cs = s.cache;
-  if (cs.on && (cs.cells == 0 || cs.ways == 0))
-    fail("cache: the table needs at least one cell and one entry");
   using Clock = std::chrono::steady_clock;
   const auto t_start = Clock::now();
 
@@ -274,13 +272,9 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   st.device = m.cl.description();
   st.kernel_build_seconds = m.kernels.build_seconds();
   const int first_sample = s.sample_begin, end_sample = s.sample_end > 0 ? s.sample_end : s.spp;
-  if (first_sample < 0 || first_sample >= end_sample || end_sample > s.spp)
-    fail("render settings: the sample range must lie within 0..spp and hold at least one sample");
   const bool cropped = s.crop[2] > 0;
   const int x0 = cropped ? s.crop[0] : 0, y0 = cropped ? s.crop[1] : 0;
   const int x1 = cropped ? s.crop[2] : s.width, y1 = cropped ? s.crop[3] : s.height;
-  if (x0 < 0 || y0 < 0 || x0 >= x1 || y0 >= y1 || x1 > s.width || y1 > s.height)
-    fail("render settings: the crop window must lie within the image and hold at least one pixel");
   const size_t pixels = size_t(x1 - x0) * size_t(y1 - y0);  // of the window
   const size_t wave_paths = std::min(pixels, std::max<size_t>(1, s.max_wave_paths));
   const size_t table_words = cs.on ? size_t(cs.cells) * cs.ways : 0;

@@ -27,8 +27,6 @@ import uuid
 from farm import chunk as chunk_module
 from farm.split import make_chunks
 
-# pmc render's defaults for the settings that decide the split (README, `pmc render --help`).
-PMC_DEFAULTS = {"--spp": 16, "--width": 640, "--height": 360}
 # Flags the farm sets itself on every chunk.
 RESERVED = ("-o", "--samples", "--crop", "--stats", "--hitmap", "--quiet")
 
@@ -73,9 +71,19 @@ def default_pmc():
     return os.path.normpath(os.path.join(here, "..", "..", "build", "pmc"))
 
 
-def render_setting(args, flag):
+def pmc_defaults(pmc):
+    """pmc render's defaults by flag ({"--spp": 16, ...}), as `pmc info --settings` lists them."""
+    try:
+        listed = subprocess.run([pmc, "info", "--settings"], capture_output=True, text=True, check=True,
+                                timeout=60).stdout
+        return {s["flag"]: s["default"] for s in json.loads(listed)}
+    except (OSError, subprocess.SubprocessError, ValueError, KeyError, TypeError) as e:
+        raise FarmError(f"--pmc: '{pmc}' did not list its settings ('pmc info --settings': {e})")
+
+
+def render_setting(args, flag, defaults):
     """The value of `flag` among pmc render arguments (last one wins), else pmc's default."""
-    value = PMC_DEFAULTS[flag]
+    value = defaults[flag]
     for i, a in enumerate(args):
         if a == flag and i + 1 < len(args):
             value = args[i + 1]
@@ -162,9 +170,10 @@ def run_farm(o):
     check_options(o)
     o.scene = os.path.abspath(o.scene)
     output = os.path.abspath(o.output)
-    spp = render_setting(o.render_args, "--spp")
-    width = render_setting(o.render_args, "--width")
-    height = render_setting(o.render_args, "--height")
+    defaults = pmc_defaults(o.pmc)
+    spp = render_setting(o.render_args, "--spp", defaults)
+    width = render_setting(o.render_args, "--width", defaults)
+    height = render_setting(o.render_args, "--height", defaults)
     try:
         chunks = make_chunks(o.split, o.chunks, spp, width, height)
     except ValueError as e:

@@ -56,9 +56,17 @@ class CommandLine(unittest.TestCase):
     def test_render_options_pass_through_and_decide_the_split(self):
         o = cli.parse(["s.obj", "-o", "x.exr", "--chunks", "3", "--spp", "12", "--width=64", "--cache", "off"])
         self.assertEqual(o.render_args, ["--spp", "12", "--width=64", "--cache", "off"])
-        self.assertEqual(run.render_setting(o.render_args, "--spp"), 12)
-        self.assertEqual(run.render_setting(o.render_args, "--width"), 64)
-        self.assertEqual(run.render_setting(o.render_args, "--height"), 360)  # pmc's default
+        defaults = run.pmc_defaults(run.default_pmc())  # `pmc info --settings`
+        self.assertEqual(run.render_setting(o.render_args, "--spp", defaults), 12)
+        self.assertEqual(run.render_setting(o.render_args, "--width", defaults), 64)
+        self.assertEqual(run.render_setting(o.render_args, "--height", defaults), 360)  # pmc's default
+
+    def test_the_defaults_come_from_pmc(self):
+        defaults = run.pmc_defaults(run.default_pmc())
+        self.assertEqual((defaults["--spp"], defaults["--width"], defaults["--height"]), (16, 640, 360))
+        with tempfile.TemporaryDirectory() as d:
+            with self.assertRaisesRegex(run.FarmError, "did not list its settings"):
+                run.pmc_defaults(os.path.join(d, "nopmc"))
 
     def test_bad_input_is_refused_with_exit_code_2_before_any_cluster_starts(self):
         scene = os.path.join(ROOT, "data", "default", "room.obj")

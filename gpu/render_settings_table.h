@@ -1,0 +1,227 @@
+// render_settings_table.h — the plain render settings, declared once.
+//
+// Each line of PMC_RENDER_SETTINGS is one setting of RenderConfig
+// (gpu/render_config.h), and everything about it that is the same for every
+// setting comes from that line:
+//   * the RenderConfig field and its default (render_config.h expands it);
+//   * its flag, value name, help and default in `--help` (app/render_options.cpp);
+//   * the range validate() checks, with the error text (gpu/render_config.cpp),
+//     and the same range on its RenderSettings copy (validate_render_settings,
+//     which the renderer and `pmc sweep`'s rows run);
+//   * its copy into RenderSettings (base_render_settings) where it is a straight
+//     one (make_frame's copies into the kernel's PmcFrame are written out in
+//     gpu/wavefront_renderer.cpp: they convert, mask and combine);
+//   * its key in `pmc render --stats` (app/stats_json.cpp);
+//   * whether it enters the part's settings hash (gpu/part_identity.cpp);
+//   * `pmc info --settings` (app/info_command.cpp), which scripts/farm reads.
+//
+// The columns of X(field, name, flag, type, dflt, lo, hi, check, group, hash, frame, stats, value, help):
+//   field  the RenderConfig member.
+//   name   its name in ConfigError messages (app/ shows it as `flag`).
+//   flag   its command-line option.
+//   type   int, int64_t, float, double: a number; bool or an enum: a word
+//          setting, whose `value` lists its words in value order (false|true,
+//          the enum's 0|1|...). On/off switches list "off|on" (shown "on|off").
+//   dflt   the default.
+//   lo hi  numbers: the valid range, inclusive (kNone: no bound; NaN is out).
+//   check  numbers: the error after "NAME: " when out of range, "{}" standing
+//          for the value ("" when validate() checks the setting with others).
+//   group  where --help lists it, and which subcommands take it:
+//          Image, CacheSwitch (--cache: `pmc render` only), Cache (not sweep,
+//          which takes lists), Machine.
+//   hash   how it enters the part EXR's settings hash (gpu/part_identity.h):
+//          TAG("word"): by the table, the word and the value whenever the
+//            value differs from the default (Cache settings: with the cache
+//            on), so parts rendered before the setting existed keep their
+//            hash; a new setting that changes the image takes this;
+//          FIXED: in part_identity.cpp's fixed sequence (the settings hashed
+//            before this table, in their historical order, so old parts keep
+//            their hashes);
+//          PROGRAM: it changes the compiled materials, so the scene hash
+//            (the program's code) covers it;
+//          NO: it changes speed, not the image (or, like cache_fit, only
+//            through a resolved value that is hashed: fit_levels).
+//          tests/gpu/render_settings_table_test.cpp checks that changing any
+//          TAG or FIXED setting changes the hash and that NO ones do not.
+//   frame  S(member) of RenderSettings it is copied to (converted: an enum to
+//          its index), or NONE when the session uses it (a table size, the
+//          compiler's options).
+//   stats  its key in the stats JSON, written from the RenderSettings member
+//          (`frame`) ("" for none; cache settings go in the "cache" object).
+//   value  the value's name in --help, or the words of a word setting.
+//   help   the --help text (the default is appended).
+//
+// Not in the table (each has a reason a line cannot say): the scene and
+// material files and search paths (strings, repeatable), the camera, the
+// lights and environment (three numbers, optional values, combinations),
+// --samples and --crop (ranges checked against spp and the image), the
+// optional settings whose default is "decided later" (--cache-cells,
+// --cache-filter, --threads, --fov, --env-scale, --env-rotate),
+// --shade-lanes (a power of two, its default depends on the device),
+// --trace-mode and --transfer (parsed by their own layers), and cache_audit
+// (tests only, no flag).
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+#include "materials/cache_plan.h"
+
+namespace pmc {
+
+// What a cache miss stores for a texel: the value at the inserting hit, or
+// at the texel's centre (then the image does not depend on the table).
+enum class CacheEval { Hit, Center };
+// The texel a lookup reads: the one under the hit, or a neighbour picked at
+// random with its bilinear weight (center mode only).
+enum class CacheFilter { Nearest, Bilinear };
+// When a cell is full: keep the first entries (the paper's rule), or let an
+// insert from a camera-ray hit replace an entry from a deeper bounce
+// (core/device/pmc_cache.h).
+enum class CachePolicy { KeepFirst, Priority };
+
+// --cache-lobe-spread's default: how much position cells widen per bounce, C
+// of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
+// renders the solid room 3-7% faster at the same bias, but its paths part from
+// the cacheless render's more often, so same-seed comparisons at low sample
+// counts (scripts/ci-compare) lose up to 8 dB (docs/BENCHMARKS.md, "Coarser
+// cells after rough bounces").
+constexpr float kDefaultCacheLobeSpread = 0.0f;
+
+namespace settings_table {
+constexpr double kNone = std::numeric_limits<double>::infinity();
+}  // namespace settings_table
+
+// clang-format off
+#define PMC_RENDER_SETTINGS(X)                                                                                \
+  X(width, "width", "--width", int, 640, 1, settings_table::kNone, "", Image, FIXED, S(width), "width", "W",  \
+    "image width in pixels")                                                                                  \
+  X(height, "height", "--height", int, 360, 1, settings_table::kNone, "", Image, FIXED, S(height), "height",  \
+    "H", "image height in pixels")                                                                            \
+  X(spp, "spp", "--spp", int, 16, 1, settings_table::kNone, "samples per pixel must be at least 1, got {}",   \
+    Image, FIXED, S(spp), "spp", "N", "samples per pixel")                                                    \
+  X(max_depth, "max_depth", "--max-depth", int, 8, 1, 1024, "must be in 1..1024, got {}", Image, FIXED,       \
+    S(max_depth), "max_depth", "D", "maximum number of surface hits per path, 1..1024")                       \
+  X(seed, "seed", "--seed", int64_t, 0, 0, 4294967295.0, "must be in 0..4294967295, got {}", Image, FIXED,    \
+    S(seed), "seed", "S",                                                                                     \
+    "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "         \
+    "center, not hit)")                                                                                       \
+  X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",    \
+    "progressive material cache")                                                                             \
+  X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024, got {}",     \
+    Cache, FIXED, NONE, "", "N", "entries per cache cell, 1..1024")                                           \
+  X(mip_bias, "mip_bias", "--mip-bias", float, 0.0f, -32, 32, "must be within -32..32, got {}", Cache,        \
+    FIXED, S(cache.mip_bias), "mip_bias", "B",                                                                \
+    "added to the cache's virtual mip level (higher: finer, more accurate), -32..32")                         \
+  X(cache_eval, "cache_eval", "--cache-eval", CacheEval, CacheEval::Center, 0, 0, "", Cache, FIXED,           \
+    S(cache.center), "eval", "hit|center",                                                                    \
+    "values stored for a texel: at the inserting hit, or at the texel centre")                                \
+  X(cache_policy, "cache_policy", "--cache-policy", CachePolicy, CachePolicy::KeepFirst, 0, 0, "", Cache,     \
+    FIXED, S(cache.priority), "policy", "keep-first|priority",                                                \
+    "when a cache cell is full: keep its first entries (the paper's rule), or let a camera-ray hit "          \
+    "replace an entry from a deeper bounce")                                                                  \
+  X(cache_position_keys, "cache_keys", "--cache-keys", bool, true, 0, 0, "", Cache, PROGRAM, NONE, "",        \
+    "uv|uv+position",                                                                                         \
+    "what cache points are keyed on: uv texels only (the paper), or also 3D position cells for "              \
+    "sub-graphs that read the position alone (noise3d, fractal3d, ...)")                                      \
+  X(cache_min_nodes, "cache_min_nodes", "--cache-min-nodes", int, kDefaultCacheMinNodes, 1,                   \
+    settings_table::kNone, "must be at least 1", Cache, PROGRAM, NONE, "", "N",                               \
+    "smallest sub-graph (in nodes) worth a cache point")                                                      \
+  X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", bool, false, 0, 0, "", Cache, FIXED,             \
+    S(cache.bandwidth), "bandwidth", "off|on",                                                                \
+    "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "         \
+    "lines, tile gaps, a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the "           \
+    "footprint where needed; off: texels follow the footprint alone (the paper; faster: on the default "      \
+    "scene the floors cost most of the cache's speedup, docs/BENCHMARKS.md)")                                 \
+  X(cache_feature_texels, "cache_feature_texels", "--cache-feature-texels", double, 2.0, 0.125, 64,           \
+    "must be 0.125..64, got {}", Cache, FIXED, S(cache.feature_texels), "feature_texels", "N",                \
+    "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "        \
+    "aliasing, fewer hits)")                                                                                  \
+  X(cache_fit, "cache_fit", "--cache-fit", bool, false, 0, 0, "", Cache, NO, NONE, "", "off|on",              \
+    "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "       \
+    "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "        \
+    "and cells by half a level per halving, so the keys fit (faster, blurrier material detail); off: "        \
+    "texels follow the footprint whatever the table's size (the paper)")                                      \
+  X(cache_lobe_spread, "cache_lobe_spread", "--cache-lobe-spread", float, kDefaultCacheLobeSpread, 0, 4,      \
+    "must be 0..4, got {}", Cache, TAG("lobe"), S(cache.lobe_spread), "lobe_spread", "C",                    \
+    "after each bounce, position cells follow a cone whose spread grows by C times the angle of the "         \
+    "lobe one sample stands for (a diffuse bounce: about 2C radians), so hits after rough bounces "           \
+    "share coarser cells, whose detail that lobe averages out (uv texels keep the texture's cone; "           \
+    "0.03125: fewer misses at the same bias, but a noisier same-seed match with the cacheless render); "      \
+    "0: the texture's cone (the paper), 0..4")                                                                \
+  X(cache_max_refine, "cache_max_refine", "--cache-max-refine", int, 2, 0, 16, "must be 0..16, got {}",       \
+    Cache, FIXED, S(cache.max_refine), "max_refine", "LEVELS",                                                \
+    "how many levels finer than the footprint a pattern may make its texels (each level splits a "            \
+    "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")        \
+  X(chunk_rays, "chunk_rays", "--chunk-rays", int64_t, 65536, 0, settings_table::kNone,                       \
+    "must not be negative", Machine, NO, S(chunk_rays), "", "N",                                              \
+    "rays per streamed chunk with --transfer copy (0: the whole queue)")
+// clang-format on
+
+// ---- the table's expansions --------------------------------------------------
+
+enum class SettingGroup { Image, CacheSwitch, Cache, Machine };
+enum class SettingHash { Tag, Fixed, Program, No };
+
+// One line of the table, as values (`field`, `type` and `frame` become the
+// accessors visit_render_settings passes beside it).
+template <typename T>
+struct SettingInfo {
+  const char* name;
+  const char* flag;
+  T dflt;
+  double lo, hi;
+  const char* check;
+  SettingGroup group;
+  SettingHash hash;
+  const char* hash_tag;  // TAG's word, else nullptr
+  const char* stats;
+  const char* value;
+  const char* help;
+};
+
+// bool and enum settings take words; numbers take numbers.
+template <typename T>
+constexpr bool kWordSetting = std::is_same_v<T, bool> || std::is_enum_v<T>;
+
+#define PMC_SETTING_HASH_TAG(word) SettingHash::Tag, word
+#define PMC_SETTING_HASH_FIXED SettingHash::Fixed, nullptr
+#define PMC_SETTING_HASH_PROGRAM SettingHash::Program, nullptr
+#define PMC_SETTING_HASH_NO SettingHash::No, nullptr
+#define PMC_SETTING_FRAME_S(member) \
+  [](auto& s) -> auto& { return s.member; }
+#define PMC_SETTING_FRAME_NONE nullptr
+
+// Calls visit(info, config_field, frame_field) for each line of the table, in
+// order: config_field(config) is the RenderConfig field (a reference),
+// frame_field(settings) the RenderSettings member, or frame_field is nullptr.
+template <typename Visit>
+void visit_render_settings(Visit&& visit) {
+#define PMC_VISIT_SETTING(field, name, flag, type, dflt, lo, hi, check, group, hash, frame, stats, value, \
+                          help)                                                                           \
+  visit(                                                                                                  \
+      SettingInfo<type>{name, flag, dflt, double(lo), double(hi), check, SettingGroup::group,             \
+                        PMC_SETTING_HASH_##hash, stats, value, help},                                     \
+      [](auto& c) -> auto& { return c.field; }, PMC_SETTING_FRAME_##frame);
+  PMC_RENDER_SETTINGS(PMC_VISIT_SETTING)
+#undef PMC_VISIT_SETTING
+}
+
+// A setting's value as its RenderSettings member holds it (an enum: its index).
+template <typename To, typename From>
+To frame_value(const From& v) {
+  if constexpr (std::is_enum_v<From>)
+    return To(static_cast<std::underlying_type_t<From>>(v));
+  else
+    return To(v);
+}
+
+// The words of a word setting, in value order ("hit|center" -> hit, center).
+std::vector<std::string> setting_words(const char* value);
+// The same words as --help and error messages list them (on before off).
+std::vector<std::string> shown_setting_words(const char* value);
+
+}  // namespace pmc
