@@ -17,7 +17,7 @@ TEST(CacheCounters, EachCounterIsAFieldAndAStatsKey) {
   CacheStats st;
   uint64_t v = 1000;
   for (const CacheCounter& k : kCacheCounters) st.*k.field = v++;
-  const nlohmann::json c = cache_json(CacheSettings{}, st);
+  const nlohmann::json c = cache_json(RenderSettings{}, st);
   std::set<std::string> keys;
   v = 1000;
   for (int i = 0; i < PMC_CSTAT_COUNT; ++i) {
