@@ -60,12 +60,7 @@ class Builder {
       if (!found && d.geom != GeomDefault::None) {
         in = Input::link(d.name, declared, geom(d.geom));
       } else if (!found) {
-        in.name = d.name;
-        in.value = d.value;
-        in.type = declared == ValueType::None ? ValueType::Float : declared;
-        in.value.type = in.type;
-        if (d.type == "T")
-          for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
+        in = default_input(d, type);
       } else if (in.type == ValueType::None) {
         in.type = declared;
       }

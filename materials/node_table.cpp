@@ -396,6 +396,18 @@ ValueType resolve_input_type(const InputDef& def, ValueType node_type) {
   return parse_type(def.type);
 }
 
+Input default_input(const InputDef& def, ValueType node_type) {
+  const ValueType declared = resolve_input_type(def, node_type);
+  Input in;
+  in.name = def.name;
+  in.value = def.value;
+  in.type = declared == ValueType::None ? ValueType::Float : declared;
+  in.value.type = in.type;
+  if (def.type == "T")
+    for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
+  return in;
+}
+
 std::vector<std::string> supported_categories() {
   std::vector<std::string> out;
   for (const auto& kv : library()) out.push_back(kv.first);

@@ -138,6 +138,9 @@ const OutputDef* find_output(const NodeDef& def, const std::string& name, unsign
 std::string output_names(const NodeDef& def);
 // Resolves an input's declared type for a node of output type `node_type`.
 ValueType resolve_input_type(const InputDef& def, ValueType node_type);
+// The input a node of type `node_type` gets when `def` is not given: its
+// default value, typed (a T-typed default broadcast to every lane).
+Input default_input(const InputDef& def, ValueType node_type);
 // Categories in the table (for error messages, docs and tests).
 std::vector<std::string> supported_categories();
 

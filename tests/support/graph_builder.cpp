@@ -55,11 +55,7 @@ int add(Graph& g, const std::string& name, const std::string& category, ValueTyp
       if (k == d.name) in = v, found = true;
     const ValueType declared = resolve_input_type(d, type);
     if (!found) {
-      in.value = d.value;
-      in.type = declared == ValueType::None ? ValueType::Float : declared;
-      in.value.type = in.type;
-      if (d.type == "T")
-        for (int i = 1; i < 4; ++i) in.value.f[size_t(i)] = in.value.f[0];
+      in = default_input(d, type);
     } else if (in.type == ValueType::None) {
       in.type = declared;
     }
