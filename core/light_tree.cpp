@@ -33,8 +33,8 @@ struct Cone {
 
 // The smallest cone (of this construction) holding both (pbrt-v4's DirectionCone Union).
 Cone cone_union(const Cone& a, const Cone& b) {
-  if (a.empty) return b;
-  if (b.empty) return a;
+  if (a.empty || b.theta >= kPi) return b;
+  if (b.empty || a.theta >= kPi) return a;
   const V3 ab = cross(a.w, b.w);
   const double theta_d = std::atan2(std::sqrt(dot(ab, ab)), dot(a.w, b.w));  // well conditioned near 0 and pi
   if (std::min(theta_d + b.theta, kPi) <= a.theta) return a;
@@ -97,13 +97,15 @@ struct Aggregate {
     return 2.0 * kPi * (1.0 - c) +
            0.5 * kPi * (2.0 * theta_w * s - std::cos(theta_o - 2.0 * theta_w) - 2.0 * theta_o * s + c);
   }
-  // The split cost of this side along `dim` (the box's aspect penalises thin slabs).
-  double cost(int dim) const {
-    if (energy <= 0.0 && lo[0] > hi[0]) return 0.0;
+  // The cost of this side of a split (the paper's, without the parent's
+  // aspect factor, which the split adds: it is the same for both sides).
+  double cost() const { return energy * orientation_measure() * std::max(surface_area(), 1e-30); }
+  // How much splitting along `dim` is penalised: the box's longest side over
+  // its side along dim (pbrt-v4's Kr; thin slabs make poor children).
+  double aspect(int dim) const {
     const double d[3] = {hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
     const double longest = std::max(d[0], std::max(d[1], d[2]));
-    const double kr = d[dim] > 0.0 ? longest / d[dim] : 1.0;
-    return energy * orientation_measure() * kr * std::max(surface_area(), 1e-30);
+    return d[dim] > 0.0 ? longest / d[dim] : 1.0;
   }
 };
 
@@ -196,10 +198,11 @@ class Builder {
         if (s < kBuckets - 1) above[s] = above[s + 1];
         above[s].add(bucket[s]);
       }
+      const double kr = below[kBuckets - 1].aspect(dim);  // the whole node's
       for (int s = 0; s + 1 < kBuckets; ++s) {
         if (below[s].lo[0] > below[s].hi[0] || above[s + 1].lo[0] > above[s + 1].hi[0])
           continue;  // one side empty
-        const double c = below[s].cost(dim) + above[s + 1].cost(dim);
+        const double c = kr * (below[s].cost() + above[s + 1].cost());
         if (c < best_cost) best_cost = c, best_dim = dim, best_bucket = s;
       }
     }
