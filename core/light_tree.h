@@ -8,11 +8,12 @@
 // orientation cone (axis, theta_o the spread of the normals or spot axis,
 // theta_e how far emission reaches beyond them). build_light_tree() splits
 // the lights top-down with binned SAH on the centroids, the cost of a side
-// being energy x M_Omega(cone) x box area x the box's aspect (the
-// orientation-aware cost of the paper), and writes the nodes depth first
-// (PmcLightTreeNode: an interior node's first child follows it). Every leaf
-// holds one light; the tree is at most kMaxLightTreeDepth deep (below
-// kSahDepth the split falls back to halving by count), so a light's way
+// being energy x M_Omega(cone) x box area, times the node's aspect along
+// the split axis (the orientation-aware cost of the paper, pbrt-v4's Kr),
+// and writes the nodes depth first (PmcLightTreeNode: an interior node's
+// first child follows it). Every leaf holds one light; the tree is at most
+// kMaxLightTreeDepth deep (from depth kSahDepth on, the split halves by
+// count), so a light's way
 // from the root fits the 64 bits of PmcLight.tree_trail, which is how the
 // kernel recomputes a pick's probability for MIS (core/device/pmc_lights.h).
 // Build cost: O(n log n) time, 2n - 1 nodes of 64 bytes.

@@ -37,7 +37,7 @@ SAMPLERS = ["off", "on"]
 def parse(argv=None):
     p = common.make_parser("light_tree", __doc__)
     common.add_pmc(p)
-    common.add_runs(p, 3)
+    common.add_runs(p, 5)
     common.add_image_size(p, 160, 90, 16)
     p.add_argument("--ref-spp", type=common.positive_int, default=1024, metavar="N",
                    help="samples per pixel of each scene's reference (default 1024)")
@@ -97,15 +97,22 @@ def main(argv=None):
                 f"{t}: relMSE {res[t]['relmse'][-1]:.4g} in {res[t]['seconds'][-1]:.2f}s" for t in SAMPLERS),
                 flush=True)
         med = {t: {k: common.median(v) for k, v in res[t].items()} for t in SAMPLERS}
-        eff = {t: 1.0 / (med[t]["relmse"] * med[t]["seconds"]) for t in SAMPLERS}
-        results[label] = dict(med=med, eff=eff, all=res)
+        # Per-round ratios (the two renders of a round share the machine's load), medians and ranges.
+        noise = common.median_range(common.round_ratios(res["off"]["relmse"], res["on"]["relmse"]))
+        cost = common.median_range(common.round_ratios(res["on"]["seconds"], res["off"]["seconds"]))
+        eff = common.median_range([n / c for n, c in zip(common.round_ratios(res["off"]["relmse"], res["on"]["relmse"]),
+                                                         common.round_ratios(res["on"]["seconds"],
+                                                                             res["off"]["seconds"]))])
+        results[label] = dict(med=med, noise=noise, cost=cost, efficiency=eff, all=res)
         rows.append([label, f"{med['off']['relmse']:.4g}", f"{med['on']['relmse']:.4g}",
-                     f"**{med['off']['relmse'] / med['on']['relmse']:.2f}x**",
+                     f"**{noise[0]:.2f}x** ({noise[1]:.2f}-{noise[2]:.2f})",
                      f"{med['off']['seconds']:.2f}", f"{med['on']['seconds']:.2f}",
-                     f"**{eff['on'] / eff['off']:.2f}x**"])
+                     f"{cost[0]:.2f} ({cost[1]:.2f}-{cost[2]:.2f})",
+                     f"**{eff[0]:.2f}x** ({eff[1]:.2f}-{eff[2]:.2f})"])
     elapsed = time.time() - t0
-    table = common.md_table(["scene", "relMSE, power", "relMSE, tree", "less noise at equal samples",
-                             "seconds, power", "seconds, tree", "efficiency tree / power"], rows)
+    table = common.md_table(["scene", "relMSE, power", "relMSE, tree", "relMSE power / tree (range)",
+                             "seconds, power", "seconds, tree", "time tree / power (range)",
+                             "efficiency tree / power (range)"], rows)
     scene_lines = "\n".join(f"    build/pmc render {' '.join(s)} --light-tree on|off --cache off "
                             f"{' '.join(common.size_args(W, H, SPP))}" for _, s in SCENES)
     section = f"""{SECTION}
@@ -113,9 +120,10 @@ def main(argv=None):
 Produced by `{a.command}` on {common.utc_now()} ({elapsed / 60:.1f} minutes, references included).
 Machine: {common.machine(device)}; load average {loads.before():.1f} before the runs,
 {loads.median():.1f} median and {loads.max():.1f} max between them. pmc: {common.git_rev(ignore=["docs"])}.
-Medians of {RUNS} interleaved rounds (a new seed each), {W}x{H}, {SPP} spp, cache off; relMSE against
-a {a.ref_spp}-spp reference of the same scene (tree, another seed); efficiency = 1 / (relMSE x render
-seconds):
+{RUNS} interleaved rounds (a new seed each), {W}x{H}, {SPP} spp, cache off; relMSE against a
+{a.ref_spp}-spp reference of the same scene (tree, another seed); render seconds (wall); ratios are
+medians (and ranges) of per-round ratios; efficiency = 1 / (relMSE x seconds), so its ratio is the
+relMSE ratio over the time ratio, i.e. how much less error the tree reaches at equal time:
 
 {scene_lines}
 
@@ -124,8 +132,10 @@ seconds):
 "Power" is the old pick: one global pmf by power, the environment and suns weighted by the scene's
 bounding sphere. The tree picks a light at infinity or the light tree by an irradiance estimate at the
 shading point, then descends the tree by each child's importance (core/light_tree.h,
-core/device/pmc_lights.h). The default room's only emitter is its ceiling panel, so there the two
-samplers differ in the cost of the pick more than in its choice.
+core/device/pmc_lights.h). The default room's only emitter is its ceiling panel, two triangles
+with the same box, normal and energy, which the tree splits 1/2 : 1/2 as power does: the images are
+identical, so its row shows the cost of the pick alone, and how much the load of a shared machine
+moves a time ratio.
 """
     print()
     print(table)
