@@ -313,21 +313,24 @@ PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, fl
     *pmf = ls->lights[lo].pmf;
     return lo;
   }
-  float tree_weight = pmc_tree_weight(ls, p, n);
-  float total = pmc_strategy_total(ls, p, n, tree_weight);
-  if (!(total > 0.0f)) return -1;
-  float x = u * total, below = 0.0f;
-  for (int i = 0; i < ls->h.distant_end; ++i) {
-    float w = pmc_distant_weight(&ls->lights[i], n);
-    if (x < below + w) {
-      *pmf = w / total;
-      return i;
+  float share = 1.0f; /* without lights at infinity the tree is the only strategy */
+  if (ls->h.distant_end > 0) {
+    float tree_weight = pmc_tree_weight(ls, p, n);
+    float total = pmc_strategy_total(ls, p, n, tree_weight);
+    if (!(total > 0.0f)) return -1;
+    float x = u * total, below = 0.0f;
+    for (int i = 0; i < ls->h.distant_end; ++i) {
+      float w = pmc_distant_weight(&ls->lights[i], n);
+      if (x < below + w) {
+        *pmf = w / total;
+        return i;
+      }
+      below += w;
     }
-    below += w;
+    if (!(tree_weight > 0.0f)) return -1; /* rounding ran past the last light at infinity */
+    share = tree_weight / total;
+    u = pmc_below_one((x - below) / tree_weight);
   }
-  if (!(tree_weight > 0.0f)) return -1; /* rounding ran past the last light at infinity */
-  float share = tree_weight / total;
-  u = pmc_below_one((x - below) / tree_weight);
   int a = 0;
   while (!(ls->tree[a].flags & PMC_TREE_LEAF)) {
     float first = pmc_tree_first_share(ls, a, p, n);
@@ -349,12 +352,15 @@ PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, fl
 PMC_FN float pmc_light_pick_pmf(const PmcLightSet* ls, float3 p, float3 n, int k) {
   if (k < 0) return 0.0f;
   if (ls->h.sampler == PMC_LIGHT_SAMPLER_POWER) return ls->lights[k].pmf;
-  float tree_weight = pmc_tree_weight(ls, p, n);
-  float total = pmc_strategy_total(ls, p, n, tree_weight);
-  if (!(total > 0.0f)) return 0.0f;
-  if (k < ls->h.distant_end) return pmc_distant_weight(&ls->lights[k], n) / total;
-  if (!(tree_weight > 0.0f)) return 0.0f;
-  float share = tree_weight / total;
+  float share = 1.0f; /* as pmc_light_pick: the tree alone without lights at infinity */
+  if (ls->h.distant_end > 0) {
+    float tree_weight = pmc_tree_weight(ls, p, n);
+    float total = pmc_strategy_total(ls, p, n, tree_weight);
+    if (!(total > 0.0f)) return 0.0f;
+    if (k < ls->h.distant_end) return pmc_distant_weight(&ls->lights[k], n) / total;
+    if (!(tree_weight > 0.0f)) return 0.0f;
+    share = tree_weight / total;
+  }
   pmc_u32 trail_lo = ls->lights[k].tree_trail[0], trail_hi = ls->lights[k].tree_trail[1];
   int a = 0;
   for (int depth = 0; !(ls->tree[a].flags & PMC_TREE_LEAF); ++depth) {
