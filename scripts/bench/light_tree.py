@@ -135,7 +135,9 @@ shading point, then descends the tree by each child's importance (core/light_tre
 core/device/pmc_lights.h). The default room's only emitter is its ceiling panel, two triangles
 with the same box, normal and energy, which the tree splits 1/2 : 1/2 as power does: the images are
 identical, so its row shows the cost of the pick alone, and how much the load of a shared machine
-moves a time ratio.
+moves a time ratio. In the sun scene a few fireflies (the sun through the open front, then the
+walls) decide each image's relMSE, which spans 0.14 to 35 over the rounds with either pick: there
+the range of the ratio says more than its median.
 """
     print()
     print(table)
