@@ -1,7 +1,8 @@
-// lights.cpp — reading lights files and building the power-proportional light table.
+// lights.cpp — reading lights files and building the light table (power pmf and light tree).
 #include "core/lights.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <set>
 
 #include "core/error.h"
+#include "core/light_tree.h"
 
 namespace pmc {
 namespace {
@@ -233,9 +235,55 @@ EnvironmentSpec constant_environment(const float radiance[3]) {
   return env;
 }
 
-LightTable build_light_table(const Scene& scene, const std::vector<float>& emission, const SceneLights& sl) {
+namespace {
+
+// What the light tree needs of a finite light of the table (core/light_tree.h).
+LightBounds bounds_of(const PmcLight& l, uint32_t index) {
+  LightBounds b;
+  b.light = index;
+  const float* p = l.pos;
+  for (int k = 0; k < 3; ++k) b.lo[k] = b.hi[k] = p[k];
+  auto extend = [&](double x, double y, double z) {
+    const double q[3] = {x, y, z};
+    for (int k = 0; k < 3; ++k) {
+      b.lo[k] = std::min(b.lo[k], std::nextafter(float(q[k]), -HUGE_VALF));
+      b.hi[k] = std::max(b.hi[k], std::nextafter(float(q[k]), HUGE_VALF));
+    }
+  };
+  const double u[3] = {l.axis[0], l.axis[1], l.axis[2]}, v[3] = {l.edge_v[0], l.edge_v[1], l.edge_v[2]};
+  switch (l.type) {
+    case PMC_LIGHT_QUAD:
+    case PMC_LIGHT_TRIANGLE:
+      extend(p[0] + u[0], p[1] + u[1], p[2] + u[2]);
+      extend(p[0] + v[0], p[1] + v[1], p[2] + v[2]);
+      if (l.type == PMC_LIGHT_QUAD) extend(p[0] + u[0] + v[0], p[1] + u[1] + v[1], p[2] + u[2] + v[2]);
+      b.energy = float(luminance(l.rgb) * l.area);  // radiance x area: the intensity along the normal
+      put3(b.axis, l.normal);
+      b.cos_theta_o = 1.0f;  // one normal
+      b.cos_theta_e = 0.0f;  // emits over the hemisphere around it
+      b.two_sided = l.type == PMC_LIGHT_TRIANGLE || (l.flags & PMC_LIGHT_TWO_SIDED);
+      break;
+    case PMC_LIGHT_SPOT:
+      b.energy = float(luminance(l.rgb));
+      put3(b.axis, l.axis);
+      b.cos_theta_o = std::cos(l.spot_inner);  // full intensity within the inner angle
+      b.cos_theta_e = std::cos(l.spot_outer - l.spot_inner);
+      break;
+    default:  // point
+      b.energy = float(luminance(l.rgb));
+      b.cos_theta_o = -1.0f;  // every direction
+      b.cos_theta_e = 0.0f;
+      break;
+  }
+  return b;
+}
+
+}  // namespace
+
+LightTable build_light_table(const Scene& scene, const std::vector<float>& emission, const SceneLights& sl,
+                             LightSampler sampler) {
   LightTable t;
-  // Lights at infinity deliver pi r^2 x irradiance onto the scene's bounding sphere.
+  // Power sampler: lights at infinity deliver pi r^2 x irradiance onto the scene's bounding sphere.
   double r = 1.0;
   if (!scene.bounds.empty()) {
     double d2 = 0.0;
@@ -245,9 +293,9 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
   }
   const double disk = kPi * r * r;
 
-  // The kernel's order: environment, sun disks | quads | the rest.
-  std::vector<PmcLight> infinite, quads, rest;
-  std::vector<double> p_infinite, p_quads, p_rest;
+  // The kernel's order: environment, sun disks | directional deltas | quads | the rest.
+  std::vector<PmcLight> infinite, directional, quads, rest;
+  std::vector<double> p_infinite, p_directional, p_quads, p_rest;
   auto blank = [](uint32_t type) {
     PmcLight l{};
     l.type = type;
@@ -267,10 +315,13 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
       t.header.env_inv_integral = integral > 0.0 ? float(1.0 / integral) : 0.0f;
       t.env_data = m.device_data(env.scale);
       power = disk * m.luminance_integral() * double(env.scale);
+      // Irradiance of the sky's mean radiance: its integral over the sphere / 4pi, times pi.
+      l.distant_weight = float(0.25 * m.luminance_integral() * double(env.scale));
     } else {
       t.header.env = PMC_ENV_CONSTANT;
       put3(l.rgb, env.radiance[0] * env.scale, env.radiance[1] * env.scale, env.radiance[2] * env.scale);
       power = disk * 4.0 * kPi * luminance(l.rgb);
+      l.distant_weight = float(kPi * luminance(l.rgb));
     }
     const double a = double(env.rotate_y_deg) * kPi / 180.0;
     t.header.env_rot_cos = float(std::cos(a));
@@ -306,6 +357,7 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
         const double half = 0.5 * double(s.angle_deg) * kPi / 180.0;
         PmcLight l = blank(half > 0.0 ? PMC_LIGHT_SUN : PMC_LIGHT_DIRECTIONAL);
         put3(l.axis, s.direction);
+        l.distant_weight = float(luminance(s.rgb));
         if (half > 0.0) {
           // A disk of uniform radiance L gives irradiance pi L sin^2(half) at normal incidence.
           const double sin2 = std::sin(half) * std::sin(half);
@@ -316,8 +368,8 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
           p_infinite.push_back(disk * luminance(s.rgb));
         } else {
           put3(l.rgb, s.rgb);
-          rest.push_back(l);
-          p_rest.push_back(disk * luminance(s.rgb));
+          directional.push_back(l);
+          p_directional.push_back(disk * luminance(s.rgb));
         }
         break;
       }
@@ -371,11 +423,12 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
   }
 
   t.header.at_infinity = int(infinite.size());
-  t.header.quad_end = int(infinite.size() + quads.size());
+  t.header.distant_end = int(infinite.size() + directional.size());
+  t.header.quad_end = int(t.header.distant_end + quads.size());
   std::vector<double> power;
-  for (auto* group : {&infinite, &quads, &rest})
+  for (auto* group : {&infinite, &directional, &quads, &rest})
     t.lights.insert(t.lights.end(), group->begin(), group->end());
-  for (auto* group : {&p_infinite, &p_quads, &p_rest})
+  for (auto* group : {&p_infinite, &p_directional, &p_quads, &p_rest})
     power.insert(power.end(), group->begin(), group->end());
   t.header.count = int(t.lights.size());
   double total = 0.0;
@@ -392,10 +445,31 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
   }
   // Rounding must not leave a gap at the top that picks a light of no power.
   for (size_t k = last_positive; k < t.lights.size(); ++k) t.lights[k].cdf = 1.0f;
-  t.triangle_pmf.assign(scene.triangles.size(), 0.0f);
-  const size_t rest_first = infinite.size() + quads.size();
+  t.triangle_light.assign(scene.triangles.size(), -1);
+  const size_t rest_first = size_t(t.header.quad_end);
   for (size_t k = 0; k < tri_of_rest.size(); ++k)
-    if (tri_of_rest[k] != SIZE_MAX) t.triangle_pmf[tri_of_rest[k]] = t.lights[rest_first + k].pmf;
+    if (tri_of_rest[k] != SIZE_MAX) t.triangle_light[tri_of_rest[k]] = int32_t(rest_first + k);
+
+  // The light tree over the finite lights (quads and the rest).
+  t.header.sampler = sampler == LightSampler::Tree ? PMC_LIGHT_SAMPLER_TREE : PMC_LIGHT_SAMPLER_POWER;
+  if (sampler == LightSampler::Tree) {
+    const auto start = std::chrono::steady_clock::now();
+    std::vector<LightBounds> bounds;
+    bounds.reserve(t.lights.size() - size_t(t.header.distant_end));
+    for (size_t k = size_t(t.header.distant_end); k < t.lights.size(); ++k)
+      bounds.push_back(bounds_of(t.lights[k], uint32_t(k)));
+    LightTree tree = build_light_tree(bounds);
+    for (size_t i = 0; i < bounds.size(); ++i) {
+      PmcLight& l = t.lights[bounds[i].light];
+      l.tree_trail[0] = uint32_t(tree.trails[i]);
+      l.tree_trail[1] = uint32_t(tree.trails[i] >> 32);
+    }
+    t.tree_nodes = std::move(tree.nodes);
+    t.tree_depth = tree.depth;
+    t.header.tree_nodes = int(t.tree_nodes.size());
+    t.tree_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
+  if (t.tree_nodes.empty()) t.tree_nodes.push_back(PmcLightTreeNode{});  // no empty device buffers
   if (t.env_data.empty()) t.env_data.push_back(0.0f);
   return t;
 }

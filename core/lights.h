@@ -6,10 +6,22 @@
 // loads its environment map (core/env_map.h); the command line may replace
 // the environment (the env and env_map settings). At render time build_light_table()
 // turns SceneLights plus the scene's emissive triangles into one PmcLight
-// array in the order the kernels expect (environment, sun disks, quads, the
-// rest), each with its probability of being picked (proportional to power),
-// the per-triangle pick probabilities (MIS when a path hits an emitter) and
-// the map's device data. core/device/pmc_lights.h samples and evaluates it.
+// array in the order the kernels expect (environment, sun disks, directional
+// deltas, quads, the rest), each with its probability of being picked by
+// power, the light tree over the finite lights (core/light_tree.h), each
+// triangle's light (MIS when a path hits an emitter) and the map's device
+// data. core/device/pmc_lights.h samples and evaluates it.
+//
+// Two samplers pick the light of next-event estimation (LightSampler):
+//   Tree (the default): a light at infinity (environment, sun disk,
+//     directional) or the light tree, in proportion to an irradiance
+//     estimate at the shading point (p, n): its irradiance at normal
+//     incidence times a bound of the cosine for lights at infinity, the root's
+//     importance for the tree; inside the tree, each child by its importance
+//     (pmc_lights.h). Nothing depends on the scene's extent: a far stray
+//     object does not change any probability.
+//   Power: one global pmf by power, lights at infinity weighted by the
+//     scene's bounding sphere (the old selection, kept for comparisons).
 //
 // Units and conventions (README "Lights"): distances in scene units,
 // intensity W/sr, irradiance W/m^2 at normal incidence, radiance W/(m^2 sr);
@@ -64,21 +76,27 @@ EnvironmentSpec environment_from_map(const std::string& path, float scale, float
 // An environment of constant radiance (the env setting); absent when black.
 EnvironmentSpec constant_environment(const float radiance[3]);
 
+enum class LightSampler { Tree, Power };
+
 struct LightTable {
-  std::vector<PmcLight> lights;     // kernel order, each with pmf and cdf
-  std::vector<float> triangle_pmf;  // per scene triangle: pick probability (0: not a light)
-  std::vector<float> env_data;      // the map's texels and CDFs (one 0 when there is no map)
+  std::vector<PmcLight> lights;              // kernel order, each with pmf and cdf (and its tree trail)
+  std::vector<int32_t> triangle_light;       // per scene triangle: its light's index (-1: not a light)
+  std::vector<PmcLightTreeNode> tree_nodes;  // the light tree (one blank node when there is none)
+  std::vector<float> env_data;               // the map's texels and CDFs (one 0 when there is no map)
   PmcLightHeader header{};
   double total_power = 0.0;  // sum of the lights' power estimates (luminance, W)
   size_t emissive_triangles = 0;
+  int tree_depth = 0;
+  double tree_build_seconds = 0.0;
 };
 
 // `emission[m]` is the (constant) emitted radiance of material m, rgb.
 // Lights are picked by power: pi A L for area lights (x2 two-sided), 4 pi I
 // for points, 2 pi I (1 - cos) for spots, pi r^2 E for directional lights and
 // pi r^2 x the radiance integrated over the sphere for the environment, r
-// the radius of the scene's bounding sphere.
+// the radius of the scene's bounding sphere (the power sampler's pmf, kept
+// with either sampler).
 LightTable build_light_table(const Scene& scene, const std::vector<float>& emission,
-                             const SceneLights& lights);
+                             const SceneLights& lights, LightSampler sampler = LightSampler::Tree);
 
 }  // namespace pmc

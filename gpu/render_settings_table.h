@@ -109,6 +109,11 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     S(seed), "seed", "S",                                                                                     \
     "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "         \
     "center, not hit)")                                                                                       \
+  X(light_tree, "light_tree", "--light-tree", bool, true, 0, 0, "", Image, TAG("light_tree"), S(light_tree),  \
+    "light_tree", "off|on",                                                                                   \
+    "next-event estimation picks a light by its importance at the shading point (a light tree over the "     \
+    "finite lights, lights at infinity by irradiance); off: by power alone, the environment weighted by "     \
+    "the scene's size (the old selection, for comparisons)")                                                  \
   X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",    \
     "progressive material cache")                                                                             \
   X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024, got {}",     \

@@ -58,7 +58,8 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
 void SceneBuffers::upload_lights(const ClContext& cl, LightTable table) {
   lights = std::move(table);
   buffers[kScene_lights] = cl.buffer_of(lights.lights);
-  buffers[kScene_tri_light_pmf] = cl.buffer_of(lights.triangle_pmf);
+  buffers[kScene_tri_light] = cl.buffer_of(lights.triangle_light);
+  buffers[kScene_light_tree] = cl.buffer_of(lights.tree_nodes);
   buffers[kScene_env] = cl.buffer_of(lights.env_data);
 }
 

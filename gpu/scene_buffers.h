@@ -48,7 +48,7 @@ struct SceneBuffers {
 
   SceneBuffers(const ClContext& cl, const Scene& scene, const MaterialSet& materials);
   // The light table depends on the render's settings (lights file,
-  // environment): each render uploads its own (lights, tri_light_pmf, env).
+  // environment): each render uploads its own (lights, tri_light, light_tree, env).
   void upload_lights(const ClContext& cl, LightTable table);
   const ClBuffer& operator[](SceneBuffer b) const { return buffers[b]; }
 };

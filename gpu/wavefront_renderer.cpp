@@ -296,7 +296,9 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   // constant s.env) plus the scene's emissive triangles (core/lights.h).
   SceneLights lights = s.lights;
   if (!lights.environment.present) lights.environment = constant_environment(s.env);
-  m.scene_buffers.upload_lights(m.cl, build_light_table(m.scene, m.scene_buffers.emission, lights));
+  m.scene_buffers.upload_lights(m.cl,
+                                build_light_table(m.scene, m.scene_buffers.emission, lights,
+                                                  s.light_tree ? LightSampler::Tree : LightSampler::Power));
   PmcFrame frame = make_frame(s, m.scene_buffers);
   frame.crop_x0 = uint32_t(x0);
   frame.crop_y0 = uint32_t(y0);

@@ -100,6 +100,7 @@ struct RenderSettings {
   float env[3] = {0.0f, 0.0f, 0.0f};  // constant environment radiance, unless lights.environment is set
   SceneLights lights;                 // lights file and environment (emissive triangles come from the scene)
   bool env_importance = true;         // false: sample an environment map uniformly (comparisons)
+  bool light_tree = true;             // the light tree sampler; false: by power (core/lights.h)
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave

@@ -20,6 +20,7 @@
   X(PmcMaterialInfo)          \
   X(PmcLight)                 \
   X(PmcLightHeader)           \
+  X(PmcLightTreeNode)         \
   X(PmcFrame)                 \
   X(PmcCounters)
 
@@ -45,7 +46,7 @@
   X(PmcPathState, depth)           \
   X(PmcPathState, flags)           \
   X(PmcPathState, cache_hits)      \
-  X(PmcPathState, env_pdf)         \
+  X(PmcPathState, light_normal)    \
   X(PmcShadowLoad, rgb)            \
   X(PmcShadowLoad, path)           \
   X(PmcTriangle, v)                \
@@ -95,9 +96,20 @@
   X(PmcLight, spot_outer)          \
   X(PmcLight, normal)              \
   X(PmcLight, spot_inner)          \
+  X(PmcLight, tree_trail)          \
+  X(PmcLight, distant_weight)      \
+  X(PmcLightTreeNode, lo)          \
+  X(PmcLightTreeNode, energy)      \
+  X(PmcLightTreeNode, hi)          \
+  X(PmcLightTreeNode, cos_theta_o) \
+  X(PmcLightTreeNode, axis)        \
+  X(PmcLightTreeNode, cos_theta_e) \
+  X(PmcLightTreeNode, second)      \
+  X(PmcLightTreeNode, flags)       \
   X(PmcLightHeader, count)         \
   X(PmcLightHeader, at_infinity)   \
   X(PmcLightHeader, quad_end)      \
+  X(PmcLightHeader, distant_end)   \
   X(PmcLightHeader, env)           \
   X(PmcLightHeader, env_width)     \
   X(PmcLightHeader, env_height)    \
@@ -105,6 +117,8 @@
   X(PmcLightHeader, env_rot_sin)   \
   X(PmcLightHeader, env_inv_integral) \
   X(PmcLightHeader, env_uniform)   \
+  X(PmcLightHeader, sampler)       \
+  X(PmcLightHeader, tree_nodes)    \
   X(PmcFrame, lights)              \
   X(PmcFrame, width)               \
   X(PmcFrame, height)              \

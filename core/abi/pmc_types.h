@@ -50,9 +50,10 @@ typedef struct PmcPathState {
   pmc_u32 pixel;      /* linear pixel index y*width+x */
   pmc_u32 depth;      /* number of surface hits so far */
   pmc_u32 flags;
-  pmc_u32 cache_hits; /* cache points found along the path (hit map) */
-  float env_pdf;      /* solid-angle pdf with which the environment light would have
-                         sampled that direction (pick probability included; MIS on escape) */
+  pmc_u32 cache_hits;   /* cache points found along the path (hit map) */
+  pmc_u32 light_normal; /* the normal the last vertex picked its light sample with
+                           (octahedral, core/device/pmc_octahedral.h): with the ray's origin
+                           it recomputes that pick's probability for MIS (pmc_lights.h) */
 } PmcPathState;
 
 /* Unoccluded contribution of a shadow ray, added to its path if the host
@@ -144,12 +145,12 @@ typedef struct PmcMaterialInfo {
 /* One light of the table. Triangles and quads are parallelograms/triangles
  * spanned at `pos` by `axis` and `edge_v` with unit `normal` (quads emit
  * toward it). Lights are stored in table order: the environment (if any),
- * sun disks, quads, then the rest (PmcLightHeader). */
+ * sun disks, quads, directional deltas, then the rest (PmcLightHeader). */
 typedef struct PmcLight {
   pmc_u32 type;
   pmc_u32 flags;
-  float pmf; /* probability that light sampling picks this light (by power) */
-  float cdf; /* running sum of pmf in table order, the last light's is 1 */
+  float pmf; /* power sampler: probability that light sampling picks this light (by power) */
+  float cdf; /* power sampler: running sum of pmf in table order, the last light's is 1 */
   float pos[3];
   float area; /* triangle, quad */
   float axis[3];
@@ -159,8 +160,38 @@ typedef struct PmcLight {
   float rgb[3];
   float spot_outer; /* spot: half opening angle (radians) */
   float normal[3];
-  float spot_inner; /* spot: the angle where the fade starts (radians) */
+  float spot_inner;      /* spot: the angle where the fade starts (radians) */
+  pmc_u32 tree_trail[2]; /* tree sampler, finite lights: the way from the light tree's root to
+                            this light's leaf, bit d (of the 64) = 1 where depth d takes the
+                            second child (core/light_tree.h) */
+  float distant_weight;  /* tree sampler, lights at infinity: irradiance luminance at normal
+                            incidence, the weight of its pick (pmc_lights.h) */
+  pmc_u32 pad;
 } PmcLight;
+
+/* A node of the light tree (core/light_tree.h), depth first: an interior
+ * node's first child follows it, `second` is the other; a leaf holds one
+ * light (`second` = its table index). The bounds of everything below:
+ * box [lo, hi], intensity `energy` (luminance, W/sr: what the lights emit
+ * at most in one direction, summed), and the orientation cone: emission
+ * leaves within theta_o of `axis`, spreading at most theta_e beyond it. */
+#define PMC_TREE_LEAF 1u
+#define PMC_TREE_TWO_SIDED 2u /* some light emits on both sides of its normal */
+typedef struct PmcLightTreeNode {
+  float lo[3];
+  float energy;
+  float hi[3];
+  float cos_theta_o;
+  float axis[3];
+  float cos_theta_e;
+  pmc_u32 second;
+  pmc_u32 flags; /* PMC_TREE_* */
+  pmc_u32 pad[2];
+} PmcLightTreeNode;
+
+/* How next-event estimation picks a light (PmcLightHeader.sampler). */
+#define PMC_LIGHT_SAMPLER_POWER 0u /* by power alone (the cdf over the table) */
+#define PMC_LIGHT_SAMPLER_TREE 1u  /* lights at infinity by irradiance, the light tree for the rest */
 
 /* Environment kinds (PmcLightHeader.env). */
 #define PMC_ENV_NONE 0u
@@ -172,12 +203,15 @@ typedef struct PmcLightHeader {
   pmc_i32 count;       /* lights in the table (0: no next-event estimation) */
   pmc_i32 at_infinity; /* [0, at_infinity): seen by escaped rays (environment first, suns) */
   pmc_i32 quad_end;    /* [at_infinity, quad_end): quads, tested against every ray */
+  pmc_i32 distant_end; /* [quad_end, distant_end): directional deltas; the rest is finite */
   pmc_u32 env;         /* PMC_ENV_* */
   pmc_i32 env_width, env_height;
   float env_rot_cos, env_rot_sin; /* the map turned about +Y: world = R_y(angle) map */
   float env_inv_integral;         /* 1 / sum over texels of luminance x sin(theta) */
   pmc_u32 env_uniform;            /* sample the map uniformly over the sphere (comparisons) */
-  pmc_u32 pad[2];
+  pmc_u32 sampler;                /* PMC_LIGHT_SAMPLER_* */
+  pmc_i32 tree_nodes;             /* nodes of the light tree (0: no finite light) */
+  pmc_u32 pad[3];
 } PmcLightHeader;
 
 /* Everything a wave's kernels need to know about the frame. */

@@ -2,20 +2,32 @@
  * kernel and host tests.
  *
  * The light table (PmcLight[], built by core/lights.cpp) holds emissive
- * triangles, the lights of a lights file and the environment, each with the
- * probability that next-event estimation picks it (proportional to power).
+ * triangles, the lights of a lights file and the environment. Which light
+ * next-event estimation picks depends on the header's sampler:
+ *   PMC_LIGHT_SAMPLER_POWER: by power, one pmf for the whole scene;
+ *   PMC_LIGHT_SAMPLER_TREE : at shading point p with normal n, first a
+ *     strategy: each light at infinity ([0, distant_end): environment, sun
+ *     disks, directional deltas) with weight distant_weight x a bound of its
+ *     cosine at n (an irradiance estimate), or the light tree with the root's
+ *     importance (pmc_tree_importance, an irradiance estimate too: intensity
+ *     x cosine bounds / d^2), each in proportion to its weight; then in the
+ *     tree, one child per level in proportion to its importance, the one
+ *     random number rescaled at each level.
+ * pmc_light_pick_pmf(p, n, light) gives the probability that the pick took
+ * a light; the tree's part walks the light's trail from the root. A path
+ * keeps the normal it picked with (octahedral) and its ray's origin is p,
+ * so when a BSDF ray meets an emitter the weight uses the exact probability
+ * with which that vertex would have picked it.
  * The shade kernel uses three entry points:
  *   pmc_light_sample  : at a hit, pick one light and sample a direction toward
  *                       it -> one shadow ray (delta lights: pdf 0, no MIS);
- *   pmc_env_light_pdf : when the BSDF samples the next direction, the pdf with
- *                       which the environment would have sampled it (stored in
- *                       the path: the constant environment samples around the
- *                       shading normal, which the escape no longer knows);
  *   pmc_lights_seen   : for every traced ray, the radiance of quads it passes
  *                       before its hit and, if it escapes, of the environment
- *                       and sun disks, MIS-weighted against light sampling.
- * Emissive triangles reached by a ray are shaded as surfaces (their material
- * emits); pmc_area_light_pdf gives their light-sampling pdf for the weight.
+ *                       and sun disks, MIS-weighted against light sampling
+ *                       from the ray's origin (pmc_env_light_pdf);
+ *   pmc_light_pick_pmf: emissive triangles reached by a ray are shaded as
+ *                       surfaces (their material emits); with
+ *                       pmc_area_light_pdf it gives their light-sampling pdf.
  *
  * Environment map (PMC_ENV_MAP): lat-long, +Y up, u = 0.5 + atan2(x, -z)/2pi,
  * v = acos(y)/pi, v = 0 the top row (the image centre is seen looking along
@@ -33,7 +45,8 @@
 
 typedef struct PmcLightSet {
   PMC_GLOBAL const PmcLight* lights;
-  PMC_GLOBAL const float* env; /* the map's texels and CDFs (PMC_ENV_MAP only) */
+  PMC_GLOBAL const PmcLightTreeNode* tree; /* h.tree_nodes nodes (core/light_tree.h) */
+  PMC_GLOBAL const float* env;             /* the map's texels and CDFs (PMC_ENV_MAP only) */
   PmcLightHeader h;
 } PmcLightSet;
 
@@ -165,8 +178,10 @@ PMC_FN float pmc_area_light_pdf(float pmf, float t, float area, float cos_light)
   return c > 0.0f && area > 0.0f ? pmf * t * t / (area * c) : 0.0f;
 }
 
-/* Solid-angle pdf of a sun disk's cone sampling (pick probability included). */
-PMC_FN float pmc_sun_pdf(PMC_GLOBAL const PmcLight* l) { return l->pmf / (2.0f * PMC_PI * l->one_minus_cos); }
+/* Solid-angle pdf of a sun disk's cone sampling, times the pick probability pmf. */
+PMC_FN float pmc_sun_pdf(PMC_GLOBAL const PmcLight* l, float pmf) {
+  return pmf / (2.0f * PMC_PI * l->one_minus_cos);
+}
 
 /* Is unit direction d inside the sun disk (around -axis)? Compares sines,
  * which keep their precision for tiny disks where cosines round to 1. */
@@ -179,33 +194,206 @@ PMC_FN int pmc_sun_contains(PMC_GLOBAL const PmcLight* l, float3 d) {
   return sin2 <= l->one_minus_cos * (2.0f - l->one_minus_cos);
 }
 
-/* The pdf with which the environment light samples direction d from a point
- * with shading normal n (pick probability included; 0 without environment). */
-PMC_FN float pmc_env_light_pdf(const PmcLightSet* ls, float3 n, float3 d) {
+/* --- the pick ------------------------------------------------------------ */
+
+/* cos(a - b) and sin(a - b) of angles a, b in [0, pi], 1 and 0 when a < b. */
+PMC_FN float pmc_cos_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+  return cos_a > cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
+}
+PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
+  return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
+}
+
+/* How much of a normal-encoding error (pmc_oct_decode: below 1e-3 radians)
+ * the receiver's cosine bound absorbs, so that a light the exact shading
+ * normal sees is never given probability 0. */
+#define PMC_PICK_NORMAL_SLACK 2e-3f
+
+/* Importance of a tree node for the point p with normal n (Conty Estevez &
+ * Kulla 2018, as pbrt-v4's LightBounds::Importance): intensity bound x the
+ * cosine at the emitters (the angle to p less the cone's spread theta_o and
+ * the box's angular radius theta_b; 0 beyond theta_e) x the cosine at the
+ * receiver (less theta_b) / squared distance to the box's centre (at least
+ * its bounding sphere's radius squared). One-sided at the receiver: light
+ * sampling only takes directions above n, so a box wholly below the plane
+ * through p (tested corner by corner, tighter than theta_b) gets 0. */
+PMC_FN float pmc_tree_importance(PMC_GLOBAL const PmcLightTreeNode* node, float3 p, float3 n) {
+  float3 lo = pmc_load3(node->lo), hi = pmc_load3(node->hi);
+  float3 to_p = p - (lo + hi) * 0.5f;
+  float3 diag = hi - lo;
+  float r2 = 0.25f * dot(diag, diag);
+  float d2 = dot(to_p, to_p);
+  float cos_b = -1.0f, sin_b = 0.0f; /* theta_b: pi when p is inside the bounding sphere */
+  if (d2 > r2) {
+    float sin2_b = r2 / d2;
+    sin_b = sqrt(sin2_b);
+    cos_b = sqrt(fmax(0.0f, 1.0f - sin2_b));
+  }
+  /* the box's highest point above the plane through p, less the normal's slack */
+  float3 extent = diag * 0.5f;
+  float above = -dot(n, to_p) + fabs(n.x) * extent.x + fabs(n.y) * extent.y + fabs(n.z) * extent.z;
+  if (above + PMC_PICK_NORMAL_SLACK * (sqrt(d2) + sqrt(r2)) <= 0.0f) return 0.0f;
+  float3 w = d2 > 0.0f ? to_p * (1.0f / sqrt(d2)) : make_float3(0.0f, 0.0f, 1.0f);
+  float cos_w = dot(pmc_load3(node->axis), w);
+  if (node->flags & PMC_TREE_TWO_SIDED) cos_w = fabs(cos_w);
+  float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
+  float cos_o = node->cos_theta_o, sin_o = sqrt(fmax(0.0f, 1.0f - cos_o * cos_o));
+  float cos_x = pmc_cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
+  float sin_x = pmc_sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
+  float cos_e = pmc_cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
+  if (cos_e <= node->cos_theta_e) return 0.0f;
+  float cos_i = -dot(n, w);
+  float sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
+  float cos_r = pmc_cos_sub_clamped(sin_i, cos_i, sin_b, cos_b) + PMC_PICK_NORMAL_SLACK;
+  if (!(cos_r > 0.0f)) return 0.0f;
+  float importance = node->energy * cos_e * fmin(cos_r, 1.0f) / fmax(fmax(d2, r2), 1e-30f);
+  return fmin(importance, 1e30f); /* a point light at p: large, but finite */
+}
+
+/* The probability of taking node a's first child (a interior), by the
+ * children's importance. Where neither can light p (the node's looser
+ * bounds said it might), by their energy: the pick then lands on a light
+ * that gives nothing, as it would have failed, but every probability stays
+ * defined and they sum to one. */
+PMC_FN float pmc_tree_first_share(const PmcLightSet* ls, int a, float3 p, float3 n) {
+  PMC_GLOBAL const PmcLightTreeNode* c0 = &ls->tree[a + 1];
+  PMC_GLOBAL const PmcLightTreeNode* c1 = &ls->tree[ls->tree[a].second];
+  float i0 = pmc_tree_importance(c0, p, n), i1 = pmc_tree_importance(c1, p, n);
+  if (!(i0 + i1 > 0.0f)) i0 = c0->energy, i1 = c1->energy;
+  float sum = i0 + i1;
+  return sum > 0.0f ? i0 / sum : 0.5f;
+}
+
+/* Weight of light at infinity i at normal n: its irradiance at normal
+ * incidence x a bound of the cosine (a sun disk's widened by its radius). */
+PMC_FN float pmc_distant_weight(PMC_GLOBAL const PmcLight* l, float3 n) {
+  if (l->type == PMC_LIGHT_ENV) return l->distant_weight;
+  float cos_i = -dot(n, pmc_load3(l->axis));
+  if (l->type == PMC_LIGHT_SUN) {
+    float sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
+    float cos_h = 1.0f - l->one_minus_cos,
+          sin_h = sqrt(fmax(0.0f, l->one_minus_cos * (2.0f - l->one_minus_cos)));
+    cos_i = pmc_cos_sub_clamped(sin_i, cos_i, sin_h, cos_h);
+  }
+  cos_i += PMC_PICK_NORMAL_SLACK;
+  return cos_i > 0.0f ? l->distant_weight * fmin(cos_i, 1.0f) : 0.0f;
+}
+
+/* The tree's weight at (p, n): the root's importance (0 without a tree). */
+PMC_FN float pmc_tree_weight(const PmcLightSet* ls, float3 p, float3 n) {
+  return ls->h.tree_nodes > 0 ? pmc_tree_importance(&ls->tree[0], p, n) : 0.0f;
+}
+
+/* Sum of the strategies' weights at (p, n), added in table order then the tree. */
+PMC_FN float pmc_strategy_total(const PmcLightSet* ls, float3 p, float3 n, float tree_weight) {
+  float total = 0.0f;
+  for (int i = 0; i < ls->h.distant_end; ++i) total += pmc_distant_weight(&ls->lights[i], n);
+  return total + tree_weight;
+}
+
+/* Keeps a rescaled random number below 1. */
+PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f); }
+
+/* Pick a light for the point p with normal n from one random number u;
+ * returns its index (-1: none) and the probability in *pmf. */
+PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, float* pmf) {
+  *pmf = 0.0f;
+  int count = ls->h.count;
+  if (count <= 0) return -1;
+  if (ls->h.sampler == PMC_LIGHT_SAMPLER_POWER) {
+    /* Binary search on the running sums (stored in each light). */
+    int lo = 0, hi = count - 1;
+    while (lo < hi) {
+      int mid = (lo + hi) >> 1;
+      if (ls->lights[mid].cdf > u)
+        hi = mid;
+      else
+        lo = mid + 1;
+    }
+    *pmf = ls->lights[lo].pmf;
+    return lo;
+  }
+  float share = 1.0f; /* without lights at infinity the tree is the only strategy */
+  if (ls->h.distant_end > 0) {
+    float tree_weight = pmc_tree_weight(ls, p, n);
+    float total = pmc_strategy_total(ls, p, n, tree_weight);
+    if (!(total > 0.0f)) return -1;
+    float x = u * total, below = 0.0f;
+    for (int i = 0; i < ls->h.distant_end; ++i) {
+      float w = pmc_distant_weight(&ls->lights[i], n);
+      if (x < below + w) {
+        *pmf = w / total;
+        return i;
+      }
+      below += w;
+    }
+    if (!(tree_weight > 0.0f)) return -1; /* rounding ran past the last light at infinity */
+    share = tree_weight / total;
+    u = pmc_below_one((x - below) / tree_weight);
+  }
+  int a = 0;
+  while (!(ls->tree[a].flags & PMC_TREE_LEAF)) {
+    float first = pmc_tree_first_share(ls, a, p, n);
+    if (u < first) {
+      share *= first;
+      u = pmc_below_one(u / first);
+      a = a + 1;
+    } else {
+      share *= 1.0f - first;
+      u = pmc_below_one((u - first) / (1.0f - first));
+      a = (int)ls->tree[a].second;
+    }
+  }
+  *pmf = share;
+  return (int)ls->tree[a].second;
+}
+
+/* The probability that pmc_light_pick(p, n) returns light k. */
+PMC_FN float pmc_light_pick_pmf(const PmcLightSet* ls, float3 p, float3 n, int k) {
+  if (k < 0) return 0.0f;
+  if (ls->h.sampler == PMC_LIGHT_SAMPLER_POWER) return ls->lights[k].pmf;
+  float share = 1.0f; /* as pmc_light_pick: the tree alone without lights at infinity */
+  if (ls->h.distant_end > 0) {
+    float tree_weight = pmc_tree_weight(ls, p, n);
+    float total = pmc_strategy_total(ls, p, n, tree_weight);
+    if (!(total > 0.0f)) return 0.0f;
+    if (k < ls->h.distant_end) return pmc_distant_weight(&ls->lights[k], n) / total;
+    if (!(tree_weight > 0.0f)) return 0.0f;
+    share = tree_weight / total;
+  }
+  pmc_u32 trail_lo = ls->lights[k].tree_trail[0], trail_hi = ls->lights[k].tree_trail[1];
+  int a = 0;
+  for (int depth = 0; !(ls->tree[a].flags & PMC_TREE_LEAF); ++depth) {
+    float first = pmc_tree_first_share(ls, a, p, n);
+    int second = (int)(depth < 32 ? (trail_lo >> depth) & 1u : (trail_hi >> (depth - 32)) & 1u);
+    if (second) {
+      share *= 1.0f - first;
+      a = (int)ls->tree[a].second;
+    } else {
+      share *= first;
+      a = a + 1;
+    }
+  }
+  return share;
+}
+
+/* The pdf with which the environment light samples direction d from point
+ * p with (pick) normal n (pick probability included; 0 without environment). */
+PMC_FN float pmc_env_light_pdf(const PmcLightSet* ls, float3 p, float3 n, float3 d) {
   if (ls->h.env == PMC_ENV_NONE) return 0.0f;
-  float pmf = ls->lights[0].pmf;
+  float pmf = pmc_light_pick_pmf(ls, p, n, 0);
   if (ls->h.env == PMC_ENV_CONSTANT) return pmf * fmax(0.0f, dot(n, d)) * PMC_INV_PI;
   return pmf * pmc_env_map_pdf(ls, pmc_env_to_map(&ls->h, d));
 }
 
-/* Pick a light by power (u_pick) and sample it from point p with shading
- * normal n (u1, u2). Returns 0 when the sample carries nothing. */
+/* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
+ * (pick) normal n (u1, u2). Returns 0 when the sample carries nothing. */
 PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
                             PmcLightSample* s) {
-  int count = ls->h.count;
-  if (count <= 0) return 0;
-  /* Binary search on the running sums (stored in each light). */
-  int lo = 0, hi = count - 1;
-  while (lo < hi) {
-    int mid = (lo + hi) >> 1;
-    if (ls->lights[mid].cdf > u_pick)
-      hi = mid;
-    else
-      lo = mid + 1;
-  }
-  PMC_GLOBAL const PmcLight* l = &ls->lights[lo];
-  float pmf = l->pmf;
-  if (!(pmf > 0.0f)) return 0;
+  float pmf;
+  int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
+  if (picked < 0 || !(pmf > 0.0f)) return 0;
+  PMC_GLOBAL const PmcLight* l = &ls->lights[picked];
   pmc_u32 type = l->type;
   float3 rgb = pmc_load3(l->rgb);
   s->pdf = 0.0f;
@@ -252,7 +440,7 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
     float3 axis = -pmc_load3(l->axis), t, b;
     pmc_basis(axis, &t, &b);
     s->wi = normalize(t * (sin_t * cos_phi) + b * (sin_t * sin_phi) + axis * cos_t);
-    s->pdf = pmc_sun_pdf(l);
+    s->pdf = pmc_sun_pdf(l, pmf);
     s->weight = rgb * (1.0f / s->pdf);
   } else if (type == PMC_LIGHT_ENV) {
     if (ls->h.env == PMC_ENV_CONSTANT) {
@@ -280,12 +468,12 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
  * lights it meets: quads closer than its hit at `t_hit` (with a relative
  * tolerance, so a light on a wall is seen), and if it `escaped`, the
  * environment and sun disks. MIS-weighted against light sampling from the
- * previous vertex (`bsdf_pdf`, `env_pdf` from the path); `full_weight` for
- * camera rays, which light sampling cannot produce. */
+ * previous vertex (`bsdf_pdf`; o with the normal `n` it picked lights with);
+ * `full_weight` for camera rays, which light sampling cannot produce. */
 PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t_hit, int escaped,
-                              float bsdf_pdf, float env_pdf, int full_weight) {
+                              float bsdf_pdf, float3 n, int full_weight) {
   float3 sum = make_float3(0.0f, 0.0f, 0.0f);
-  for (int i = ls->h.at_infinity; i < ls->h.quad_end; ++i) {
+  for (int i = ls->h.distant_end; i < ls->h.quad_end; ++i) {
     PMC_GLOBAL const PmcLight* l = &ls->lights[i];
     float3 nrm = pmc_load3(l->normal);
     float denom = dot(nrm, d);
@@ -297,7 +485,10 @@ PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t
     float a = dot(cross(r, pmc_load3(l->edge_v)), nrm) / l->area;
     float b = dot(cross(pmc_load3(l->axis), r), nrm) / l->area;
     if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) continue;
-    float w = full_weight ? 1.0f : pmc_mis_power(bsdf_pdf, pmc_area_light_pdf(l->pmf, t, l->area, denom));
+    float w =
+        full_weight
+            ? 1.0f
+            : pmc_mis_power(bsdf_pdf, pmc_area_light_pdf(pmc_light_pick_pmf(ls, o, n, i), t, l->area, denom));
     sum += pmc_load3(l->rgb) * w;
   }
   if (!escaped) return sum;
@@ -310,10 +501,10 @@ PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t
         le = pmc_env_texel(ls, pmc_env_texel_index(&ls->h, pmc_env_to_map(&ls->h, d)));
       else
         le = pmc_load3(l->rgb);
-      light_pdf = env_pdf;
+      light_pdf = full_weight ? 0.0f : pmc_env_light_pdf(ls, o, n, d);
     } else if (pmc_sun_contains(l, d)) {
       le = pmc_load3(l->rgb);
-      light_pdf = pmc_sun_pdf(l);
+      light_pdf = full_weight ? 0.0f : pmc_sun_pdf(l, pmc_light_pick_pmf(ls, o, n, i));
     } else {
       continue;
     }

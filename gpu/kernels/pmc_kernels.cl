@@ -66,7 +66,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->cone_width = 0.0f;
   p->cache_cone = 0u; /* bfloat16 zeros: no extra width or spread */
   p->bsdf_pdf = 0.0f;
-  p->env_pdf = 0.0f;
+  p->light_normal = 0u;
   p->pixel = pixel;
   p->depth = 0u;
   p->cache_hits = 0u;
@@ -96,8 +96,8 @@ static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float
 /* The geometry of one ray's hit: what the material and pmc_shade_surface
  * need (computed for every hit of a batch before any material runs). */
 typedef struct PmcHitPoint {
-  float3 dir, pos, ng, ns, tangent;
-  float2 uv, g1, g2; /* texture coordinates and their ray-cone gradients */
+  float3 org, dir, pos, ng, ns, tangent; /* org: the ray's (the vertex that picked its light) */
+  float2 uv, g1, g2;                     /* texture coordinates and their ray-cone gradients */
   float t, hit_scale, area2, cone_width;
   float cache_extra; /* the cache cone's width beyond cone_width at the hit (pmc_lobe_spread) */
   int prim, material;
@@ -150,11 +150,12 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->pixel = path->pixel;
 #endif
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
+  hp->org = make_float3(ray.org_x, ray.org_y, ray.org_z);
   hp->surface = hit.prim >= 0;
   const PmcLightSet* lights = &scene->light_set;
   if (lights->h.quad_end > 0) {
-    float3 le = pmc_lights_seen(lights, make_float3(ray.org_x, ray.org_y, ray.org_z), dir, hit.t,
-                                !hp->surface, path->bsdf_pdf, path->env_pdf, path->flags & PMC_PATH_SPECULAR);
+    float3 le = pmc_lights_seen(lights, hp->org, dir, hit.t, !hp->surface, path->bsdf_pdf,
+                                pmc_oct_decode(path->light_normal), path->flags & PMC_PATH_SPECULAR);
     float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * le;
     path->radiance[0] = radiance.x;
     path->radiance[1] = radiance.y;
@@ -376,8 +377,10 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   if (pmc_max3(bsdf->emission) > 0.0f) {
     float w = 1.0f;
     if (!(path->flags & PMC_PATH_SPECULAR)) {
-      float light_pdf =
-          pmc_area_light_pdf(scene->tri_light_pmf[hp->prim], hp->t, 0.5f * hp->area2, dot(ng, dir));
+      /* the probability that the previous vertex (the ray's origin) picked this triangle */
+      float pmf = pmc_light_pick_pmf(&scene->light_set, hp->org, pmc_oct_decode(path->light_normal),
+                                     scene->tri_light[hp->prim]);
+      float light_pdf = pmc_area_light_pdf(pmf, hp->t, 0.5f * hp->area2, dot(ng, dir));
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
     }
     radiance += throughput * bsdf->emission * w;
@@ -392,11 +395,15 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
   int has_lobes = pmc_lobes_any(&lobes);
 
-  /* Next-event estimation: one light, picked by power (pmc_lights.h). */
+  /* Next-event estimation: one light, picked at `origin` with the shading
+   * normal as the path stores it (pmc_lights.h), so that the next vertex can
+   * recompute the pick's probability from its ray's origin and that normal. */
   PmcLightSample ls;
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
+  const uint light_normal = pmc_oct_encode(ns);
+  const float3 pick_normal = pmc_oct_decode(light_normal);
   if (has_lobes &&
-      pmc_light_sample(&scene->light_set, origin, ns, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK),
+      pmc_light_sample(&scene->light_set, origin, pick_normal, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK),
                        pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V), &ls) &&
       dot(ls.wi, ng) > 0.0f) {
     float3 wi = pmc_to_local(ls.wi, t, b, ns);
@@ -443,10 +450,10 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
     if (alive && isfinite(pmc_max3(throughput))) {
       const int crossed = wi.z < 0.0f;
       out->next = 1;
-      out->next_org = pmc_offset_ray(pos, crossed ? -ng : ng, hp->hit_scale);
+      out->next_org = crossed ? pmc_offset_ray(pos, -ng, hp->hit_scale) : origin; /* light samples' */
       out->next_dir = wi_world;
       path->bsdf_pdf = pdf;
-      path->env_pdf = crossed ? 0.0f : pmc_env_light_pdf(&scene->light_set, ns, wi_world);
+      path->light_normal = light_normal;
       path->flags = crossed ? PMC_PATH_SPECULAR : 0u;
       path->cone_width = hp->cone_width;
       if (frame->cache_lobe_spread > 0.0f)
@@ -494,7 +501,7 @@ static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const 
   /* a path state's first and last word: it can straddle two cache lines */
   __global const PmcPathState* path = &paths[rays[i].id];
   PMC_TOUCH(&path->throughput[0]);
-  PMC_TOUCH(&path->env_pdf);
+  PMC_TOUCH(&path->light_normal);
 }
 
 /* The materials of one batch of hits, then the rest of their shading. The
@@ -562,6 +569,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   PMC_SCENE_BUFFERS(PMC_SCENE_INIT)
   s.texture_count = frame->texture_count;
   s.light_set.lights = s.lights;
+  s.light_set.tree = s.light_tree;
   s.light_set.env = s.env;
   s.light_set.h = frame->lights;
   const PmcSceneData* scene = &s;

@@ -21,7 +21,8 @@
   X(texels, __global const pmc_u32*)    /* RGBA8 */  \
   X(srgb_lut, __constant float*)                      \
   X(lights, __global const PmcLight*)   /* pmc_lights.h */ \
-  X(tri_light_pmf, __global const float*) /* per triangle */ \
+  X(tri_light, __global const pmc_i32*) /* per triangle: its light (-1: none) */ \
+  X(light_tree, __global const PmcLightTreeNode*) /* core/light_tree.h */ \
   X(env, __global const float*)         /* map texels, CDFs */
 // clang-format on
 

@@ -63,6 +63,7 @@ double polygon_irradiance(const std::vector<D3>& poly, D3 p, D3 n, double L) {
 PmcLightSet light_set(const LightTable& t) {
   PmcLightSet ls;
   ls.lights = t.lights.data();
+  ls.tree = t.tree_nodes.data();
   ls.env = t.env_data.data();
   ls.h = t.header;
   return ls;
@@ -97,7 +98,7 @@ Estimate mis_irradiance(const LightTable& t, D3 p, D3 n, int samples, uint32_t s
     if (local.z > 0.0f) {
       float3 wi = pmc_to_world(local, tan, bit, nf);
       float bpdf = local.z * PMC_INV_PI;
-      float3 seen = pmc_lights_seen(&ls, f3(p), wi, INFINITY, 1, bpdf, pmc_env_light_pdf(&ls, nf, wi), 0);
+      float3 seen = pmc_lights_seen(&ls, f3(p), wi, INFINITY, 1, bpdf, nf, 0);
       e += pmc_luminance(seen) * local.z / bpdf;
     }
     sum += e;
@@ -116,11 +117,12 @@ Scene empty_scene() {
   return s;
 }
 
-LightTable table_of(const std::vector<LightSpec>& lights, EnvironmentSpec env = {}) {
+LightTable table_of(const std::vector<LightSpec>& lights, EnvironmentSpec env = {},
+                    LightSampler sampler = LightSampler::Tree) {
   SceneLights sl;
   sl.lights = lights;
   sl.environment = env;
-  return build_light_table(empty_scene(), {}, sl);
+  return build_light_table(empty_scene(), {}, sl, sampler);
 }
 
 LightSpec point_light(D3 pos, float i) {
@@ -359,7 +361,8 @@ TEST(LightSampling, EmissiveTriangleMatchesLambertsFormula) {
   scene.triangles.push_back(tri);
   LightTable t = build_light_table(scene, {3.0f, 3.0f, 3.0f}, SceneLights{});
   ASSERT_EQ(t.lights.size(), 1u);
-  EXPECT_FLOAT_EQ(t.triangle_pmf[0], 1.0f);
+  EXPECT_EQ(t.triangle_light[0], 0);
+  EXPECT_EQ(t.lights[0].pmf, 1.0f);
   const D3 p{0.1, 0.0, 0.2}, n{0, 1, 0};
   const double exact = polygon_irradiance({{-0.5, 1.0, 0.0}, {0.7, 1.2, 0.1}, {0.0, 0.9, 0.8}}, p, n, 3.0);
   // Light sampling alone: triangles are hit as surfaces, not by pmc_lights_seen,
@@ -433,19 +436,25 @@ TEST(LightSampling, EveryLightTogetherSumsTheirIrradiance) {
   sun.rgb[0] = sun.rgb[1] = sun.rgb[2] = 2.0f;
   sun.angle_deg = 3.0f;
   EnvMap map = sun_map();
-  LightTable t = table_of({point_light({1.0, 2.0, 0.0}, 3.0f), quad_light(corner, eu, ev, 1.5f, false), sun},
-                          map_environment(map, 10.0f));
-  EXPECT_EQ(t.header.env, PMC_ENV_MAP);
-  EXPECT_EQ(t.header.at_infinity, 2);  // environment, sun
-  EXPECT_EQ(t.header.quad_end, 3);
-  const D3 lp{1.0, 2.0, 0.0};
-  const double d2 = dot3(lp - p, lp - p);
-  const double exact = 3.0 * (lp.y - p.y) / std::sqrt(d2) / d2 +
-                       polygon_irradiance({corner, corner + eu, corner + eu + ev, corner + ev}, p, n, 1.5) +
-                       2.0 * dot3(n, dir * -1.0) + map_irradiance(map, n, 10.0, 1.0);
-  Estimate e = mis_irradiance(t, p, n, 80000, 17);
-  EXPECT_NEAR(e.mean, exact, 4.0 * e.stderr_ + 1e-3 * exact);
-  EXPECT_LT(e.stderr_, 0.01 * exact);
+  for (LightSampler sampler : {LightSampler::Tree, LightSampler::Power}) {
+    const char* name = sampler == LightSampler::Tree ? "tree" : "power";
+    LightTable t =
+        table_of({point_light({1.0, 2.0, 0.0}, 3.0f), quad_light(corner, eu, ev, 1.5f, false), sun},
+                 map_environment(map, 10.0f), sampler);
+    EXPECT_EQ(t.header.env, PMC_ENV_MAP);
+    EXPECT_EQ(t.header.at_infinity, 2);  // environment, sun
+    EXPECT_EQ(t.header.distant_end, 2);
+    EXPECT_EQ(t.header.quad_end, 3);
+    EXPECT_EQ(t.header.tree_nodes, sampler == LightSampler::Tree ? 3 : 0) << name;
+    const D3 lp{1.0, 2.0, 0.0};
+    const double d2 = dot3(lp - p, lp - p);
+    const double exact = 3.0 * (lp.y - p.y) / std::sqrt(d2) / d2 +
+                         polygon_irradiance({corner, corner + eu, corner + eu + ev, corner + ev}, p, n, 1.5) +
+                         2.0 * dot3(n, dir * -1.0) + map_irradiance(map, n, 10.0, 1.0);
+    Estimate e = mis_irradiance(t, p, n, 80000, 17);
+    EXPECT_NEAR(e.mean, exact, 4.0 * e.stderr_ + 1e-3 * exact) << name;
+    EXPECT_LT(e.stderr_, 0.01 * exact) << name;
+  }
 }
 
 TEST(LightTable, PicksLightsByPower) {
@@ -462,15 +471,16 @@ TEST(LightTable, PicksLightsByPower) {
   LightTable t = table_of(
       {point_light({0, 0, 0}, 1.0f), quad_light({0, 0, 0}, {2, 0, 0}, {0, 0, 1}, 1.0f, true), spot, dir},
       constant_environment(sky));
-  // Kernel order: environment | quad | point, spot, directional.
+  // Kernel order: environment | directional | quad | point, spot.
   ASSERT_EQ(t.lights.size(), 5u);
   EXPECT_EQ(t.lights[0].type, PMC_LIGHT_ENV);
-  EXPECT_EQ(t.lights[1].type, PMC_LIGHT_QUAD);
-  const double power[5] = {disk * 4.0 * kPi * 0.25,                      // environment
-                           2.0 * kPi * 2.0 * 1.0,                        // two-sided quad, area 2
-                           4.0 * kPi * 1.0,                              // point
-                           2.0 * kPi * (1.0 - std::cos(kPi / 4)) * 2.0,  // spot, 90 degree cone
-                           disk * 0.5};                                  // directional
+  EXPECT_EQ(t.lights[1].type, PMC_LIGHT_DIRECTIONAL);
+  EXPECT_EQ(t.lights[2].type, PMC_LIGHT_QUAD);
+  const double power[5] = {disk * 4.0 * kPi * 0.25,                       // environment
+                           disk * 0.5,                                    // directional
+                           2.0 * kPi * 2.0 * 1.0,                         // two-sided quad, area 2
+                           4.0 * kPi * 1.0,                               // point
+                           2.0 * kPi * (1.0 - std::cos(kPi / 4)) * 2.0};  // spot, 90 degree cone
   double total = 0.0;
   for (double p : power) total += p;
   double running = 0.0;

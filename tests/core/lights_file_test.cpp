@@ -68,14 +68,17 @@ TEST(LightsFile, ReadsEveryLightTypeWithItsDefaultsAndConventions) {
   EXPECT_EQ(sl.environment.map->width, 8);
   EXPECT_EQ(sl.environment.scale, 2.0f);
   EXPECT_EQ(sl.environment.rotate_y_deg, 90.0f);
-  // The table: environment, sun | quad | the rest.
+  // The table: environment, sun | directional delta | quad | the rest.
   LightTable t = build_light_table(Scene{}, {}, sl);
   ASSERT_EQ(t.lights.size(), 7u);
   EXPECT_EQ(t.lights[0].type, PMC_LIGHT_ENV);
   EXPECT_EQ(t.lights[1].type, PMC_LIGHT_SUN);
-  EXPECT_EQ(t.lights[2].type, PMC_LIGHT_QUAD);
+  EXPECT_EQ(t.lights[2].type, PMC_LIGHT_DIRECTIONAL);
+  EXPECT_EQ(t.lights[3].type, PMC_LIGHT_QUAD);
   EXPECT_EQ(t.header.at_infinity, 2);
-  EXPECT_EQ(t.header.quad_end, 3);
+  EXPECT_EQ(t.header.distant_end, 3);
+  EXPECT_EQ(t.header.quad_end, 4);
+  EXPECT_EQ(t.header.tree_nodes, 2 * 4 - 1);  // over the quad, the point and the two spots
   EXPECT_EQ(t.header.env, PMC_ENV_MAP);
   // The sun's radiance: irradiance / (pi sin^2(half angle)).
   const double half = 0.265 * 3.14159265358979 / 180.0;

@@ -321,8 +321,11 @@ inline std::string check_material_set(const Scene& scene, const MaterialSet& set
     previous = l.cdf;
   }
   if (!lights.lights.empty() && lights.lights.back().cdf != 1.0f) return "light CDF does not end at 1";
-  for (float p : lights.triangle_pmf)
-    if (!(p >= 0.0f && p <= 1.0f)) return "light pick probability outside [0, 1]";
+  for (int32_t k : lights.triangle_light)
+    if (k < -1 || k >= int32_t(lights.lights.size())) return "triangle's light index outside the table";
+  if (lights.header.tree_nodes != 0 &&
+      lights.header.tree_nodes != 2 * (lights.header.count - lights.header.distant_end) - 1)
+    return "light tree does not have 2n - 1 nodes";
   return "";
 }
 

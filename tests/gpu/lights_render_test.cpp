@@ -13,7 +13,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
+#include <random>
 #include <sstream>
 #include <vector>
 
@@ -323,6 +325,105 @@ TEST(LightsRender, PointLightAndSphereLightInClosedDiffuseSphere) {
                    std::to_string(test::image_mean(out.image) / expected));
     EXPECT_NEAR(test::image_mean(out.image), expected, 0.02 * expected);
   }
+}
+
+// Thirty-two lights (points, spots, one-sided quads) above a grey plane: both
+// samplers agree with the exact image (rho/pi x the sum of the lights'
+// irradiance, the BSDF rays' MIS against the quads included), and at equal
+// samples the light tree, which follows the shading point, is less noisy
+// than the pick by power.
+TEST(LightsRender, ManyLightsTreeAndPowerMatchTheExactImageAndTheTreeIsLessNoisy) {
+  const std::string dir = test::temp_dir();
+  std::mt19937 gen(12);
+  auto uniform = [&](double lo, double hi) { return lo + (hi - lo) * double(gen() >> 8) / 16777216.0; };
+  struct Point {
+    D3 p, axis;
+    double intensity, outer_deg, blend;
+    bool spot;
+  };
+  struct Quad {
+    D3 corner, eu, ev;
+    double radiance;
+  };
+  std::vector<Point> points;
+  std::vector<Quad> quads;
+  RenderSettings base = top_view(40, 16);
+  for (int i = 0; i < 24; ++i) {
+    Point pt{{uniform(-3, 3), uniform(0.3, 2.0), uniform(-3, 3)},
+             unit({uniform(-0.5, 0.5), -1.0, uniform(-0.5, 0.5)}),
+             uniform(0.05, 1.0),
+             uniform(30, 80),
+             uniform(0.1, 0.6),
+             i % 3 == 0};
+    points.push_back(pt);
+    LightSpec l = point_spec(pt.p, float(pt.intensity));
+    if (pt.spot) {
+      l.type = LightSpec::Type::Spot;
+      l.direction[0] = float(pt.axis.x), l.direction[1] = float(pt.axis.y), l.direction[2] = float(pt.axis.z);
+      l.cone_angle_deg = float(2.0 * pt.outer_deg);
+      l.blend = float(pt.blend);
+    }
+    base.lights.lights.push_back(l);
+  }
+  for (int i = 0; i < 8; ++i) {
+    const double w = uniform(0.1, 0.5), d = uniform(0.1, 0.5);
+    Quad q{{uniform(-3, 3), uniform(0.5, 2.5), uniform(-3, 3)}, {w, 0, 0}, {0, 0, d}, uniform(0.2, 2.0)};
+    quads.push_back(q);  // edge_u x edge_v = -y: faces down
+    LightSpec l;
+    l.type = LightSpec::Type::Quad;
+    for (int k = 0; k < 3; ++k) {
+      l.corner[k] = float((&q.corner.x)[k]);
+      l.edge_u[k] = float((&q.eu.x)[k]);
+      l.edge_v[k] = float((&q.ev.x)[k]);
+      l.rgb[k] = float(q.radiance);
+    }
+    base.lights.lights.push_back(l);
+  }
+  auto radiance = [&](D3 q) {
+    double e = 0.0;
+    for (const Point& pt : points) {
+      D3 d = pt.p - q;
+      double d2 = dot3(d, d), c = d.y / std::sqrt(d2), falloff = 1.0;
+      if (pt.spot) {
+        double a = std::acos(std::max(-1.0, std::min(1.0, -dot3(unit(d), pt.axis)))) * 180.0 / kPi;
+        double inner = pt.outer_deg * (1.0 - pt.blend);
+        double t = std::min(1.0, std::max(0.0, (pt.outer_deg - a) / (pt.outer_deg - inner)));
+        falloff = a <= inner ? 1.0 : a >= pt.outer_deg ? 0.0 : t * t * (3.0 - 2.0 * t);
+      }
+      e += pt.intensity * falloff * c / d2;
+    }
+    for (const Quad& qd : quads)
+      e += polygon_irradiance({qd.corner, qd.corner + qd.eu, qd.corner + qd.eu + qd.ev, qd.corner + qd.ev}, q,
+                              {0, 1, 0}, qd.radiance);
+    return 0.5 / kPi * e;
+  };
+  std::vector<double> expected(size_t(base.width * base.height));
+  for (int y = 0; y < base.height; ++y)
+    for (int x = 0; x < base.width; ++x)
+      expected[size_t(y * base.width + x)] = pixel_expectation(base, x, y, radiance);
+  double rel_mse[2];
+  for (int tree = 0; tree < 2; ++tree) {
+    RenderSettings s = base;
+    s.light_tree = tree == 1;
+    RenderOutput out = render_files(dir, plane_obj(4.0, "scene"), kGreyMtl, s);
+    EXPECT_EQ(out.stats.nan_pixels, 0u);
+    double diff = 0.0, diff2 = 0.0, err = 0.0;
+    const size_t n = expected.size();
+    for (size_t i = 0; i < n; ++i) {
+      const double got = out.image.pixels[3 * i + 1], want = expected[i], r = (got - want) / want;
+      diff += r;
+      diff2 += r * r;
+      err += (got - want) * (got - want) / (want * want + 1e-4);
+    }
+    const double mean = diff / double(n), stderr_ = std::sqrt((diff2 / double(n) - mean * mean) / double(n));
+    rel_mse[tree] = err / double(n);
+    const char* name = tree ? "tree" : "power";
+    EXPECT_LT(std::fabs(mean), 4.0 * stderr_ + 2e-3)
+        << name << ": the mean relative error is off by " << mean / stderr_ << " standard errors";
+    RecordProperty(std::string(name) + "_rel_mse", std::to_string(rel_mse[tree]));
+    std::printf("%s: relMSE %.4g, mean relative error %.2g +- %.2g\n", name, rel_mse[tree], mean, stderr_);
+  }
+  EXPECT_LT(rel_mse[1], 0.7 * rel_mse[0]) << "the tree should need fewer samples for the same noise";
 }
 
 // --- environment maps ---------------------------------------------------

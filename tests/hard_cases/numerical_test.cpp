@@ -621,14 +621,18 @@ TEST(Numerical, MaximumPathDepthReachedByEveryPath) {
   double lo[3] = {-1, -1, -1}, hi[3] = {1, 1, 1};
   o.box(lo, hi);
   test::write_file(dir + "/box.obj", o.str());
-  RenderConfig s = hard::small_config(32, 32, 8, 3);
+  // 64 spp: at 8 the image mean's own noise (a standard deviation of about
+  // 0.045 over seeds, light sampling's full weight at the last hit makes
+  // fireflies near the box's edges) was as wide as the tolerance, with either
+  // light selection; at 64 it is about 0.02.
+  RenderConfig s = hard::small_config(32, 32, 64, 3);
   hard::set_camera(s, 0.1, -0.2, 0.3, 1, 0.5, -1, 90.0f);
   for (bool cache : {false, true}) {
     SCOPED_TRACE(cache ? "cache on" : "cache off");
     hard::Rendered r = hard::render(RenderCase{dir + "/box.obj", {}, ""}, s, cache);
     hard::expect_clean(r.out, "max depth");
     const RenderStats& st = r.out.stats;
-    EXPECT_EQ(st.paths, uint64_t(32 * 32 * 8));
+    EXPECT_EQ(st.paths, uint64_t(32 * 32 * 64));
     EXPECT_EQ(st.rays - st.shadow_rays, 3 * st.paths) << "every path must make exactly max-depth hits";
     double mean = test::image_mean(r.out.image);
     EXPECT_NEAR(mean, 4.0, 0.04);
