@@ -11,6 +11,7 @@
 
 #include <cstdlib>
 #include <map>
+#include <nlohmann/json.hpp>
 
 #include "core/image_backend.h"
 #include "core/image_io.h"
@@ -120,6 +121,25 @@ TEST(PassesCli, DenoiseWritesTheDenoisedAndTheNoisyImagesSideBySide) {
   }
   EXPECT_LT(diff, 1e-3 * mag);  // OIDN may differ in the last bits between runs
   EXPECT_TRUE(channels(d + "/again.noisy.exr").at("R") == noisy.at("R"));
+}
+
+TEST(PassesCli, CompareGainsADenoisedColumnCloserToTheReference) {
+  const std::string d = test::temp_dir();
+  std::string log;
+  ASSERT_EQ(test::run_pmc("compare " + test::source_path("data/default/room.obj") + " --mtlx " +
+                              test::source_path("data/default/materials.mtlx") +
+                              " --width 64 --height 36 --spp 8 --max-depth 4 --reference-spp 256 --denoise "
+                              "--quiet --out-dir " +
+                              d + "/cmp",
+                          &log),
+            0)
+      << log;
+  EXPECT_TRUE(test::file_exists(d + "/cmp/cache_on_denoised.png"));
+  EXPECT_TRUE(test::file_exists(d + "/cmp/cache_on_denoised.exr"));
+  const nlohmann::json m = nlohmann::json::parse(test::read_file(d + "/cmp/metrics.json"));
+  EXPECT_LT(m["denoised_vs_reference"]["relmse"].get<double>(),
+            m["cached_vs_reference"]["relmse"].get<double>());
+  EXPECT_NE(test::read_file(d + "/cmp/report.md").find("cache_on_denoised.png"), std::string::npos);
 }
 
 TEST(PassesCli, BadDenoiseInputsAndAMissingOidnFailNamingTheCauseAndWriteNothing) {
