@@ -34,7 +34,6 @@ struct DenoiseArgs {
 struct LayeredFrame {
   Image color, albedo, normal;
   std::vector<ImageLayer> layers;  // every pass layer present (albedo and normal included)
-  int spp = 0;                     // pmc:spp, 0 when absent
 };
 
 LayeredFrame read_layered_frame(const std::string& path) {
@@ -77,7 +76,6 @@ LayeredFrame read_layered_frame(const std::string& path) {
     if (p.bit == kPassAlbedo) f.albedo = f.layers.back().image;
     if (p.bit == kPassNormal) f.normal = f.layers.back().image;
   }
-  f.spp = in->int_attribute("pmc:spp", 0);
   return f;
 }
 
@@ -96,9 +94,7 @@ int run_denoise(const DenoiseArgs& a) {
   if (!denoiser_available(&why)) fail("pmc denoise: ", why);
 
   const LayeredFrame frame = read_layered_frame(a.in);
-  // Without a sample count (not pmc's file), the aux images are taken as noisy.
-  const bool clean_aux = frame.spp <= 0 || denoise_needs_clean_aux(frame.spp);
-  const DenoiseResult r = denoise({&frame.color, &frame.albedo, &frame.normal, clean_aux});
+  const DenoiseResult r = denoise({&frame.color, &frame.albedo, &frame.normal});
 
   OutputGuard guard;
   for (const auto& o : outputs) guard.track(o.second);
@@ -107,9 +103,9 @@ int run_denoise(const DenoiseArgs& a) {
   write_exr_layers(paths.noisy_exr, frame.color, frame.layers);
   write_png_display(paths.noisy_png, tone_map_image(frame.color, a.tone_map));
   guard.commit();
-  std::fprintf(stderr, "pmc: denoised %s (%dx%d) with Open Image Denoise on %s in %.2fs%s -> %s\n",
+  std::fprintf(stderr, "pmc: denoised %s (%dx%d) with Open Image Denoise on %s in %.2fs -> %s\n",
                a.in.c_str(), frame.color.width, frame.color.height, r.device.c_str(), r.seconds,
-               clean_aux ? " (albedo and normal prefiltered)" : "", paths.exr.c_str());
+               paths.exr.c_str());
   return 0;
 }
 

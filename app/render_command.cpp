@@ -101,11 +101,10 @@ int run_render(const RenderArgs& args) {
   bar.finish();
   DenoiseResult clean;
   if (a.denoise) {
-    clean =
-        denoise({&out.image, &out.passes.albedo, &out.passes.normal, denoise_needs_clean_aux(settings.spp)});
-    std::fprintf(stderr, "pmc: denoised with Open Image Denoise on %s in %.2fs%s\n", clean.device.c_str(),
-                 clean.seconds,
-                 denoise_needs_clean_aux(settings.spp) ? " (albedo and normal prefiltered)" : "");
+    clean = denoise({&out.image, &out.passes.albedo, &out.passes.normal});
+    std::fprintf(stderr,
+                 "pmc: denoised with Open Image Denoise on %s in %.2fs (albedo and normal prefiltered)\n",
+                 clean.device.c_str(), clean.seconds);
   }
   const std::vector<ImageLayer> layers =
       config.passes ? pass_layers(out.passes, config.passes) : std::vector<ImageLayer>{};
@@ -150,9 +149,7 @@ int run_render(const RenderArgs& args) {
     j["texture_cache"] = texture_cache_json(TextureCache::instance());
     j["passes"] = pass_list_text(config.passes);
     if (a.denoise)
-      j["denoise"] = {{"seconds", clean.seconds},
-                      {"device", clean.device},
-                      {"prefiltered_aux", denoise_needs_clean_aux(settings.spp)}};
+      j["denoise"] = {{"seconds", clean.seconds}, {"device", clean.device}, {"prefiltered_aux", true}};
     write_text_file(a.stats, j.dump(2) + "\n");
   }
   guard.commit();

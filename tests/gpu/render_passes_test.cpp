@@ -155,8 +155,7 @@ TEST(RenderPasses, DenoisedDefaultSceneAt16SppIsAtLeast8xCloserToTheReference) {
   ref_settings.seed = 7;  // independent of the noisy image's samples
   ref_settings.passes = 0;
   const RenderOutput reference = session.render(ref_settings);
-  const DenoiseResult clean =
-      denoise({&noisy.image, &noisy.passes.albedo, &noisy.passes.normal, denoise_needs_clean_aux(16)});
+  const DenoiseResult clean = denoise({&noisy.image, &noisy.passes.albedo, &noisy.passes.normal});
   const double noisy_err = compare_images(noisy.image, reference.image).relmse;
   const double clean_err = compare_images(clean.image, reference.image).relmse;
   std::printf("relMSE noisy %.5f, denoised %.5f (%.1fx) on %s\n", noisy_err, clean_err, noisy_err / clean_err,
