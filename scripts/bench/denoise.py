@@ -172,7 +172,7 @@ def report(data):
         tab = common.md_table(
             ["spp", "render, cache on (s)", "denoise (s)", "relMSE cacheless", "relMSE cached", "relMSE denoised",
              "noisy / denoised"],
-            [[r["spp"], f"{r['on']:.2f}", f"{r['denoise']:.2f}", f"{r['relmse_off']:.3g}", f"{r['relmse_on']:.3g}",
+            [[str(r["spp"]), f"{r['on']:.2f}", f"{r['denoise']:.2f}", f"{r['relmse_off']:.3g}", f"{r['relmse_on']:.3g}",
               f"{r['relmse_denoised']:.3g}",
               f"**{r['relmse_on'] / r['relmse_denoised']:.1f}x**" if r["relmse_denoised"] > 0 else "?"] for r in s])
         tables.append(f"**{SCENES[key]['name']}**\n\n{tab}")
