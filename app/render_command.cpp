@@ -88,7 +88,7 @@ int run_render(const RenderArgs& args) {
   if (a.denoise) {
     for (const auto& o : check_noisy_outputs(denoised)) outputs.push_back(o);
     std::string why;
-    if (!denoiser_available(&why)) fail(setting("denoise"), ": ", why);
+    if (!denoiser_available(&why)) fail_config(setting("denoise"), ": ", why);
   }
   check_distinct_outputs(outputs);
 

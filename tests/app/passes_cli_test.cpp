@@ -179,6 +179,8 @@ TEST(PassesCli, BadDenoiseInputsAndAMissingOidnFailNamingTheCauseAndWriteNothing
   EXPECT_EQ(render_code, 2) << render_log;
   EXPECT_NE(render_log.find("pyoidn"), std::string::npos) << render_log;
   EXPECT_NE(render_log.find("scripts/setup"), std::string::npos) << render_log;
+  EXPECT_NE(render_log.find("--denoise: "), std::string::npos)
+      << render_log;  // the flag, as the user wrote it
   EXPECT_EQ(denoise_code, 2) << log;
   EXPECT_NE(log.find("pyoidn"), std::string::npos) << log;
   nothing_written("v");
