@@ -141,7 +141,9 @@ Scene load_obj(const std::string& path, const ObjLoadOptions& options) {
     mm.aniso = float(m.anisotropy);
     mm.anisor = float(m.anisotropy_rotation);
     auto resolve = [&](const std::string& t) {
-      return t.empty() ? t : dirname_of(path) + normalize_texture_path(t);
+      if (t.empty()) return t;
+      const std::string p = normalize_texture_path(t);
+      return p[0] == '/' ? p : dirname_of(path) + p;  // an absolute path stays as written
     };
     mm.map_kd = resolve(m.diffuse_texname);
     mm.map_d = resolve(m.alpha_texname);

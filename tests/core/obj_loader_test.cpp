@@ -552,6 +552,21 @@ TEST(ObjLoader, LoadsTextureWithWindowsPath) {
   EXPECT_EQ(s.materials[0].map_kd, dir + "/sub/tex/not_there.png");
 }
 
+TEST(ObjLoader, AbsoluteTexturePathIsUsedAsWritten) {
+  // Exporters often write absolute paths; they must not be put under the OBJ's folder.
+  std::string dir = temp_dir();
+  const std::string image = std::filesystem::absolute(dir + "/elsewhere/a.png").string();
+  std::filesystem::create_directories(dir + "/elsewhere");
+  write_image(image, 2, 2, 3, std::vector<uint8_t>(12, 200));
+  std::string obj = write_textured_scene(dir, "map_Kd " + image);
+  Scene s = load_obj(obj);
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_EQ(s.materials[1].map_kd, image);
+  EXPECT_EQ(s.materials[1].kd_texture, 0);
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures.textures()[0].width, 2);
+}
+
 TEST(ObjLoader, UnusedMaterialTextureIsNotLoaded) {
   std::string dir = temp_dir();
   // Both files exist and are valid images; only the used one is loaded.

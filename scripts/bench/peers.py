@@ -1,0 +1,291 @@
+"""bench.peers — pmc beside Blender Cycles and Mitsuba 3 on the shared scenes:
+render time at equal samples, error against each renderer's own high-sample
+reference, efficiency 1 / (relMSE x seconds), and error-against-time plots
+(issue 36). Not a test: numbers for docs/BENCHMARKS.md.
+
+Needs the peers in .venv: scripts/setup-peers installs Blender's `bpy` 5.0.1
+and `mitsuba` from PyPI and Debian's libllvm19 (for Mitsuba's llvm_ad_rgb).
+
+    scripts/bench-peers                                     every scene and renderer (long: about an hour)
+    scripts/bench-peers --scenes cornell --renderers pmc,cycles --spp 4,16 --reference-spp 256
+    scripts/bench-peers --report-only                       the tables again from OUT_DIR/results.json
+
+Method (also written into the section):
+  scenes     bench.peer_scenes: the OBJ with every material as a diffuse
+             stand-in (Kd x map_Kd, Ke, map_d), the same camera, lights and
+             environment for every renderer, converted with written factors
+             (bench.peer_cycles, bench.peer_mitsuba)
+  renderers  pmc (defaults: the material cache on; its reference with the
+             cache off), Cycles (bpy, CPU), Mitsuba 3 llvm_ad_rgb and
+             scalar_rgb; every one on --threads threads, max depth matched
+  time       seconds of N samples = (t(N) - t(1)) x N / (N - 1), where t is a
+             render's own time (pmc: its render_seconds; Cycles: the render
+             call; Mitsuba: mi.render and the image's evaluation, kernels
+             compiled by an untimed render first): scene loading, BVH
+             building, kernel compilation and per-render set-up drop out
+  error      relMSE = mean over pixels and channels of (x - ref)^2 /
+             (ref^2 + 0.01) (pmc's own definition), against the same
+             renderer's reference at --reference-spp with another seed
+  rounds     --runs rounds; in each, every renderer renders every sample
+             count once (the renderers' order rotates between rounds), with
+             the round's seed; times and errors are medians over rounds
+"""
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+from bench import common, peer_scenes
+
+PROG = "bench.peers"
+SECTION = "## Against Cycles and Mitsuba 3 (scripts/bench-peers)"
+RENDERERS = ["pmc", "cycles", "mitsuba-llvm", "mitsuba-scalar"]
+LABELS = {"pmc": "pmc", "cycles": "Cycles 5.0.1", "mitsuba-llvm": "Mitsuba 3 llvm_ad_rgb",
+          "mitsuba-scalar": "Mitsuba 3 scalar_rgb"}
+PY = ".venv/bin/python"
+PLOT = "docs/plots/peers.png"  # relative to the repository root, beside docs/BENCHMARKS.md
+
+
+def parse(argv=None):
+    p = common.make_parser("peers", __doc__)
+    common.add_pmc(p)
+    common.add_runs(p, 3)
+    p.add_argument("--scenes", default=",".join(peer_scenes.SCENES), metavar="LIST",
+                   help=f"comma-separated scenes, of {','.join(peer_scenes.SCENES)} (default all)")
+    p.add_argument("--renderers", default=",".join(RENDERERS), metavar="LIST",
+                   help=f"comma-separated renderers, of {','.join(RENDERERS)} (default all)")
+    p.add_argument("--width", type=common.positive_int, default=160, metavar="W", help="image width (default 160)")
+    p.add_argument("--height", type=common.positive_int, default=120, metavar="H",
+                   help="image height (default 120)")
+    p.add_argument("--spp", default="4,16,64", metavar="LIST",
+                   help="sample counts of the timed renders (default 4,16,64)")
+    p.add_argument("--reference-spp", type=common.positive_int, default=1024, metavar="N",
+                   help="samples of each renderer's reference (default 1024)")
+    p.add_argument("--max-depth", type=common.positive_int, default=8, metavar="D",
+                   help="surface hits per path, pmc's --max-depth (default 8)")
+    p.add_argument("--threads", type=common.positive_int, default=2, metavar="T",
+                   help="threads of every renderer (default 2)")
+    common.add_out_dir(p, "out/bench-peers")
+    common.add_doc(p)
+    common.add_report_only(p)
+    args = common.parse_args(p, "peers", argv=argv)
+    args.scene_list = [s for s in args.scenes.split(",") if s]
+    args.renderer_list = [r for r in args.renderers.split(",") if r]
+    for s in args.scene_list:
+        if s not in peer_scenes.SCENES:
+            p.error(f"unknown scene {s!r} (known: {', '.join(peer_scenes.SCENES)})")
+    for r in args.renderer_list:
+        if r not in RENDERERS:
+            p.error(f"unknown renderer {r!r} (known: {', '.join(RENDERERS)})")
+    try:
+        args.spp_list = sorted({int(x) for x in args.spp.split(",") if x})
+    except ValueError:
+        p.error(f"--spp takes a comma-separated list of sample counts, got {args.spp!r}")
+    if not args.spp_list or min(args.spp_list) < 2:
+        p.error("--spp needs sample counts of at least 2 (the time is (t(N) - t(1)) N / (N - 1))")
+    return args
+
+
+# ---- images and errors ---------------------------------------------------------------
+def read_exr(path):
+    """The RGB pixels of an EXR as a float array (through Mitsuba's Bitmap,
+    which every run of this benchmark has)."""
+    import numpy as np
+    import mitsuba as mi
+    if mi.variant() is None:
+        mi.set_variant("scalar_rgb")
+    bmp = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False)
+    return np.array(bmp, dtype=np.float64)
+
+
+def relmse(img, ref):
+    import numpy as np
+    if img.shape != ref.shape:
+        raise SystemExit(f"{PROG}: image sizes differ: {img.shape} against {ref.shape}")
+    bad = ~np.isfinite(img)
+    img = np.where(bad, 0.0, img)
+    return float(np.mean((img - ref) ** 2 / (ref * ref + 0.01))), int(bad.sum())
+
+
+# ---- running one renderer ------------------------------------------------------------
+def run_pmc(args, job, spps, seed, folder, cache):
+    """pmc renders; returns {spp: (render_seconds, exr)} (spp 1 included)."""
+    cam = job["camera"]
+    out = {}
+    for spp in [1] + spps:
+        exr = os.path.join(folder, f"pmc_{cache}_{spp}_s{seed}.exr")
+        stats = exr[:-4] + ".json"
+        cmd = [args.pmc, "render", job["obj"], "--lights", job["lights_file"],
+               "--camera-from", ",".join(map(str, cam["from"])), "--camera-at", ",".join(map(str, cam["at"])),
+               "--fov", str(cam["vfov"]), "--max-depth", str(args.max_depth), "--seed", str(seed),
+               "--threads", str(args.threads), "--cache", cache, "-o", exr, "--stats", stats,
+               *common.size_args(args.width, args.height, spp)]
+        st, _ = common.run_pmc(cmd, stats, os.path.join(folder, "pmc.log"), f"pmc {job['scene']}", append=True)
+        out[spp] = (st["render_seconds"], exr)
+    return out
+
+
+def run_peer(args, renderer, job, spps, seed, folder):
+    """A peer renders in its own process; returns {spp: (seconds, exr)} with
+    {1: (fixed seconds, None)}."""
+    tag = renderer.replace("-", "_")
+    full = dict(job, width=args.width, height=args.height, max_depth=args.max_depth, threads=args.threads,
+                seed=seed, renders=[{"spp": s, "out": os.path.abspath(os.path.join(folder, f"{tag}_{s}_s{seed}.exr"))}
+                                    for s in spps])
+    job_path = os.path.join(folder, f"{tag}_s{seed}.job.json")
+    result_path = os.path.join(folder, f"{tag}_s{seed}.result.json")
+    with open(job_path, "w") as f:
+        json.dump(full, f, indent=1)
+    if renderer == "cycles":
+        cmd = [PY, "scripts/bench/peer_cycles.py", job_path, result_path]
+    else:
+        variant = "llvm_ad_rgb" if renderer == "mitsuba-llvm" else "scalar_rgb"
+        cmd = [PY, "scripts/bench/peer_mitsuba.py", variant, job_path, result_path]
+    common.run(cmd, os.path.join(folder, f"{tag}.log"), f"{renderer} {job['scene']}", append=True)
+    res = common.read_json(result_path)
+    out = {1: (res["fixed_seconds"], None)}
+    for r, spec in zip(res["renders"], full["renders"]):
+        out[r["spp"]] = (r["seconds"], spec["out"])
+    return out
+
+
+def render(args, renderer, job, spps, seed, folder, reference=False):
+    if renderer == "pmc":
+        return run_pmc(args, job, spps, seed, folder, "off" if reference else "on")
+    return run_peer(args, renderer, job, spps, seed, folder)
+
+
+def seconds_of(runs, spp):
+    """(t(N) - t(1)) x N / (N - 1): the time of N samples without fixed costs."""
+    return max(runs[spp][0] - runs[1][0], 0.0) * spp / (spp - 1)
+
+
+# ---- measuring -----------------------------------------------------------------------
+def check_peers(renderers):
+    """Exits with what to install when a peer is missing from .venv."""
+    probes = {"cycles": "import bpy", "mitsuba-llvm": "import mitsuba; mitsuba.set_variant('llvm_ad_rgb')",
+              "mitsuba-scalar": "import mitsuba; mitsuba.set_variant('scalar_rgb')",
+              "images": "import mitsuba"}  # read_exr reads every image through Mitsuba's Bitmap
+    for r in list(renderers) + ["images"]:
+        if r not in probes:
+            continue
+        p = subprocess.run([PY, "-c", probes[r]], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            why = (p.stderr.strip().splitlines() or ["failed"])[-1]
+            sys.exit(f"{PROG}: {r}: {why}; scripts/setup-peers installs the peers (bpy, mitsuba, libllvm19)")
+
+
+def measure(args):
+    check_peers(args.renderer_list)
+    load = common.LoadSampler()
+    data = {"width": args.width, "height": args.height, "spp": args.spp_list, "reference_spp": args.reference_spp,
+            "max_depth": args.max_depth, "threads": args.threads, "runs": args.runs,
+            "machine": common.machine("cpu"), "rev": common.git_rev(), "date": common.utc_now(), "scenes": {}}
+    for name in args.scene_list:
+        folder = os.path.join(args.out_dir, name)
+        job = peer_scenes.write_scene_files(name, os.path.join(folder, "files"))
+        print(f"{PROG}: {name}: {job['triangles']} triangles; references at {args.reference_spp} spp", flush=True)
+        scene = {"what": peer_scenes.SCENES[name]["what"], "triangles": job["triangles"], "renderers": {}}
+        refs = {}
+        for r in args.renderer_list:
+            runs = render(args, r, job, [args.reference_spp], 1000, folder, reference=True)
+            refs[r] = read_exr(runs[args.reference_spp][1])
+            scene["renderers"][r] = {"reference_seconds": seconds_of(runs, args.reference_spp),
+                                     "rounds": []}
+        for rnd in range(args.runs):
+            for r in common.round_order(args.renderer_list, rnd):
+                runs = render(args, r, job, args.spp_list, 1 + rnd, folder)
+                row = {}
+                for spp in args.spp_list:
+                    err, bad = relmse(read_exr(runs[spp][1]), refs[r])
+                    row[str(spp)] = {"seconds": seconds_of(runs, spp), "relmse": err, "bad_values": bad}
+                scene["renderers"][r]["rounds"].append(row)
+                load.sample()
+                print(f"{PROG}: {name} round {rnd + 1}/{args.runs} {r}: " +
+                      ", ".join(f"{s} spp {row[str(s)]['seconds']:.2f} s relMSE {row[str(s)]['relmse']:.3g}"
+                                for s in args.spp_list), flush=True)
+        data["scenes"][name] = scene
+    data["load"] = load.note()
+    return data
+
+
+# ---- reporting -----------------------------------------------------------------------
+def summary(entry, spp):
+    secs = [r[str(spp)]["seconds"] for r in entry["rounds"]]
+    errs = [r[str(spp)]["relmse"] for r in entry["rounds"]]
+    t, e = common.median(secs), common.median(errs)
+    eff = 1.0 / (e * t) if e > 0 and t > 0 else float("inf")
+    return t, e, eff
+
+
+def plot(data, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    names = list(data["scenes"])
+    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        for r, entry in data["scenes"][name]["renderers"].items():
+            pts = [summary(entry, s)[:2] for s in data["spp"]]
+            ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=LABELS[r])
+        ax.set_title(name)
+        ax.set_xlabel("render seconds")
+        ax.set_ylabel("relMSE vs own reference")
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0][0].legend(fontsize=8)
+    fig.tight_layout()
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def report(data):
+    top = max(data["spp"])
+    lines = [f"Measured {data['date']} at {data['rev']} on {data['machine']}; {data['width']}x{data['height']}, "
+             f"max depth {data['max_depth']}, {data['threads']} threads each, "
+             f"{common.rounds_text(data['runs'])}; references at {data['reference_spp']} spp; {data['load']}.", ""]
+    printed = []
+    for name, scene in data["scenes"].items():
+        lines += [f"**{name}** ({scene['what']}; {scene['triangles']:,} triangles)", ""]
+        rows = []
+        pmc = scene["renderers"].get("pmc")
+        pmc_eff = summary(pmc, top)[2] if pmc else None
+        pmc_ref = pmc["reference_seconds"] if pmc else None
+        for r, entry in scene["renderers"].items():
+            t, e, eff = summary(entry, top)
+            times = " / ".join(f"{summary(entry, s)[0]:.2f}" for s in data["spp"])
+            rows.append([LABELS[r], times, f"{e:.3g}", f"{eff:.3g}",
+                         f"{pmc_eff / eff:.2f}" if pmc_eff else "–",
+                         f"{entry['reference_seconds']:.1f}",
+                         f"{pmc_ref / entry['reference_seconds']:.2f}" if pmc_ref else "–"])
+        header = ["renderer", f"seconds at {' / '.join(map(str, data['spp']))} spp", f"relMSE at {top} spp",
+                  "efficiency", "pmc's efficiency / this", f"seconds at {data['reference_spp']} spp",
+                  "pmc's time / this"]
+        table = common.md_table(header, rows)
+        lines += [table, ""]
+        printed += [name, table, ""]
+    lines += ["![relMSE against render time](plots/peers.png)", ""]
+    plot(data, PLOT)
+    lines += [METHOD]
+    return "\n".join(lines), "\n".join(printed)
+
+
+METHOD = """Efficiency is 1 / (relMSE x seconds) at the largest timed sample count; a ratio above 1 in
+"pmc's efficiency / this" means pmc reaches a given error sooner. Materials are diffuse
+stand-ins (Kd x map_Kd, Ke, map_d) in every renderer, so this measures light transport
+and sampling. Times leave out scene loading, BVH building and kernel compilation:
+(t(N) - t(1)) x N / (N - 1) of each renderer's own render time. Conversions and settings:
+the module comments of scripts/bench/peer_cycles.py and peer_mitsuba.py (Cycles: box
+filter, no adaptive sampling, denoising, clamping or glossy filter; Mitsuba: path
+integrator, box filter, independent sampler)."""
+
+
+def main(argv=None):
+    args = parse(argv)
+    common.measure_and_report(args, PROG, SECTION, measure, report)
+
+
+if __name__ == "__main__":
+    main()
