@@ -17,6 +17,7 @@ CommandRun add_compare_command(CLI::App& pmc);
 CommandRun add_sweep_command(CLI::App& pmc);
 CommandRun add_info_command(CLI::App& pmc);
 CommandRun add_merge_command(CLI::App& pmc);
+CommandRun add_denoise_command(CLI::App& pmc);
 CommandRun add_cache_replay_command(CLI::App& pmc);
 
 }  // namespace pmc

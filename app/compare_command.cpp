@@ -6,7 +6,9 @@
 // metrics.json and report.md into --out-dir. With --reference REF.exr (or
 // --reference-spp N, rendered cacheless with another seed) it also measures
 // each render against the reference, so the cache's bias can be told apart
-// from the noise both renders share.
+// from the noise both renders share. With --denoise the cached render is
+// also denoised (OIDN with its albedo and normal passes, core/denoiser.h)
+// and shown, and measured against the reference, in its own column.
 //
 // Bad input fails before anything is rendered and leaves nothing behind:
 // the options, the reference (its file and its size) and the scene are
@@ -27,9 +29,11 @@
 #include "app/render_options.h"
 #include "app/stats_json.h"
 #include "core/atomic_write.h"
+#include "core/denoiser.h"
 #include "core/error.h"
 #include "core/heatmap.h"
 #include "core/image_metrics.h"
+#include "core/render_passes.h"
 #include "core/tone_map.h"
 #include "gpu/render_session.h"
 
@@ -77,14 +81,16 @@ Image read_reference(const std::string& path, int width, int height) {
 
 // report.md: the four images side by side and the numbers of metrics.json.
 std::string report_markdown(const nlohmann::json& m, const std::string& obj, const std::string& device) {
+  const bool denoised = m.contains("denoise");
   std::ostringstream r;
   r << "# pmc compare: " << obj << "\n\n"
     << m["width"].get<int>() << "x" << m["height"].get<int>() << ", " << m["spp"].get<int>() << " spp, seed "
     << m["seed"].get<uint32_t>() << ", device " << device << "\n\n"
     << "| cache off | cache on | difference x" << m["diff_scale"].get<float>()
-    << " | cache hits per sample (0-20) |\n"
-    << "|---|---|---|---|\n"
-    << "| ![](cache_off.png) | ![](cache_on.png) | ![](difference.png) | ![](hitmap.png) |\n\n"
+    << " | cache hits per sample (0-20) |" << (denoised ? " cache on, denoised |" : "") << "\n"
+    << "|---|---|---|---|" << (denoised ? "---|" : "") << "\n"
+    << "| ![](cache_off.png) | ![](cache_on.png) | ![](difference.png) | ![](hitmap.png) |"
+    << (denoised ? " ![](cache_on_denoised.png) |" : "") << "\n\n"
     << "| metric | value |\n|---|---|\n"
     << "| time without cache (s) | " << m["time_off_seconds"].get<double>() << " |\n"
     << "| time with cache (s) | " << m["time_on_seconds"].get<double>() << " |\n"
@@ -104,8 +110,11 @@ std::string report_markdown(const nlohmann::json& m, const std::string& obj, con
     r << "| relMSE cached vs reference | " << on_ref["relmse"].get<double>() << " |\n"
       << "| relMSE cacheless vs reference | " << off_ref["relmse"].get<double>() << " |\n"
       << "| PSNR cached vs reference (dB) | " << on_ref["psnr"].get<double>() << " |\n"
-      << "| PSNR cacheless vs reference (dB) | " << off_ref["psnr"].get<double>() << " |\n\n"
-      << "Reference: ";
+      << "| PSNR cacheless vs reference (dB) | " << off_ref["psnr"].get<double>() << " |\n";
+    if (denoised)
+      r << "| relMSE cached and denoised vs reference | "
+        << m["denoised_vs_reference"]["relmse"].get<double>() << " |\n";
+    r << "\nReference: ";
     const nlohmann::json& ref = m["reference"];
     if (!ref.contains("spp"))
       r << ref["file"].get<std::string>() << "\n";
@@ -123,6 +132,7 @@ struct CompareArgs {
   int reference_spp = 0;
   float diff_scale = 5.0f;
   bool quiet = false;
+  bool denoise = false;
 };
 
 int run_compare(CompareArgs& a) {
@@ -136,6 +146,11 @@ int run_compare(CompareArgs& a) {
   const int reference_spp = a.reference_spp;
   const bool quiet = a.quiet;
   RenderConfig config = a.config;
+  if (a.denoise) {
+    config.passes = kPassAlbedo | kPassNormal;
+    std::string why;
+    if (!denoiser_available(&why)) fail("--denoise: ", why);
+  }
   config.validate();
   Image reference;
   const bool have_reference = !a.reference.empty() || reference_spp > 0;
@@ -167,6 +182,9 @@ int run_compare(CompareArgs& a) {
     reference = render(off_session, rs, "reference").image;
   }
 
+  DenoiseResult clean;
+  if (a.denoise) clean = denoise({&on.image, &on.passes.albedo, &on.passes.normal});
+
   OutputGuard guard;
   auto path = [&](const std::string& name) {
     std::string full = dir + "/" + name;
@@ -181,6 +199,10 @@ int run_compare(CompareArgs& a) {
   write_png_display(path("hitmap.png"), heatmap_with_colorbar(on.hitmap));
   write_exr(path("hitmap.exr"), on.hitmap);
   if (reference_spp > 0) write_exr(path("reference.exr"), reference);
+  if (a.denoise) {
+    write_exr(path("cache_on_denoised.exr"), clean.image);
+    write_png_display(path("cache_on_denoised.png"), tone_map_image(clean.image, a.tone_map));
+  }
 
   const RenderSettings& on_settings = on_session.settings();
   const ImageError e = compare_images(on.image, off.image);
@@ -205,6 +227,8 @@ int run_compare(CompareArgs& a) {
   m["cache"] = cache_json(on_settings, cs);
   m["diff_scale"] = diff_scale;
   m["nan_pixels"] = {{"off", off.stats.nan_pixels}, {"on", on.stats.nan_pixels}};
+  if (a.denoise)
+    m["denoise"] = {{"seconds", clean.seconds}, {"device", clean.device}, {"prefiltered_aux", true}};
   if (have_reference) {
     if (!a.reference.empty())
       m["reference"] = {{"file", a.reference}};
@@ -214,6 +238,7 @@ int run_compare(CompareArgs& a) {
                         {"seed", off_session.settings().seed + 0x9e3779b9u}};
     m["cached_vs_reference"] = error_json(compare_images(on.image, reference));
     m["cacheless_vs_reference"] = error_json(compare_images(off.image, reference));
+    if (a.denoise) m["denoised_vs_reference"] = error_json(compare_images(clean.image, reference));
   }
   write_text_file(path("metrics.json"), m.dump(2) + "\n");
   write_text_file(path("report.md"), report_markdown(m, obj, on.stats.device));
@@ -259,6 +284,9 @@ CommandRun add_compare_command(CLI::App& pmc) {
       ->check(cli::positive())
       ->capture_default_str();
   add_quiet_flag(*app, a->quiet, "the summary and warnings still print");
+  app->add_flag("--denoise", a->denoise,
+                "also denoise the cached render (Intel Open Image Denoise with albedo and normal passes): "
+                "cache_on_denoised.exr/.png, its own column and, with a reference, its relMSE");
   declare_render_options(*app, a->config, CacheFlags::AllButCache);
   declare_display_options(*app, a->tone_map);
   app->add_option("--cache", a->cache, "refused: compare always renders both")->group("");

@@ -27,8 +27,9 @@ int main(int argc, char** argv) {
   pmc.option_defaults()->group("options");
   pmc.set_help_flag("-h,--help", "print this help and exit");
   std::vector<std::pair<CLI::App*, pmc::CommandRun>> commands;
-  for (auto add : {pmc::add_render_command, pmc::add_compare_command, pmc::add_sweep_command,
-                   pmc::add_merge_command, pmc::add_info_command, pmc::add_cache_replay_command}) {
+  for (auto add :
+       {pmc::add_render_command, pmc::add_compare_command, pmc::add_sweep_command, pmc::add_merge_command,
+        pmc::add_denoise_command, pmc::add_info_command, pmc::add_cache_replay_command}) {
     pmc::CommandRun run = add(pmc);
     commands.push_back({pmc.get_subcommands({}).back(), run});
   }

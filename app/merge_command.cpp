@@ -23,6 +23,7 @@
 #include "core/error.h"
 #include "core/film_sum.h"
 #include "core/render_part.h"
+#include "core/render_passes.h"
 #include "core/tone_map.h"
 
 namespace pmc {
@@ -98,7 +99,11 @@ int run_merge(const MergeArgs& a) {
   OutputGuard guard;
   guard.track(exr);
   guard.track(png);
-  write_part_exr(exr, image, merged.info, &merged.film);
+  // Parts with passes carry their sums: the merged frame's pass layers come from the merged sums.
+  const std::vector<ImageLayer> layers = merged.film.has_passes()
+                                             ? pass_layers(film_passes(merged.film), merged.info.passes)
+                                             : std::vector<ImageLayer>{};
+  write_part_exr(exr, image, merged.info, &merged.film, layers);
   write_png_display(png, tone_map_image(image, a.tone_map));
   if (!a.stats.empty()) {
     guard.track(a.stats);
@@ -139,6 +144,7 @@ CommandRun add_merge_command(CLI::App& pmc) {
       "--allow-partial", a->allow_partial,
       "merge even if samples are missing (each pixel: the mean of the samples it has; none: black)");
   declare_display_options(*app, a->tone_map);
+  cli::name_setting("passes", "--aov");
   return [a] { return run_merge(*a); };
 }
 

@@ -3,7 +3,10 @@
 // The flags fill a RenderConfig (app/render_options.h) and the paths of the
 // outputs; every output path is checked before the scene is loaded, then a
 // RenderSession renders and the outputs are written atomically, removed
-// again (OutputGuard) if a later one fails.
+// again (OutputGuard) if a later one fails. --aov adds render passes as EXR
+// layers (core/render_passes.h); --denoise runs OIDN (core/denoiser.h) on the
+// beauty with the albedo and normal passes and writes the noisy image beside
+// the denoised one (app/denoise_outputs.h).
 #include <tbb/parallel_invoke.h>
 
 #include <cstdio>
@@ -12,12 +15,14 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/denoise_outputs.h"
 #include "app/output_guard.h"
 #include "app/part_options.h"
 #include "app/progress.h"
 #include "app/render_options.h"
 #include "app/stats_json.h"
 #include "core/atomic_write.h"
+#include "core/denoiser.h"
 #include "core/error.h"
 #include "core/heatmap.h"
 #include "core/texture_cache.h"
@@ -32,14 +37,33 @@ struct RenderArgs {
   RenderConfig config;
   ToneMap tone_map;  // --exposure, --view
   std::string exr, stats, hitmap;
+  std::string aov;  // --aov LIST
+  bool denoise = false;
   bool quiet = false;
 };
+
+// The passes --aov and --denoise ask for (ConfigError on a bad list or a
+// denoised part).
+uint32_t requested_passes(const RenderArgs& a) {
+  uint32_t bits = 0;
+  std::string error;
+  if (!parse_pass_list(a.aov, bits, error)) fail_config(setting("passes"), ": ", error);
+  if (a.denoise) {
+    if (a.config.samples || a.config.crop)
+      fail_config(setting("denoise"), ": a part of a frame (", setting("samples"), ", ", setting("crop"),
+                  ") is not denoised; merge the parts, then run 'pmc denoise' on the merged frame");
+    bits |= kPassAlbedo | kPassNormal;  // OIDN's auxiliary images
+  }
+  return bits;
+}
 
 std::string with_extension(const std::string& path, const char* extension) {
   return std::filesystem::path(path).replace_extension(extension).string();
 }
 
-int run_render(const RenderArgs& a) {
+int run_render(const RenderArgs& args) {
+  RenderArgs a = args;
+  a.config.passes = requested_passes(a);
   const RenderConfig& config = a.config;
   config.validate();
   const std::string& obj = config.scene;
@@ -60,6 +84,12 @@ int run_render(const RenderArgs& a) {
     check_output_path("--stats", a.stats);
     outputs.push_back({"--stats", a.stats});
   }
+  const DenoisePaths denoised = denoise_paths(exr);
+  if (a.denoise) {
+    for (const auto& o : check_noisy_outputs(denoised)) outputs.push_back(o);
+    std::string why;
+    if (!denoiser_available(&why)) fail_config(setting("denoise"), ": ", why);
+  }
   check_distinct_outputs(outputs);
 
   RenderSession session(config);  // opens the device beside the scene's loading
@@ -69,10 +99,23 @@ int run_render(const RenderArgs& a) {
   RenderOutput out =
       session.render([&](int done, int total, uint64_t rays) { bar.update(done, total, rays); });
   bar.finish();
+  DenoiseResult clean;
+  if (a.denoise) {
+    clean = denoise({&out.image, &out.passes.albedo, &out.passes.normal});
+    std::fprintf(stderr,
+                 "pmc: denoised with Open Image Denoise on %s in %.2fs (albedo and normal prefiltered)\n",
+                 clean.device.c_str(), clean.seconds);
+  }
+  const std::vector<ImageLayer> layers =
+      config.passes ? pass_layers(out.passes, config.passes) : std::vector<ImageLayer>{};
 
   OutputGuard guard;
   guard.track(exr);
   guard.track(png);
+  if (a.denoise) {
+    guard.track(denoised.noisy_exr);
+    guard.track(denoised.noisy_png);
+  }
   if (!a.hitmap.empty()) {
     guard.track(a.hitmap);
     guard.track(hitmap_exr);
@@ -83,10 +126,17 @@ int run_render(const RenderArgs& a) {
   // over every texel); a part (--samples, --crop) also carries the exact sums
   // `pmc merge` adds.
   const bool part = config.samples || config.crop;
+  PartInfo info = part_info(session, settings, out);
+  info.passes = config.passes;
+  const Image& final_image = a.denoise ? clean.image : out.image;
   tbb::parallel_invoke(
-      [&] { write_part_exr(exr, out.image, part_info(session, settings, out), part ? &out.film : nullptr); },
       [&] {
-        write_png_display(png, tone_map_image(out.image, a.tone_map));
+        write_part_exr(exr, final_image, info, part ? &out.film : nullptr, layers);
+        if (a.denoise) write_part_exr(denoised.noisy_exr, out.image, info, nullptr, layers);
+      },
+      [&] {
+        write_png_display(png, tone_map_image(final_image, a.tone_map));
+        if (a.denoise) write_png_display(denoised.noisy_png, tone_map_image(out.image, a.tone_map));
         if (!a.hitmap.empty()) {
           write_png_display(a.hitmap, heatmap_with_colorbar(out.hitmap));
           write_exr(hitmap_exr, out.hitmap);
@@ -97,6 +147,9 @@ int run_render(const RenderArgs& a) {
     nlohmann::json j = render_json(settings, out.stats, obj);
     j["setup_seconds"] = setup_json(session.setup_seconds());
     j["texture_cache"] = texture_cache_json(TextureCache::instance());
+    j["passes"] = pass_list_text(config.passes);
+    if (a.denoise)
+      j["denoise"] = {{"seconds", clean.seconds}, {"device", clean.device}, {"prefiltered_aux", true}};
     write_text_file(a.stats, j.dump(2) + "\n");
   }
   guard.commit();
@@ -160,6 +213,20 @@ CommandRun add_render_command(CLI::App& pmc) {
          "the EXR's data window is the tile, and it holds the exact sums 'pmc merge' adds up")
       ->type_name("x0,y0,x1,y1")
       ->default_str("the whole frame")
+      ->group("image");
+  cli::name_setting("passes", "--aov");
+  app->add_option(
+         "--aov", a->aov,
+         "render passes written as layers of OUT.exr, from: albedo (albedo.R/G/B), normal (N.X/Y/Z), "
+         "depth (Z), position (P.X/Y/Z), material (material.id), hits (cache_hits.V), or all; with "
+         "--samples/--crop parts carry their exact sums and 'pmc merge' adds them")
+      ->type_name("LIST")
+      ->group("image");
+  cli::name_setting("denoise", "--denoise");
+  app->add_flag(
+         "--denoise", a->denoise,
+         "denoise with Intel Open Image Denoise (beauty + albedo + normal; scripts/setup installs it): "
+         "OUT.exr/OUT.png are denoised, OUT.noisy.exr/OUT.noisy.png the render as it came")
       ->group("image");
   declare_display_options(*app, a->tone_map);
   return [a] { return run_render(*a); };

@@ -16,9 +16,19 @@ __int128 fixed_value(const uint32_t* w) {
   return __int128(u);
 }
 
+// acc += v, four-word two's complement numbers.
+void add_fixed(uint32_t* acc, const uint32_t* v) {
+  uint64_t carry = 0;
+  for (int k = 0; k < 4; ++k) {
+    const uint64_t t = uint64_t(acc[k]) + uint64_t(v[k]) + carry;
+    acc[k] = uint32_t(t);
+    carry = t >> 32;
+  }
+}
+
 }  // namespace
 
-FilmSums FilmSums::zero(int w, int h) {
+FilmSums FilmSums::zero(int w, int h, bool passes) {
   FilmSums f;
   f.width = w;
   f.height = h;
@@ -27,25 +37,31 @@ FilmSums FilmSums::zero(int w, int h) {
   f.samples.assign(n, 0u);
   f.bad.assign(n, 0u);
   f.hits.assign(n, 0u);
+  if (passes) {
+    f.pass_sum.assign(n * kPassWords, 0u);
+    f.pass_hits.assign(n, 0u);
+    f.pass_material_inv.assign(n, 0u);
+  }
   return f;
 }
 
 void add_film(FilmSums& into, const FilmSums& part, int x0, int y0) {
   PMC_CHECK(x0 >= 0 && y0 >= 0 && x0 + part.width <= into.width && y0 + part.height <= into.height,
             "film part outside the frame");
+  PMC_CHECK(into.has_passes() == part.has_passes(), "film parts with and without passes");
   for (int y = 0; y < part.height; ++y)
     for (int x = 0; x < part.width; ++x) {
       const size_t s = size_t(y) * size_t(part.width) + size_t(x);
       const size_t d = size_t(y + y0) * size_t(into.width) + size_t(x + x0);
-      for (int c = 0; c < 3; ++c) {
-        uint32_t* acc = &into.sum[d * FilmSums::kWords + size_t(4 * c)];
-        const uint32_t* v = &part.sum[s * FilmSums::kWords + size_t(4 * c)];
-        uint64_t carry = 0;
-        for (int k = 0; k < 4; ++k) {
-          const uint64_t t = uint64_t(acc[k]) + uint64_t(v[k]) + carry;
-          acc[k] = uint32_t(t);
-          carry = t >> 32;
-        }
+      for (int c = 0; c < 3; ++c)
+        add_fixed(&into.sum[d * FilmSums::kWords + size_t(4 * c)],
+                  &part.sum[s * FilmSums::kWords + size_t(4 * c)]);
+      if (part.has_passes()) {
+        for (int c = 0; c < FilmSums::kPassWords / 4; ++c)
+          add_fixed(&into.pass_sum[d * FilmSums::kPassWords + size_t(4 * c)],
+                    &part.pass_sum[s * FilmSums::kPassWords + size_t(4 * c)]);
+        into.pass_hits[d] += part.pass_hits[s];
+        into.pass_material_inv[d] = std::max(into.pass_material_inv[d], part.pass_material_inv[s]);
       }
       into.samples[d] += part.samples[s];
       into.bad[d] += part.bad[s];
@@ -55,6 +71,11 @@ void add_film(FilmSums& into, const FilmSums& part, int x0, int y0) {
 
 long double film_channel_sum(const FilmSums& film, size_t pixel, int channel) {
   const __int128 n = fixed_value(&film.sum[pixel * FilmSums::kWords + size_t(4 * channel)]);
+  return std::ldexp((long double)n, -64);
+}
+
+long double film_pass_sum(const FilmSums& film, size_t pixel, int channel) {
+  const __int128 n = fixed_value(&film.pass_sum[pixel * FilmSums::kPassWords + size_t(4 * channel)]);
   return std::ldexp((long double)n, -64);
 }
 

@@ -31,6 +31,37 @@ void write_exr(const std::string& path, const Image& image) {
   write_pixels(path, image, PixelFormat::Float, image.pixels.data());
 }
 
+void write_exr_layers(const std::string& path, const Image& image, const std::vector<ImageLayer>& layers) {
+  PMC_CHECK(image.channels == 3, "write_exr_layers: rgb");
+  ImageWrite w;
+  w.header.width = image.width;
+  w.header.height = image.height;
+  w.header.channel_names = {"R", "G", "B"};
+  for (const ImageLayer& l : layers) {
+    PMC_CHECK(l.image.width == image.width && l.image.height == image.height &&
+                  size_t(l.image.channels) == l.channels.size(),
+              "write_exr_layers: layer size");
+    w.header.channel_names.insert(w.header.channel_names.end(), l.channels.begin(), l.channels.end());
+  }
+  const size_t n = size_t(image.width) * size_t(image.height), nch = w.header.channel_names.size();
+  w.header.channels = int(nch);
+  w.format = PixelFormat::Float;
+  std::vector<float> data(n * nch);
+  for (size_t i = 0; i < n; ++i) {
+    float* px = &data[i * nch];
+    for (int c = 0; c < 3; ++c) *px++ = image.pixels[3 * i + size_t(c)];
+    for (const ImageLayer& l : layers)
+      for (int c = 0; c < l.image.channels; ++c)
+        *px++ = l.image.pixels[i * size_t(l.image.channels) + size_t(c)];
+  }
+  w.pixels = data.data();
+  ImageBackend& backend = image_backend();
+  write_atomically(path, [&](const std::string& tmp) {
+    std::string why;
+    if (!backend.write(tmp, path, w, why)) fail(path, ": ", why);
+  });
+}
+
 void write_png_display(const std::string& path, const Image& image) {
   std::vector<unsigned char> bytes(image.pixels.size());
   for (size_t i = 0; i < bytes.size(); ++i) {

@@ -15,7 +15,16 @@ struct Image {
   std::vector<float> pixels;  // row-major, top row first
 };
 
+// Channels of an image written under their own names beside an image's
+// R, G, B (an EXR layer: "albedo.R", ..., or "Z").
+struct ImageLayer {
+  std::vector<std::string> channels;  // one name per channel of `image`
+  Image image;
+};
+
 void write_exr(const std::string& path, const Image& image);
+// An EXR of `image`'s R, G, B (it must have 3 channels) and the layers (same size).
+void write_exr_layers(const std::string& path, const Image& image, const std::vector<ImageLayer>& layers);
 // 8-bit PNG of values already in display space [0,1] (tone-mapped renders, heat maps).
 void write_png_display(const std::string& path, const Image& image);
 Image read_image(const std::string& path);

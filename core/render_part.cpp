@@ -9,6 +9,7 @@
 #include "core/atomic_write.h"
 #include "core/error.h"
 #include "core/image_backend.h"
+#include "core/render_passes.h"
 
 namespace pmc {
 namespace {
@@ -19,6 +20,9 @@ const char* const kCountChannels[] = {"pmc.samples", "pmc.bad", "pmc.hits"};
 constexpr int kFilmChannels = FilmSums::kWords + 3;
 
 std::string sum_channel(int k) { return "pmc.sum" + std::to_string(k); }
+std::string pass_channel(int k) { return "pmc.pass" + std::to_string(k); }
+const char* const kPassCountChannels[] = {"pmc.pass_hits", "pmc.pass_material"};
+constexpr int kPassFilmChannels = FilmSums::kPassWords + 2;
 
 std::string u64s(uint64_t v) { return std::to_string(v); }
 
@@ -44,11 +48,19 @@ bool overlap(int a0, int a1, int b0, int b1) { return a0 < b1 && b0 < a1; }
 
 }  // namespace
 
-void write_part_exr(const std::string& path, const Image& image, const PartInfo& info, const FilmSums* film) {
+void write_part_exr(const std::string& path, const Image& image, const PartInfo& info, const FilmSums* film,
+                    const std::vector<ImageLayer>& layers) {
   const int w = info.crop[2] - info.crop[0], h = info.crop[3] - info.crop[1];
   PMC_CHECK(image.width == w && image.height == h && image.channels == kRgb, "part image size");
   PMC_CHECK(!film || (film->width == w && film->height == h), "part film size");
-  const int nch = kRgb + (film ? kFilmChannels : 0);
+  int layer_channels = 0;
+  for (const ImageLayer& l : layers) {
+    PMC_CHECK(l.image.width == w && l.image.height == h && size_t(l.image.channels) == l.channels.size(),
+              "part layer size");
+    layer_channels += l.image.channels;
+  }
+  const bool pass_sums = film && film->has_passes();
+  const int nch = kRgb + layer_channels + (film ? kFilmChannels : 0) + (pass_sums ? kPassFilmChannels : 0);
   ImageWrite out;
   ImageHeader& spec = out.header;
   spec.width = w;
@@ -61,11 +73,17 @@ void write_part_exr(const std::string& path, const Image& image, const PartInfo&
   spec.full_width = info.frame_width;
   spec.full_height = info.frame_height;
   spec.channel_names = {"R", "G", "B"};
+  for (const ImageLayer& l : layers)
+    spec.channel_names.insert(spec.channel_names.end(), l.channels.begin(), l.channels.end());
   out.format = PixelFormat::Float;
   if (film) {
-    out.channel_formats.assign(size_t(kRgb), PixelFormat::Float);
+    out.channel_formats.assign(size_t(kRgb + layer_channels), PixelFormat::Float);
     for (int k = 0; k < FilmSums::kWords; ++k) spec.channel_names.push_back(sum_channel(k));
     for (const char* c : kCountChannels) spec.channel_names.push_back(c);
+    if (pass_sums) {
+      for (int k = 0; k < FilmSums::kPassWords; ++k) spec.channel_names.push_back(pass_channel(k));
+      for (const char* c : kPassCountChannels) spec.channel_names.push_back(c);
+    }
     out.channel_formats.resize(size_t(nch), PixelFormat::U32);
   }
   auto attribute = [&out](const char* name, auto value) {
@@ -87,17 +105,30 @@ void write_part_exr(const std::string& path, const Image& image, const PartInfo&
   attribute("pmc:cache:dropped_full", u64s(info.cache_counters.dropped_full));
   attribute("pmc:render_seconds", float(info.render_seconds));
   attribute("pmc:partial", info.partial ? 1 : 0);
+  attribute("pmc:passes", pass_list_text(info.passes));
 
   // Interleaved native data: every channel is 4 bytes (float or uint32).
   std::vector<uint32_t> data(size_t(w) * size_t(h) * size_t(nch));
   for (size_t i = 0; i < size_t(w) * size_t(h); ++i) {
     uint32_t* px = &data[i * size_t(nch)];
     std::memcpy(px, &image.pixels[i * kRgb], kRgb * sizeof(float));
+    px += kRgb;
+    for (const ImageLayer& l : layers) {
+      const size_t c = size_t(l.image.channels);
+      std::memcpy(px, &l.image.pixels[i * c], c * sizeof(float));
+      px += c;
+    }
     if (!film) continue;
-    std::copy_n(&film->sum[i * FilmSums::kWords], FilmSums::kWords, px + kRgb);
-    px[kRgb + FilmSums::kWords] = film->samples[i];
-    px[kRgb + FilmSums::kWords + 1] = film->bad[i];
-    px[kRgb + FilmSums::kWords + 2] = film->hits[i];
+    std::copy_n(&film->sum[i * FilmSums::kWords], FilmSums::kWords, px);
+    px += FilmSums::kWords;
+    *px++ = film->samples[i];
+    *px++ = film->bad[i];
+    *px++ = film->hits[i];
+    if (!pass_sums) continue;
+    std::copy_n(&film->pass_sum[i * FilmSums::kPassWords], FilmSums::kPassWords, px);
+    px += FilmSums::kPassWords;
+    *px++ = film->pass_hits[i];
+    *px++ = film->pass_material_inv[i];
   }
 
   out.pixels = data.data();
@@ -137,6 +168,9 @@ RenderPart read_part_exr(const std::string& path) {
   info.cache_counters.dropped_full = counter("pmc:cache:dropped_full");
   info.render_seconds = in->float_attribute("pmc:render_seconds");
   info.partial = in->int_attribute("pmc:partial") != 0;
+  std::string pass_error;
+  if (!parse_pass_list(in->string_attribute("pmc:passes"), info.passes, pass_error))
+    fail(path, ": attribute pmc:passes: ", pass_error);
   info.frame_width = spec.full_width;
   info.frame_height = spec.full_height;
   info.crop = {spec.x, spec.y, spec.x + spec.width, spec.y + spec.height};
@@ -152,7 +186,8 @@ RenderPart read_part_exr(const std::string& path) {
          info.frame_height);
 
   FilmSums& f = part.film;
-  f = FilmSums::zero(spec.width, spec.height);
+  const bool pass_sums = spec.channel_index(pass_channel(0)) >= 0;
+  f = FilmSums::zero(spec.width, spec.height, pass_sums);
   std::vector<uint32_t> channel(f.pixels());
   auto read_channel = [&](const std::string& name) {
     const int c = spec.channel_index(name);
@@ -172,6 +207,16 @@ RenderPart read_part_exr(const std::string& path) {
   f.bad = channel;
   read_channel(kCountChannels[2]);
   f.hits = channel;
+  if (pass_sums) {
+    for (int k = 0; k < FilmSums::kPassWords; ++k) {
+      read_channel(pass_channel(k));
+      for (size_t i = 0; i < f.pixels(); ++i) f.pass_sum[i * FilmSums::kPassWords + size_t(k)] = channel[i];
+    }
+    read_channel(kPassCountChannels[0]);
+    f.pass_hits = channel;
+    read_channel(kPassCountChannels[1]);
+    f.pass_material_inv = channel;
+  }
   const uint32_t range = uint32_t(info.sample_end - info.sample_begin);
   for (size_t i = 0; i < f.pixels(); ++i)
     if (f.samples[i] != range || f.bad[i] > range)
@@ -199,6 +244,19 @@ MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial
            " spp, seed ", b.seed, " vs ", a.frame_width, "x", a.frame_height, ", ", a.spp, " spp, seed ",
            a.seed, ")");
   }
+  // Pass sums in every part or in none, with the same pass layers.
+  for (size_t i = 1; i < parts.size(); ++i) {
+    const RenderPart& b = parts[i];
+    if (b.film.has_passes() != parts[0].film.has_passes()) {
+      const RenderPart& without = b.film.has_passes() ? parts[0] : b;
+      const RenderPart& with = b.film.has_passes() ? b : parts[0];
+      fail_config(without.path, ": a part without render passes, but ", with.path, " has passes (",
+                  pass_list_text(with.info.passes), "); render every part with the same ", setting("passes"));
+    }
+    if (b.info.passes != a.passes)
+      fail_config(b.path, ": render passes ", pass_list_text(b.info.passes), " differ from ", a_path, "'s (",
+                  pass_list_text(a.passes), "); render every part with the same ", setting("passes"));
+  }
   // No pixel sample drawn by two parts.
   for (size_t i = 0; i < parts.size(); ++i)
     for (size_t j = i + 1; j < parts.size(); ++j) {
@@ -219,7 +277,7 @@ MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial
   m.info.sample_end = a.spp;
   m.info.cache_counters = {};
   m.info.render_seconds = 0.0;
-  m.film = FilmSums::zero(a.frame_width, a.frame_height);
+  m.film = FilmSums::zero(a.frame_width, a.frame_height, parts[0].film.has_passes());
   for (const RenderPart& part : parts) {
     add_film(m.film, part.film, part.info.crop[0], part.info.crop[1]);
     const PartCacheCounters& c = part.info.cache_counters;

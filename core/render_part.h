@@ -10,7 +10,11 @@
 //   pmc:spp, pmc:sample_begin, pmc:sample_end   the frame's samples and this part's [begin, end);
 //   pmc:seed, pmc:scene                 the RNG seed and the OBJ path (information);
 //   pmc:cache:*                         cache counters (lookups, hits, ...), strings of integers;
-//   pmc:render_seconds, pmc:partial     time spent; 1 on a merge that lacks samples.
+//   pmc:render_seconds, pmc:partial     time spent; 1 on a merge that lacks samples;
+//   pmc:passes                          the render passes written as layers (core/render_passes.h).
+// A part rendered with passes also holds the pass film's exact sums
+// (pmc.pass0..pmc.pass39, pmc.pass_hits, pmc.pass_material), and its pass
+// layers (albedo.R, N.X, Z, ...); parts with and without pass sums do not merge.
 // merge_parts() checks that parts belong together (same hashes, frame size,
 // spp and seed; no pixel sample drawn twice; every pixel's samples complete
 // unless allow_partial) and adds their films; every refusal is a pmc::Error
@@ -43,6 +47,7 @@ struct PartInfo {
   PartCacheCounters cache_counters;
   double render_seconds = 0.0;
   bool partial = false;  // a merge with samples missing (not mergeable again)
+  uint32_t passes = 0;   // PassBit: the pass layers written
 };
 
 struct RenderPart {
@@ -51,9 +56,11 @@ struct RenderPart {
   FilmSums film;  // the window's exact sums
 };
 
-// Writes `image` (the window's mean) with `info`'s attributes and, when
-// `film` is given, its exact sums, atomically (core/atomic_write.h).
-void write_part_exr(const std::string& path, const Image& image, const PartInfo& info, const FilmSums* film);
+// Writes `image` (the window's mean) with `info`'s attributes, the `layers`
+// (render passes) and, when `film` is given, its exact sums (with its pass
+// sums when it has them), atomically (core/atomic_write.h).
+void write_part_exr(const std::string& path, const Image& image, const PartInfo& info, const FilmSums* film,
+                    const std::vector<ImageLayer>& layers = {});
 // Reads a part back; pmc::Error naming `path` if it is not a pmc part with sums.
 RenderPart read_part_exr(const std::string& path);
 

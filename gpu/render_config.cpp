@@ -171,6 +171,7 @@ RenderSettings base_render_settings(const RenderConfig& c) {
   s.transfer = c.transfer;
   s.cache.bilinear = c.effective_cache_filter() == CacheFilter::Bilinear;
   s.cache.audit = c.cache_audit;
+  s.passes = c.passes;
   return s;
 }
 

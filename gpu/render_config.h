@@ -55,6 +55,9 @@ struct RenderConfig {
   // (pixels [x0, x1) x [y0, y1)). Unset: all samples, the whole frame.
   std::optional<std::array<int, 2>> samples;
   std::optional<std::array<int, 4>> crop;
+  // Render passes (AOVs) written beside the beauty, PassBit bits of
+  // core/render_passes.h (0: none; the kernels then skip them).
+  uint32_t passes = 0;
   Vec3 env = {0.0f, 0.0f,
               0.0f};  // constant environment radiance; when not black it replaces the lights file's
 

@@ -54,7 +54,8 @@
 // Not in the table (each has a reason a line cannot say): the scene and
 // material files and search paths (strings, repeatable), the camera, the
 // lights and environment (three numbers, optional values, combinations),
-// --samples and --crop (ranges checked against spp and the image), the
+// --samples and --crop (ranges checked against spp and the image), --aov
+// (a list of render passes; it does not change the beauty image), the
 // optional settings whose default is "decided later" (--cache-cells,
 // --cache-filter, --threads, --fov, --env-scale, --env-rotate),
 // --shade-lanes (a power of two, its default depends on the device),

@@ -8,7 +8,7 @@
 namespace pmc {
 
 WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, size_t order_entries,
-                         size_t pixels, size_t cache_words)
+                         size_t pixels, size_t cache_words, bool passes)
     : paths(n), order_capacity(order_entries) {
   const cl_mem_flags host = link.buffer_flags();
   frame = cl.buffer(sizeof(PmcFrame));
@@ -26,6 +26,9 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
   film = cl.buffer(film_bytes);
   cache_entries = cl.buffer(cache_bytes);
   cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
+  path_passes = cl.buffer((passes ? n : 1) * sizeof(PmcPathPasses));
+  pass_film_bytes = (passes ? pixels : 1) * sizeof(PmcPassPixel);
+  pass_film = cl.buffer(pass_film_bytes);
   if (!link.zero_copy()) {  // sized once: pending non-blocking writes read from them
     host_rays.resize(n);
     host_hits.resize(n);

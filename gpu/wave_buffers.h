@@ -33,6 +33,10 @@ struct WaveBuffers {
   ClBuffer order;  // material-sorted ray indices (gpu/material_sort.h)
   size_t order_capacity = 0;
   ClBuffer film;
+  // Render passes (core/device/pmc_passes.h): per path slot, and the pass
+  // film for the whole render; one element each when the render has none.
+  ClBuffer path_passes;
+  ClBuffer pass_film;
   ClBuffer cache_entries;  // cells x ways 64-bit entries (one word when the cache is off)
   ClBuffer cache_stats;    // PMC_CSTAT_COUNT 64-bit counters
 
@@ -43,13 +47,14 @@ struct WaveBuffers {
   std::vector<uint8_t> host_occluded;
   std::vector<uint32_t> host_order;
 
-  size_t film_bytes = 0, cache_bytes = 0;
+  size_t film_bytes = 0, cache_bytes = 0, pass_film_bytes = 0;
 
   // `order_capacity`: entries of the material-sorted order (every chunk of a
   // queue). The film and the cache start uninitialised: WaveKernels::clear
-  // zeroes them on the device.
+  // zeroes them on the device (the pass film too). `passes`: the render
+  // fills the pass buffers (PmcFrame.passes_on).
   WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t order_capacity, size_t pixels,
-              size_t cache_words);
+              size_t cache_words, bool passes = false);
 };
 
 }  // namespace pmc

@@ -48,7 +48,7 @@ WaveKernels::WaveKernels(const ClContext& cl, int lanes, const std::string& prog
   resolve_ = program_.kernel("pmc_resolve_shadows");
   film_ = program_.kernel("pmc_film_accumulate");
   zero_ = program_.kernel("pmc_zero_words");
-  check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 12);
+  check_kernel_arg_count(shade_, 1 + kSceneBufferCount + 13);
 }
 
 void WaveKernels::launch(cl_kernel k, size_t count, size_t local, cl_event* done) {
@@ -65,7 +65,8 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
   // kernel's capped grid over the largest buffer.
   const size_t paths = wave.paths;
   const size_t batches = wave.order_capacity / size_t(lanes_);
-  const size_t zero_items = std::min<size_t>(std::max(wave.film_bytes, wave.cache_bytes) / 4, kZeroGridItems);
+  const size_t zero_items = std::min<size_t>(
+      std::max({wave.film_bytes, wave.pass_film_bytes, wave.cache_bytes}) / 4, kZeroGridItems);
   // Every kernel with no work (the kernels do nothing beyond their index
   // range), once in one work-group and, where the render's grids reach
   // PoCL's limit, once more at full width: the two compiled variants.
@@ -85,7 +86,7 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
 }
 
 void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
-  set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states);
+  set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states, w.path_passes);
   launch(camera_, count, kLocalSize, done);
 }
 
@@ -106,6 +107,7 @@ void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, si
   set_kernel_arg(shade_, arg++, w.order);
   set_kernel_arg(shade_, arg++, cl_uint(order_first));
   set_kernel_arg(shade_, arg++, cl_uint(batches));
+  set_kernel_arg(shade_, arg++, w.path_passes);
   launch(shade_, batches, kLocalSize / size_t(lanes_), done);
 }
 
@@ -115,12 +117,13 @@ void WaveKernels::resolve_shadows(WaveBuffers& w, size_t first, size_t end, cl_e
 }
 
 void WaveKernels::accumulate(WaveBuffers& w, size_t count, cl_event* done) {
-  set_kernel_args(film_, w.frame, w.path_states, w.film);
+  set_kernel_args(film_, w.frame, w.path_states, w.film, w.path_passes, w.pass_film);
   launch(film_, count, kLocalSize, done);
 }
 
 void WaveKernels::clear(WaveBuffers& w) {
   zero(w.film, w.film_bytes);
+  zero(w.pass_film, w.pass_film_bytes);
   zero(w.cache_entries, w.cache_bytes);
   zero(w.cache_stats, PMC_CSTAT_COUNT * sizeof(uint64_t));
   cl_.finish();

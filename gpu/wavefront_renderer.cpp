@@ -207,15 +207,22 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
   frame.cache_max_refine = cs.max_refine;
   frame.cache_lobe_spread = cs.on ? cs.lobe_spread : 0.0f;
+  frame.passes_on = s.passes != 0 ? 1u : 0u;
   return frame;
 }
 
 // The window's film -> its exact sums, the image (mean of the good samples) and the hit map.
-void resolve_film(const std::vector<PmcFilmPixel>& film, int width, int height, uint32_t samples,
-                  RenderOutput& out) {
+void resolve_film(const std::vector<PmcFilmPixel>& film, const std::vector<PmcPassPixel>& pass_film,
+                  int width, int height, uint32_t samples, RenderOutput& out) {
   RenderStats& st = out.stats;
   FilmSums& f = out.film;
-  f = FilmSums::zero(width, height);
+  f = FilmSums::zero(width, height, !pass_film.empty());
+  for (size_t i = 0; i < pass_film.size(); ++i) {
+    const PmcPassPixel& p = pass_film[i];
+    std::copy(p.sum, p.sum + FilmSums::kPassWords, &f.pass_sum[i * FilmSums::kPassWords]);
+    f.pass_hits[i] = p.hit_samples;
+    f.pass_material_inv[i] = p.material_inv;
+  }
   for (size_t i = 0; i < film.size(); ++i) {
     const PmcFilmPixel& p = film[i];
     std::copy(p.sum, p.sum + FilmSums::kWords, &f.sum[i * FilmSums::kWords]);
@@ -226,6 +233,7 @@ void resolve_film(const std::vector<PmcFilmPixel>& film, int width, int height, 
   }
   out.image = film_mean(f);
   out.hitmap = film_hitmap(f);
+  if (f.has_passes()) out.passes = film_passes(f);
   for (float v : out.image.pixels) st.nan_pixels += std::isfinite(v) ? 0 : 1;  // sums are finite: stays 0
 }
 
@@ -291,7 +299,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   const size_t chunks = (wave_paths + chunk - 1) / chunk;
   const size_t order_entries = chunks * m.sorter.capacity(chunk);
   // The cache table lives for the whole render: all samples, all bounces.
-  WaveBuffers wave(m.cl, link, wave_paths, order_entries, pixels, cache_words);
+  WaveBuffers wave(m.cl, link, wave_paths, order_entries, pixels, cache_words, s.passes != 0);
   // The lights of this render: its lights file and environment (else the
   // constant s.env) plus the scene's emissive triangles (core/lights.h).
   SceneLights lights = s.lights;
@@ -329,7 +337,9 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
 
   std::vector<PmcFilmPixel> film(pixels);
   m.cl.read(wave.film, 0, pixels * sizeof(PmcFilmPixel), film.data());
-  resolve_film(film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
+  std::vector<PmcPassPixel> pass_film(s.passes != 0 ? pixels : 0);
+  if (!pass_film.empty()) m.cl.read(wave.pass_film, 0, pixels * sizeof(PmcPassPixel), pass_film.data());
+  resolve_film(film, pass_film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
   if (cs.on) read_cache_stats(m.cl, wave, cs, st.cache);
   if (trace.on())
     write_cache_trace(

@@ -23,6 +23,7 @@
 #include "core/film_sum.h"
 #include "core/image_io.h"
 #include "core/lights.h"
+#include "core/render_passes.h"
 #include "core/scene.h"
 #include "gpu/cl_context.h"
 #include "gpu/host_link.h"
@@ -106,6 +107,9 @@ struct RenderSettings {
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave
   TransferMode transfer = TransferMode::Auto;
   CacheSettings cache;
+  // Render passes to fill (PassBit, core/render_passes.h); any bit fills them
+  // all (PmcFrame.passes_on), the bits choose what is written.
+  uint32_t passes = 0;
 };
 
 // Seconds per stage: host stages are wall time, device stages kernel time.
@@ -137,9 +141,10 @@ struct RenderStats {
 };
 
 struct RenderOutput {
-  Image image;    // the window's pixels (the whole frame without a crop)
-  Image hitmap;   // cache points found per sample, per pixel (1 channel)
-  FilmSums film;  // the exact sums `image` was resolved from (core/film_sum.h)
+  Image image;        // the window's pixels (the whole frame without a crop)
+  Image hitmap;       // cache points found per sample, per pixel (1 channel)
+  FilmSums film;      // the exact sums `image` was resolved from (core/film_sum.h), with pass sums
+  PassImages passes;  // resolved from the film's pass sums (when settings.passes)
   RenderStats stats;
 };
 

@@ -16,6 +16,8 @@
   X(PmcTriangle)              \
   X(PmcTriangleRecord)        \
   X(PmcFilmPixel)             \
+  X(PmcPathPasses)            \
+  X(PmcPassPixel)             \
   X(PmcTexture)               \
   X(PmcMaterialInfo)          \
   X(PmcLight)                 \
@@ -62,6 +64,15 @@
   X(PmcFilmPixel, sum)             \
   X(PmcFilmPixel, bad_samples)     \
   X(PmcFilmPixel, cache_hits)      \
+  X(PmcPathPasses, albedo)         \
+  X(PmcPathPasses, normal)         \
+  X(PmcPathPasses, position)       \
+  X(PmcPathPasses, depth)          \
+  X(PmcPathPasses, material)       \
+  X(PmcPathPasses, state)          \
+  X(PmcPassPixel, sum)             \
+  X(PmcPassPixel, hit_samples)     \
+  X(PmcPassPixel, material_inv)    \
   X(PmcTexture, offset)            \
   X(PmcTexture, width)             \
   X(PmcTexture, height)            \
@@ -138,6 +149,7 @@
   X(PmcFrame, cache_policy)        \
   X(PmcFrame, cache_max_refine)    \
   X(PmcFrame, cache_lobe_spread)   \
+  X(PmcFrame, passes_on)           \
   X(PmcCounters, next_rays)
 // clang-format on
 

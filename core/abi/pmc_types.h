@@ -102,6 +102,41 @@ typedef struct PmcFilmPixel {
   pmc_u32 pad[2];
 } PmcFilmPixel;
 
+/* Render passes (AOVs; core/device/pmc_passes.h). Per path slot, what the
+ * path's first hits leave for the pass film: the albedo and world-space
+ * shading normal of its first non-specular hit (found through mirrors and
+ * glass), and the camera ray's hit: its world position, its distance from
+ * the camera (Z) and its material. Written only when PmcFrame.passes_on. */
+#define PMC_PASS_NO_MATERIAL 0xffffffffu /* the camera ray escaped */
+#define PMC_PASS_FOUND 1u                /* state: albedo and normal are recorded */
+typedef struct PmcPathPasses {
+  float albedo[3];
+  float normal[3];
+  float position[3];
+  float depth;
+  pmc_u32 material; /* PMC_PASS_NO_MATERIAL: no camera hit */
+  pmc_u32 state;
+  pmc_u32 pad[4];
+} PmcPathPasses;
+
+/* The pass film: exact sums like PmcFilmPixel's (4 words per channel) of
+ * PMC_PASS_CHANNELS channels: albedo rgb, normal xyz, position xyz, depth;
+ * the samples whose camera ray hit a surface (position and depth are their
+ * mean), and the smallest material id any sample's camera ray hit, stored
+ * as its complement's maximum (0: none hit, so a zeroed film is empty; a
+ * max merges exactly, as a sum does). */
+#define PMC_PASS_CHANNELS 10u
+#define PMC_PASS_ALBEDO 0u
+#define PMC_PASS_NORMAL 3u
+#define PMC_PASS_POSITION 6u
+#define PMC_PASS_DEPTH 9u
+typedef struct PmcPassPixel {
+  pmc_u32 sum[40]; /* channel c: sum[4c .. 4c+3] */
+  pmc_u32 hit_samples;
+  pmc_u32 material_inv; /* ~(smallest material id); 0: none hit */
+  pmc_u32 pad[2];
+} PmcPassPixel;
+
 /* A texture in the shared texel pool: mip level l has size
  * max(1, width >> l) x max(1, height >> l) and starts at
  * offset + sum of the sizes of the levels before it. */
@@ -239,6 +274,8 @@ typedef struct PmcFrame {
   pmc_u32 cache_policy;     /* cache_policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
   pmc_i32 cache_max_refine; /* cache_max_refine: level floors above the footprint's before bypass */
   float cache_lobe_spread;  /* cache_lobe_spread: position cells widen per bounce (pmc_lobe_spread) */
+  pmc_u32 passes_on;        /* render passes: fill PmcPathPasses and the pass film */
+  pmc_u32 pad[3];
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

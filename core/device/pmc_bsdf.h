@@ -367,4 +367,39 @@ PMC_FN float2 pmc_sample_triangle(float u1, float u2) {
   return make_float2(1.0f - s, u2 * s);
 }
 
+/* Render passes (core/device/pmc_passes.h). Lobes whose GGX alpha is at most
+ * this are near-delta: a mirror or clear glass, which the albedo pass looks
+ * through (alpha 0.01 is roughness 0.1). */
+#define PMC_SPECULAR_ALPHA 0.01f
+
+/* The prepared stack's directional albedo at wo (local, wo.z > 0): each
+ * lobe's weight times its table albedo at mu_o (glass: reflection and
+ * refraction weighted by the dielectric Fresnel at wo), summed
+ * and clamped to [0, 1] per channel. An estimate for the albedo pass, not
+ * the BSDF's exact integral. */
+PMC_FN float3 pmc_lobes_albedo(const PmcLobes* l, float3 wo) {
+  const float mu = clamp(wo.z, 0.0f, 1.0f);
+  const float rs = pmc_table_rough(fmax(l->ax, l->ay)), rc = pmc_table_rough(l->coat_alpha);
+  float3 a = l->kd;
+  a += l->spec_p * pmc_table_lookup(pmc_ggx_e1_table, mu, rs) +
+       l->spec_q * pmc_table_lookup(pmc_ggx_e5_table, mu, rs);
+  a += l->coat_p * pmc_table_lookup(pmc_ggx_e1_table, mu, rc) +
+       l->coat_q * pmc_table_lookup(pmc_ggx_e5_table, mu, rc);
+  a += l->sheen_w * pmc_table_lookup(pmc_sheen_e_table, mu, l->sheen_r);
+  float f = pmc_fresnel_dielectric(fmax(mu, 1e-4f), l->eta);
+  if (l->thin) f = pmc_thin_fresnel(f);
+  a += l->glass_r * f + l->glass_t * (1.0f - f);
+  return make_float3(clamp(a.x, 0.0f, 1.0f), clamp(a.y, 0.0f, 1.0f), clamp(a.z, 0.0f, 1.0f));
+}
+
+/* Whether every lobe of the prepared stack that scatters is near-delta
+ * (PMC_SPECULAR_ALPHA): no Lambert or sheen, and only smooth GGX lobes. */
+PMC_FN int pmc_lobes_specular_only(const PmcLobes* l) {
+  if (pmc_max3(l->kd + l->sheen_w) > 0.0f || !pmc_lobes_any(l)) return 0;
+  const int smooth = fmax(l->ax, l->ay) <= PMC_SPECULAR_ALPHA;
+  const int base = pmc_max3(l->spec_p + l->spec_q + l->glass_r + l->glass_t) > 0.0f;
+  const int coat = pmc_max3(l->coat_p + l->coat_q) > 0.0f;
+  return (!base || smooth) && (!coat || l->coat_alpha <= PMC_SPECULAR_ALPHA);
+}
+
 #endif /* PMC_BSDF_H */

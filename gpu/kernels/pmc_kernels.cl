@@ -11,6 +11,8 @@
  *   (host: Embree tests the shadow rays, one occlusion byte each)
  *   pmc_resolve_shadows : add unoccluded light samples to their paths
  *   pmc_film_accumulate : when the wave is done, add path radiance to the film
+ *                         (and, with render passes, each path's passes to the
+ *                         pass film: pmc_passes.h)
  * Kernels take the index range of their rays as arguments (never a global
  * offset), so one compiled variant per kernel serves every launch. Scene
  * buffers arrive as the PMC_SCENE_BUFFERS list (pmc_scene_args.h) and travel
@@ -22,6 +24,7 @@
 #include "pmc_interp.h"
 #include "pmc_lights.h"
 #include "pmc_octahedral.h"
+#include "pmc_passes.h"
 #include "pmc_raycone.h"
 #include "pmc_rng.h"
 #include "pmc_scene_args.h"
@@ -30,8 +33,8 @@
 /* After the headers: it uses their types. */
 #include "material_network.cl"
 
-__kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
-                              __global PmcPathState* paths) {
+__kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays, __global PmcPathState* paths,
+                              __global PmcPathPasses* passes) {
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
   uint k = frame->pixel_offset + i; /* index into the window (crop), row by row */
@@ -71,6 +74,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->depth = 0u;
   p->cache_hits = 0u;
   p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
+  if (frame->passes_on) pmc_passes_start(&passes[i]);
 }
 
 static inline float3 pmc_corner(__global const float* a, int k) {
@@ -359,7 +363,8 @@ static inline void pmc_shading_frame(float3 ns, float3 tangent, const PmcBsdf* b
  * with absorption) has its throughput multiplied by exp(-absorption t). */
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
-                                     __global PmcPathState* paths, PmcShadeOut* out) {
+                                     __global PmcPathState* paths, __global PmcPathPasses* passes,
+                                     PmcShadeOut* out) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
   float3 radiance = pmc_load3(path->radiance);
@@ -394,6 +399,9 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   uint key = pmc_path_key(frame->seed, path->pixel, frame->sample);
   uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
   int has_lobes = pmc_lobes_any(&lobes);
+  if (frame->passes_on)
+    pmc_passes_record(&passes[hp->path], depth - 1u, pos, hp->t, hp->material, &lobes, wo, ns,
+                      (int)depth >= frame->max_depth);
 
   /* Next-event estimation: one light, picked at `origin` with the shading
    * normal as the path stores it (pmc_lights.h), so that the next vertex can
@@ -509,8 +517,8 @@ static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const 
  * mix still works: each run of one material is evaluated together. */
 static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneData* scene, PmcHitPoint* hp,
                                    int n, __global PmcPathState* paths,
-                                   __global volatile ulong* cache_entries, PmcShadeOut* out,
-                                   uint* cache_counts) {
+                                   __global volatile ulong* cache_entries, __global PmcPathPasses* passes,
+                                   PmcShadeOut* out, uint* cache_counts) {
   PmcMaterialData md = pmc_material_data(scene);
   int done[PMC_LANES];
   for (int k = 0; k < n; ++k) done[k] = !hp[k].surface;
@@ -536,7 +544,7 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
         paths[hp[k].path].cache_hits += cache[j].hits;
         for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache_counts[c] += cache[j].counts[c];
       }
-      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, paths, &out[k]);
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, paths, passes, &out[k]);
     }
   }
 }
@@ -564,7 +572,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
                         __global PmcRay* shadow_rays, __global PmcShadowLoad* shadow_loads,
                         __global PmcCounters* counters, __global volatile ulong* cache_entries,
                         __global volatile ulong* cache_stats, __global const uint* order, uint order_first,
-                        uint batch_count) {
+                        uint batch_count, __global PmcPathPasses* passes) {
   PmcSceneData s;
   PMC_SCENE_BUFFERS(PMC_SCENE_INIT)
   s.texture_count = frame->texture_count;
@@ -617,7 +625,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   for (int k = 0; k < n; ++k) out[k].next = out[k].shadow = 0;
   uint counts[PMC_CSTAT_COUNT];
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
-  pmc_shade_batch(frame, scene, hp, n, paths, cache_entries, out, counts);
+  pmc_shade_batch(frame, scene, hp, n, paths, cache_entries, passes, out, counts);
 
   uint n_next = 0u, n_shadow = 0u;
   for (int k = 0; k < n; ++k) {
@@ -666,18 +674,11 @@ __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global 
   p->radiance[2] += loads[i].rgb[2];
 }
 
-__kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
-                                  __global PmcFilmPixel* film) {
-  uint i = get_global_id(0);
-  if (i >= frame->path_count) return;
-  __global const PmcPathState* p = &paths[i];
-  /* the film holds the window only (crop) */
-  uint x = p->pixel % (uint)frame->width - frame->crop_x0;
-  uint y = p->pixel / (uint)frame->width - frame->crop_y0;
-  __global PmcFilmPixel* px = &film[y * frame->crop_width + x];
+/* Adds one finished path's radiance and cache hits to its pixel: exact
+ * fixed-point sums (pmc_film.h), so the film does not depend on the order
+ * or the split of the samples. */
+static inline void pmc_film_add_path(__global PmcFilmPixel* px, __global const PmcPathState* p) {
   px->cache_hits += p->cache_hits;
-  /* exact fixed-point sums (pmc_film.h): the film does not depend on the
-   * order or the split of the samples */
   pmc_u32 v[3][PMC_FIXED_WORDS];
   if (pmc_fixed_of_float(p->radiance[0], v[0]) && pmc_fixed_of_float(p->radiance[1], v[1]) &&
       pmc_fixed_of_float(p->radiance[2], v[2])) {
@@ -690,6 +691,20 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
   } else {
     px->bad_samples += 1u;
   }
+}
+
+__kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
+                                  __global PmcFilmPixel* film, __global const PmcPathPasses* passes,
+                                  __global PmcPassPixel* pass_film) {
+  uint i = get_global_id(0);
+  if (i >= frame->path_count) return;
+  __global const PmcPathState* p = &paths[i];
+  /* the film holds the window only (crop) */
+  uint x = p->pixel % (uint)frame->width - frame->crop_x0;
+  uint y = p->pixel / (uint)frame->width - frame->crop_y0;
+  const uint at = y * frame->crop_width + x;
+  pmc_film_add_path(&film[at], p);
+  if (frame->passes_on) pmc_film_add_passes(&pass_film[at], &passes[i]);
 }
 
 /* Zeroes words [0, count) of a buffer, each work-item every global_size-th

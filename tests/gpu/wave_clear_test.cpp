@@ -55,5 +55,23 @@ TEST(WaveClear, FilmTableAndCountersAreZeroedWhole) {
   EXPECT_EQ(count_nonzero(cl, wave.cache_stats, stats_bytes), 0u);
 }
 
+// The pass film (render passes: 176-byte pixels) is zeroed with the film; a
+// render without passes keeps one pixel of it.
+TEST(WaveClear, PassFilmIsZeroedWhole) {
+  const ClContext& cl = test::cl();
+  MaterialSet no_materials;
+  WaveKernels kernels(cl, no_materials, default_shade_lanes(cl, no_materials));
+  HostLink link(cl, TransferMode::Copy);
+  const size_t pixels = 100003;
+  WaveBuffers wave(cl, link, 1024, 1024, pixels, 1, true);
+  ASSERT_EQ(wave.pass_film_bytes, pixels * sizeof(PmcPassPixel));
+  fill_pattern(cl, wave.pass_film, wave.pass_film_bytes);
+  ASSERT_EQ(count_nonzero(cl, wave.pass_film, wave.pass_film_bytes), wave.pass_film_bytes / 4);
+  kernels.clear(wave);
+  EXPECT_EQ(count_nonzero(cl, wave.pass_film, wave.pass_film_bytes), 0u);
+  const WaveBuffers without(cl, link, 1024, 1024, pixels, 1);
+  EXPECT_EQ(without.pass_film_bytes, sizeof(PmcPassPixel));
+}
+
 }  // namespace
 }  // namespace pmc

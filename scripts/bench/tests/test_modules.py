@@ -9,9 +9,9 @@ import unittest
 from contextlib import redirect_stdout
 from unittest import mock
 
-from bench import cache, cache_bandwidth, cache_policy, cache_position, common, mtlx_conformance
+from bench import cache, cache_bandwidth, cache_policy, cache_position, common, denoise, mtlx_conformance
 
-MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "gpu", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "speed", "sweep", "trace"]
+MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "denoise", "gpu", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "speed", "sweep", "trace"]
 
 
 def parse(module, argv, env=None):
@@ -123,6 +123,20 @@ class CacheReport(unittest.TestCase):
         self.assertNotIn("\nold\n", text)
         self.assertEqual(text.count(cache.SECTION), 1)
         self.assertTrue(text.endswith("\n\n## Next\n\nkept\n"))
+
+class DenoiseTimeTo(unittest.TestCase):
+    def test_time_to_an_error_interpolates_log_log_between_measured_points(self):
+        # relMSE falling as 1/t: (1 s, 1.0), (4 s, 0.25); 0.5 is reached at 2 s.
+        self.assertAlmostEqual(denoise.time_to([(4.0, 0.25), (1.0, 1.0)], 0.5), 2.0)
+        self.assertEqual(denoise.time_to([(1.0, 1.0), (4.0, 0.25)], 0.25), 4.0)
+        self.assertIsNone(denoise.time_to([(1.0, 1.0), (4.0, 0.25)], 0.1))
+
+    def test_unknown_scene_and_bad_sample_lists_are_usage_errors(self):
+        for argv in (["--scenes", "default,kitchen"], ["--spps", "4,x"], ["--spps", "0"]):
+            with self.subTest(argv=argv), redirect_stdout(io.StringIO()), mock.patch("sys.stderr", io.StringIO()), \
+                    self.assertRaises(SystemExit) as e:
+                parse("denoise", argv)
+            self.assertEqual(e.exception.code, 2)
 
 
 if __name__ == "__main__":
