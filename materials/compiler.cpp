@@ -217,7 +217,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
 
 std::string disassemble(const MaterialProgram& program, const CompiledMaterial& m) {
   static const char* names[] = {
-#define PMC_OP_NAME(name, lo, hi) #name,
+#define PMC_OP_NAME(name, lo, hi, slots) #name,
       PMC_OPCODES(PMC_OP_NAME)
 #undef PMC_OP_NAME
   };
