@@ -70,12 +70,13 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
   std::map<std::string, Graph> mtlx;
   std::vector<MtlxAssignment> assignments;
   for (const std::string& file : options.mtlx_files) {
-    for (Graph& g : read_mtlx_file(file, options.mtlx)) {
+    const MtlxDocument doc = MtlxDocument::from_file(file, options.mtlx);  // loaded once, read twice
+    for (Graph& g : read_mtlx_graphs(doc)) {
       if (mtlx.count(g.material))
         warn(file + ": material '" + g.material + "' also defined earlier; the later one wins");
       mtlx[g.material] = std::move(g);
     }
-    std::vector<MtlxAssignment> a = read_mtlx_assignments(file, options.mtlx);
+    std::vector<MtlxAssignment> a = read_mtlx_assignments(doc);
     assignments.insert(assignments.end(), a.begin(), a.end());
   }
   if (!options.override_material.empty()) {

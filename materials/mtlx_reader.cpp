@@ -97,11 +97,10 @@ class Reader {
   Reader(const std::string& path, const MtlxReadOptions& options)
       : path_(path), dir_(dirname_of(path)), options_(options), search_(mtlx_search_paths(options)) {}
 
-  std::vector<Graph> read(pugi::xml_document& doc) {
-    root_ = doc.child("materialx");
-    if (!root_) fail(path_, ": not a MaterialX document (no <materialx> root element)");
-    upgrade_mtlx_document(root_, path_);
-    expand_mtlx_includes(root_, path_, search_);
+  // The materials of `root`, a document MtlxDocument loaded (upgraded, its
+  // includes expanded).
+  std::vector<Graph> read(pugi::xml_node root) {
+    root_ = root;
     doc_defs_.add(root_);
     std::vector<Graph> out;
     Scope top{root_, 0, nullptr, ""};
@@ -1231,13 +1230,14 @@ bool mtlx_geom_matches(const std::string& pattern, const std::string& path) {
   return true;
 }
 
-std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path, const MtlxReadOptions& options) {
+struct MtlxDocument::Xml {
   pugi::xml_document doc;
-  if (!doc.load_file(path.c_str())) return {};  // read_mtlx_file reports unreadable documents
-  pugi::xml_node root = doc.child("materialx");
-  if (!root) return {};
-  upgrade_mtlx_document(root, path);
-  expand_mtlx_includes(root, path, mtlx_search_paths(options));
+  pugi::xml_node root;  // <materialx>
+};
+
+std::vector<MtlxAssignment> read_mtlx_assignments(const MtlxDocument& doc) {
+  const pugi::xml_node root = doc.xml().root;
+  const std::string& path = doc.path();
   std::vector<MtlxAssignment> out;
   for (pugi::xml_node look : root.children("look"))
     for (pugi::xml_node a : look.children("materialassign")) {
@@ -1266,21 +1266,43 @@ bool mtlx_assignment_covers(const MtlxAssignment& a, const std::string& geometry
   return in;
 }
 
-std::vector<Graph> read_mtlx_string(const std::string& xml, const std::string& path,
-                                    const MtlxReadOptions& options) {
-  pugi::xml_document doc;
-  pugi::xml_parse_result r = doc.load_buffer(xml.data(), xml.size());
-  if (!r) fail(path, ": not valid XML at byte ", r.offset, ": ", r.description());
-  return Reader(path, options).read(doc);
+MtlxDocument::MtlxDocument(const std::string& path, const MtlxReadOptions& options,
+                           std::shared_ptr<Xml> parsed)
+    : path_(path), options_(options), xml_(std::move(parsed)) {
+  xml_->root = xml_->doc.child("materialx");
+  if (!xml_->root) fail(path, ": not a MaterialX document (no <materialx> root element)");
+  upgrade_mtlx_document(xml_->root, path);
+  expand_mtlx_includes(xml_->root, path, mtlx_search_paths(options));
 }
 
-std::vector<Graph> read_mtlx_file(const std::string& path, const MtlxReadOptions& options) {
-  pugi::xml_document doc;
-  pugi::xml_parse_result r = doc.load_file(path.c_str());
+MtlxDocument MtlxDocument::from_file(const std::string& path, const MtlxReadOptions& options) {
+  auto xml = std::make_shared<Xml>();
+  pugi::xml_parse_result r = xml->doc.load_file(path.c_str());
   if (r.status == pugi::status_file_not_found || r.status == pugi::status_io_error)
     fail(path, ": cannot read MaterialX file");
   if (!r) fail(path, ": not valid XML at byte ", r.offset, ": ", r.description());
-  return Reader(path, options).read(doc);
+  return MtlxDocument(path, options, xml);
+}
+
+MtlxDocument MtlxDocument::from_string(const std::string& xml_text, const std::string& path,
+                                       const MtlxReadOptions& options) {
+  auto xml = std::make_shared<Xml>();
+  pugi::xml_parse_result r = xml->doc.load_buffer(xml_text.data(), xml_text.size());
+  if (!r) fail(path, ": not valid XML at byte ", r.offset, ": ", r.description());
+  return MtlxDocument(path, options, xml);
+}
+
+std::vector<Graph> read_mtlx_graphs(const MtlxDocument& doc) {
+  return Reader(doc.path(), doc.options()).read(doc.xml().root);
+}
+
+std::vector<Graph> read_mtlx_string(const std::string& xml, const std::string& path,
+                                    const MtlxReadOptions& options) {
+  return read_mtlx_graphs(MtlxDocument::from_string(xml, path, options));
+}
+
+std::vector<Graph> read_mtlx_file(const std::string& path, const MtlxReadOptions& options) {
+  return read_mtlx_graphs(MtlxDocument::from_file(path, options));
 }
 
 }  // namespace pmc

@@ -26,6 +26,7 @@
 // element and the problem.
 #pragma once
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,32 @@ struct MtlxReadOptions {
   std::vector<std::string> search_paths;  // mtlx_search_paths, after MATERIALX_SEARCH_PATH
 };
 
+// One MaterialX document, loaded once: parsed, upgraded to 1.39 syntax
+// (mtlx_upgrade.h) and its root-level includes expanded (mtlx_include.h).
+// The readers below take it, so a document read for its materials and its
+// looks is loaded once. Throws pmc::Error naming the file when it cannot be
+// read, is not XML or has no <materialx> root.
+class MtlxDocument {
+ public:
+  static MtlxDocument from_file(const std::string& path, const MtlxReadOptions& options = {});
+  static MtlxDocument from_string(const std::string& xml, const std::string& path,
+                                  const MtlxReadOptions& options = {});
+  const std::string& path() const { return path_; }
+  const MtlxReadOptions& options() const { return options_; }
+  struct Xml;  // the pugixml document (mtlx_reader.cpp)
+  const Xml& xml() const { return *xml_; }
+
+ private:
+  // Upgrades and expands the parsed document.
+  MtlxDocument(const std::string& path, const MtlxReadOptions& options, std::shared_ptr<Xml> parsed);
+  std::string path_;
+  MtlxReadOptions options_;
+  std::shared_ptr<Xml> xml_;
+};
+
+// The document's materials as graphs.
+std::vector<Graph> read_mtlx_graphs(const MtlxDocument& doc);
+// read_mtlx_graphs of the document at `path`.
 std::vector<Graph> read_mtlx_file(const std::string& path, const MtlxReadOptions& options = {});
 
 // One <materialassign> of a <look>: `material` on the geometry paths in
@@ -49,10 +76,9 @@ struct MtlxAssignment {
   std::string exclude;
   std::string origin;  // "file: look 'L' materialassign 'A'"
 };
-// Every materialassign of every <look> of the document at `path`, in
+// Every materialassign of every <look> of the document, in
 // document order (a later one overrides an earlier one for the same geometry).
-std::vector<MtlxAssignment> read_mtlx_assignments(const std::string& path,
-                                                  const MtlxReadOptions& options = {});
+std::vector<MtlxAssignment> read_mtlx_assignments(const MtlxDocument& doc);
 // Does geometry `path` ("/name") match `pattern` (one geometry name of a geom
 // list)? "/" matches everything, `*` any characters within a path component,
 // `?` one character, and a pattern that names an ancestor matches its

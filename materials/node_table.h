@@ -23,7 +23,9 @@
 // Adding a node touches:
 //  1. this table (node_table.cpp): one def() line, with its inputs in operand order;
 //  2. the interpreter, if no existing opcode computes it: the opcode in
-//     PMC_OPCODES (core/abi/pmc_bytecode.h), its case in pmc_interp_lanes
+//     PMC_OPCODES (core/abi/pmc_bytecode.h) with its operand slots named in
+//     the order of the inputs here, its case in one of pmc_interp_lanes'
+//     opcode groups, reading the operands by slot name
 //     (core/device/pmc_interp.h; the math of a larger node in its own
 //     core/device/pmc_*.h, included there, which the host reference and the
 //     kernels both compile), and a parity case in

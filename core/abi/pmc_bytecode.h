@@ -12,11 +12,17 @@
  * which is how MaterialX's "FA" variants (color3 * float) work. Every
  * operation computes on float4 lanes and writes `width` floats.
  *
- * PMC_OPCODES lists (name, minimum operands, maximum operands). Its expansions
- * are the PmcOpcode enum here and the disassembler's and the parity test's name
- * tables; the interpreter (core/device/pmc_interp.h) has one hand-written case
- * per opcode, and which MaterialX node emits which opcode with which operand
- * order is materials/node_table.cpp's job.
+ * PMC_OPCODES is the one list of opcodes: X(name, minimum operands, maximum
+ * operands, (operand slots)), the slots named in the order the operand words
+ * hold them. Its expansions are the PmcOpcode enum and, per opcode, the slot
+ * indices PMC_ARG_<name>_<slot> (PMC_ARG_CLAMP_high is 2) that the
+ * interpreter (core/device/pmc_interp.h) reads its operands by, and the
+ * disassembler's and the parity test's name tables. Which MaterialX node
+ * emits which opcode is materials/node_table.cpp's job; a node's operand
+ * inputs come in the slots' order (tests/materials/node_table_test.cpp checks
+ * their count against the opcode's). A slot is never named after an OpenCL
+ * built-in (mix, rotate): an OpenCL implementation may define those as macros,
+ * which would rename the slot's enumerator.
  */
 #ifndef PMC_BYTECODE_H
 #define PMC_BYTECODE_H
@@ -24,99 +30,123 @@
 #include "pmc_vec.h"
 
 // clang-format off
-#define PMC_OPCODES(X)                                                                         \
-  X(END, 0, 0)            /* stop */                                                           \
-  X(OUTPUT, 1, 1)         /* surface parameter `imm` = operand */                              \
-  X(MOVE, 1, 1)           /* dst = a (broadcast/truncate to width) */                          \
-  X(SWIZZLE, 1, 1)        /* imm: 3 bits per lane: 0-3 = xyzw, 4 = 0, 5 = 1 */                 \
-  X(COMBINE, 2, 4)        /* dst lanes = first lane of each operand */                         \
-  X(TEXCOORD, 0, 0)       /* uv */                                                             \
-  X(POSITION, 0, 0)       /* world (= object) position */                                      \
-  X(NORMAL, 0, 0)         /* shading normal, world */                                          \
-  X(TANGENT, 0, 0)        /* tangent, world */                                                 \
-  X(BITANGENT, 0, 0)      /* bitangent, world */                                               \
-  X(ADD, 2, 2)                                                                                 \
-  X(SUB, 2, 2)                                                                                 \
-  X(MUL, 2, 2)                                                                                 \
-  X(DIV, 2, 2)                                                                                 \
-  X(MOD, 2, 2)                                                                                 \
-  X(POW, 2, 2)                                                                                 \
-  X(MIN, 2, 2)                                                                                 \
-  X(MAX, 2, 2)                                                                                 \
-  X(DOT, 2, 2)                                                                                 \
-  X(ABS, 1, 1)                                                                                 \
-  X(FLOOR, 1, 1)                                                                               \
-  X(CEIL, 1, 1)                                                                                \
-  X(SIN, 1, 1)                                                                                 \
-  X(COS, 1, 1)                                                                                 \
-  X(SQRT, 1, 1)                                                                                \
-  X(NORMALIZE, 1, 1)                                                                           \
-  X(CLAMP, 3, 3)          /* in, low, high */                                                  \
-  X(SMOOTHSTEP, 3, 3)     /* in, low, high */                                                  \
-  X(MIX, 3, 3)            /* fg, bg, mix: bg + (fg - bg) * mix */                              \
-  X(REMAP, 5, 5)          /* in, inlow, inhigh, outlow, outhigh */                             \
-  X(IFGREATER, 4, 4)      /* value1, value2, in1, in2 */                                       \
-  X(IFGREATEREQ, 4, 4)    /* value1, value2, in1, in2 */                                       \
-  X(LUMINANCE, 2, 2)      /* in, lumacoeffs */                                                 \
-  X(RGBTOHSV, 1, 1)                                                                            \
-  X(HSVTORGB, 1, 1)                                                                            \
-  X(IMAGE, 3, 3)          /* uv, default, mode; imm = texture index */                         \
-  X(PLACE2D, 6, 6)        /* texcoord, pivot, scale, rotate, offset, order */                  \
-  X(NOISE2D, 3, 3)        /* texcoord, amplitude, pivot */                                     \
-  X(NOISE3D, 3, 3)        /* position, amplitude, pivot */                                     \
-  X(FRACTAL2D, 5, 5)      /* texcoord, amplitude, octaves, lacunarity, diminish */             \
-  X(FRACTAL3D, 5, 5)      /* position, amplitude, octaves, lacunarity, diminish */             \
-  X(CELLNOISE2D, 1, 1)                                                                         \
-  X(CELLNOISE3D, 1, 1)                                                                         \
-  X(WORLEY2D, 3, 3)       /* texcoord, jitter, style */                                        \
-  X(WORLEY3D, 3, 3)       /* position, jitter, style */                                        \
-  X(RAMPLR, 3, 3)         /* valuel, valuer, texcoord */                                       \
-  X(RAMPTB, 3, 3)         /* valuet, valueb, texcoord */                                       \
-  X(RAMP4, 5, 5)          /* tl, tr, bl, br, texcoord */                                       \
-  X(SPLITLR, 4, 4)        /* valuel, valuer, center, texcoord */                               \
-  X(SPLITTB, 4, 4)        /* valuet, valueb, center, texcoord */                               \
-  X(TILEDSHAPE, 5, 5)     /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */     \
-  X(LINEPATTERN, 5, 5)    /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */ \
-  X(NORMALMAP, 4, 4)      /* in, scale, normal, tangent */                                     \
-  X(TAN, 1, 1)                                                                                 \
-  X(ASIN, 1, 1)                                                                                \
-  X(ACOS, 1, 1)                                                                                \
-  X(ATAN2, 2, 2)          /* iny, inx */                                                       \
-  X(EXP, 1, 1)                                                                                 \
-  X(LN, 1, 1)                                                                                  \
-  X(SIGN, 1, 1)                                                                                \
-  X(ROUND, 1, 1)          /* halves away from zero */                                          \
-  X(FRACT, 1, 1)          /* x - floor(x) */                                                   \
-  X(LENGTH, 1, 1)         /* imm = operand width */                                            \
-  X(CROSS, 2, 2)                                                                               \
-  X(NOT, 1, 1)            /* a == 0 ? 1 : 0 */                                                 \
-  X(IFEQUAL, 4, 4)        /* value1, value2, in1, in2 */                                       \
-  X(BLEND, 3, 3)          /* fg, bg, mix; imm = PMC_BLEND_* */                                 \
-  X(ROTATE2D, 2, 2)       /* in, amount (degrees) */                                           \
-  X(ROTATE3D, 3, 3)       /* in, amount (degrees), axis */                                     \
-  X(COMPOSITE, 3, 3)      /* fg, bg, mix; imm = PMC_COMP_* (color4 merge nodes) */             \
-  X(PREMULT, 1, 1)        /* imm 0: RGB * alpha, 1: RGB / alpha (alpha 0: unchanged) */        \
-  X(OUTSIDE, 2, 2)        /* in, mask: in * (1 - mask) */                                      \
-  X(FLAKE, 7, 7)          /* size, roughness, coverage, position, normal, */                   \
-                          /* tangent, bitangent; imm = PMC_FLAKE_* (pmc_flake.h) */            \
-  X(ROUGHNESS_ANISO, 2, 2) /* roughness, anisotropy (pmc_pbr_data.h) */                        \
-  X(ROUGHNESS_DUAL, 1, 1) /* roughness (vector2) */                                            \
-  X(ARTISTIC_IOR, 2, 2)   /* reflectivity, edge_color; imm 0: ior, 1: extinction */            \
-  X(BLACKBODY, 1, 1)      /* temperature (K) -> linear Rec.709 */                              \
-  X(HAIR_ROUGHNESS, 4, 4) /* longitudinal, azimuthal, scale_TT, scale_TRT; imm = PMC_HAIR_* */ \
-  X(HAIR_MELANIN, 4, 4)   /* concentration, redness, eumelanin and pheomelanin colours */      \
-  X(HAIR_COLOR, 2, 2)     /* color, azimuthal_roughness (pmc_hair_data.h) */                   \
-  X(HEXIMAGE, 13, 13)     /* texcoord, tiling, rotation, rotationrange, scale, scalerange, */   \
-                          /* offset, offsetrange, falloff, default, mode (as IMAGE), */        \
-                          /* falloffcontrast, lumacoeffs; imm = texture index */               \
-  X(HEXNORMALMAP, 15, 15) /* the same 11 first, then strength, flip_g, normal, tangent */      \
-  X(CACHE_LOOKUP, 1, 1)   /* dst = cached value; skip word; imm = node | enc << 14 */          \
-  X(CACHE_STORE, 1, 1)    /* k-th of the group: dst = operand if lookup k missed, insert; imm as LOOKUP */
+#define PMC_OPCODES(X)                                                                                                 \
+  X(END, 0, 0, ())                                        /* stop */                                                   \
+  X(OUTPUT, 1, 1, (in))                                   /* surface parameter `imm` */                                \
+  X(MOVE, 1, 1, (in))                                     /* broadcast/truncate to width */                            \
+  X(SWIZZLE, 1, 1, (in))                                  /* imm: 3 bits per lane: 0-3 xyzw, 4 = 0, 5 = 1 */           \
+  X(COMBINE, 2, 4, (in1, in2, in3, in4))                  /* dst lanes = first lane of each operand */                 \
+  X(TEXCOORD, 0, 0, ())                                   /* uv */                                                     \
+  X(POSITION, 0, 0, ())                                   /* world (= object) position */                              \
+  X(NORMAL, 0, 0, ())                                     /* shading normal, world */                                  \
+  X(TANGENT, 0, 0, ())                                    /* tangent, world */                                         \
+  X(BITANGENT, 0, 0, ())                                  /* bitangent, world */                                       \
+  X(ADD, 2, 2, (in1, in2))                                                                                             \
+  X(SUB, 2, 2, (in1, in2))                                                                                             \
+  X(MUL, 2, 2, (in1, in2))                                                                                             \
+  X(DIV, 2, 2, (in1, in2))                                                                                             \
+  X(MOD, 2, 2, (in1, in2))                                                                                             \
+  X(POW, 2, 2, (in1, in2))                                                                                             \
+  X(MIN, 2, 2, (in1, in2))                                                                                             \
+  X(MAX, 2, 2, (in1, in2))                                                                                             \
+  X(DOT, 2, 2, (in1, in2))                                /* imm = operand width */                                    \
+  X(ABS, 1, 1, (in))                                                                                                   \
+  X(FLOOR, 1, 1, (in))                                                                                                 \
+  X(CEIL, 1, 1, (in))                                                                                                  \
+  X(SIN, 1, 1, (in))                                                                                                   \
+  X(COS, 1, 1, (in))                                                                                                   \
+  X(SQRT, 1, 1, (in))                                                                                                  \
+  X(NORMALIZE, 1, 1, (in))                                                                                             \
+  X(CLAMP, 3, 3, (in, low, high))                                                                                      \
+  X(SMOOTHSTEP, 3, 3, (in, low, high))                                                                                 \
+  X(MIX, 3, 3, (fg, bg, weight))                          /* MaterialX mix: bg + (fg - bg) * weight */                 \
+  X(REMAP, 5, 5, (in, inlow, inhigh, outlow, outhigh))                                                                 \
+  X(IFGREATER, 4, 4, (value1, value2, in1, in2))                                                                       \
+  X(IFGREATEREQ, 4, 4, (value1, value2, in1, in2))                                                                     \
+  X(LUMINANCE, 2, 2, (in, lumacoeffs))                                                                                 \
+  X(RGBTOHSV, 1, 1, (in))                                                                                              \
+  X(HSVTORGB, 1, 1, (in))                                                                                              \
+  X(IMAGE, 3, 3, (texcoord, default, mode))               /* imm = texture index */                                    \
+  X(PLACE2D, 6, 6, (texcoord, pivot, scale, degrees, offset, operationorder))                                          \
+  X(NOISE2D, 3, 3, (texcoord, amplitude, pivot))                                                                       \
+  X(NOISE3D, 3, 3, (position, amplitude, pivot))                                                                       \
+  X(FRACTAL2D, 5, 5, (texcoord, amplitude, octaves, lacunarity, diminish))                                             \
+  X(FRACTAL3D, 5, 5, (position, amplitude, octaves, lacunarity, diminish))                                             \
+  X(CELLNOISE2D, 1, 1, (texcoord))                                                                                     \
+  X(CELLNOISE3D, 1, 1, (position))                                                                                     \
+  X(WORLEY2D, 3, 3, (texcoord, jitter, style))                                                                         \
+  X(WORLEY3D, 3, 3, (position, jitter, style))                                                                         \
+  X(RAMPLR, 3, 3, (valuel, valuer, texcoord))                                                                          \
+  X(RAMPTB, 3, 3, (valuet, valueb, texcoord))                                                                          \
+  X(RAMP4, 5, 5, (valuetl, valuetr, valuebl, valuebr, texcoord))                                                       \
+  X(SPLITLR, 4, 4, (valuel, valuer, center, texcoord))                                                                 \
+  X(SPLITTB, 4, 4, (valuet, valueb, center, texcoord))                                                                 \
+  X(TILEDSHAPE, 5, 5, (texcoord, uvtiling, uvoffset, size, staggered)) /* imm = shape */                               \
+  X(LINEPATTERN, 5, 5, (texcoord, uvtiling, uvoffset, thickness, staggered)) /* imm = kind */                          \
+  X(NORMALMAP, 4, 4, (in, scale, normal, tangent))                                                                     \
+  X(TAN, 1, 1, (in))                                                                                                   \
+  X(ASIN, 1, 1, (in))                                                                                                  \
+  X(ACOS, 1, 1, (in))                                                                                                  \
+  X(ATAN2, 2, 2, (iny, inx))                                                                                           \
+  X(EXP, 1, 1, (in))                                                                                                   \
+  X(LN, 1, 1, (in))                                                                                                    \
+  X(SIGN, 1, 1, (in))                                                                                                  \
+  X(ROUND, 1, 1, (in))                                    /* halves away from zero */                                  \
+  X(FRACT, 1, 1, (in))                                    /* x - floor(x) */                                           \
+  X(LENGTH, 1, 1, (in))                                   /* imm = operand width */                                    \
+  X(CROSS, 2, 2, (in1, in2))                                                                                           \
+  X(NOT, 1, 1, (in))                                      /* a == 0 ? 1 : 0 */                                         \
+  X(IFEQUAL, 4, 4, (value1, value2, in1, in2))            /* values compared on their first component */               \
+  X(BLEND, 3, 3, (fg, bg, weight))                        /* imm = PMC_BLEND_* */                                      \
+  X(ROTATE2D, 2, 2, (in, amount))                         /* amount in degrees */                                      \
+  X(ROTATE3D, 3, 3, (in, amount, axis))                   /* amount in degrees */                                      \
+  X(COMPOSITE, 3, 3, (fg, bg, weight))                    /* imm = PMC_COMP_* (color4 merge nodes) */                  \
+  X(PREMULT, 1, 1, (in))                                  /* imm 0: RGB * alpha, 1: RGB / alpha (or as is at 0) */     \
+  X(OUTSIDE, 2, 2, (in, mask))                            /* in * (1 - mask) */                                        \
+  X(FLAKE, 7, 7, (size, roughness, coverage, position, normal, tangent, bitangent))                                    \
+                                                          /* imm = PMC_FLAKE_* (pmc_flake.h) */                        \
+  X(ROUGHNESS_ANISO, 2, 2, (roughness, anisotropy))       /* pmc_pbr_data.h */                                         \
+  X(ROUGHNESS_DUAL, 1, 1, (roughness))                    /* vector2 */                                                \
+  X(ARTISTIC_IOR, 2, 2, (reflectivity, edge_color))       /* imm 0: ior, 1: extinction */                              \
+  X(BLACKBODY, 1, 1, (temperature))                       /* kelvin -> linear Rec.709 */                               \
+  X(HAIR_ROUGHNESS, 4, 4, (longitudinal, azimuthal, scale_TT, scale_TRT)) /* imm = PMC_HAIR_* */                       \
+  X(HAIR_MELANIN, 4, 4, (melanin_concentration, melanin_redness, eumelanin_color, pheomelanin_color))                  \
+  X(HAIR_COLOR, 2, 2, (color, azimuthal_roughness))       /* pmc_hair_data.h */                                        \
+  X(HEXIMAGE, 13, 13, (texcoord, tiling, rotation, rotationrange, scale, scalerange, offset,                           \
+                       offsetrange, falloff, default, mode, falloffcontrast, lumacoeffs))                              \
+                                                          /* mode as IMAGE's; imm = texture index */                   \
+  X(HEXNORMALMAP, 15, 15, (texcoord, tiling, rotation, rotationrange, scale, scalerange, offset,                       \
+                           offsetrange, falloff, default, mode, strength, flip_g, normal, tangent))                    \
+  X(CACHE_LOOKUP, 1, 1, (skip))                           /* dst = cached value; imm = node | enc << 14 */             \
+  X(CACHE_STORE, 1, 1, (value))                           /* dst = value where lookup k missed; insert */
 // clang-format on
 
-#define PMC_OP_ENUM(name, lo, hi) PMC_OP_##name,
+#define PMC_OP_ENUM(name, lo, hi, slots) PMC_OP_##name,
 enum PmcOpcode { PMC_OPCODES(PMC_OP_ENUM) PMC_OP_COUNT };
 #undef PMC_OP_ENUM
+
+/* Slot indices: enum { PMC_ARG_CLAMP_in = 0, PMC_ARG_CLAMP_low = 1,
+ * PMC_ARG_CLAMP_high = 2, PMC_OPERANDS_<name> = 3 } for each row. The helper
+ * is chosen by the row's maximum operand count, so a slot list of another
+ * length fails to compile. */
+#define PMC_SLOTS_0(op, unused)
+#define PMC_SLOTS_1(op, a) PMC_ARG_##op##_##a,
+#define PMC_SLOTS_2(op, a, b) PMC_SLOTS_1(op, a) PMC_ARG_##op##_##b,
+#define PMC_SLOTS_3(op, a, b, c) PMC_SLOTS_2(op, a, b) PMC_ARG_##op##_##c,
+#define PMC_SLOTS_4(op, a, b, c, d) PMC_SLOTS_3(op, a, b, c) PMC_ARG_##op##_##d,
+#define PMC_SLOTS_5(op, a, b, c, d, e) PMC_SLOTS_4(op, a, b, c, d) PMC_ARG_##op##_##e,
+#define PMC_SLOTS_6(op, a, b, c, d, e, f) PMC_SLOTS_5(op, a, b, c, d, e) PMC_ARG_##op##_##f,
+#define PMC_SLOTS_7(op, a, b, c, d, e, f, g) PMC_SLOTS_6(op, a, b, c, d, e, f) PMC_ARG_##op##_##g,
+#define PMC_SLOTS_13(op, a, b, c, d, e, f, g, h, i, j, k, l, m) \
+  PMC_SLOTS_7(op, a, b, c, d, e, f, g) PMC_SLOTS_6(op, h, i, j, k, l, m)
+#define PMC_SLOTS_15(op, a, b, c, d, e, f, g, h, i, j, k, l, m, n, o) \
+  PMC_SLOTS_7(op, a, b, c, d, e, f, g) PMC_SLOTS_7(op, h, i, j, k, l, m, n) PMC_ARG_##op##_##o,
+#define PMC_SLOTS_EXPAND(macro, args) macro args
+#define PMC_SLOTS_UNPAREN(...) __VA_ARGS__
+#define PMC_OP_SLOT_ENUM(name, lo, hi, slots) \
+  enum { PMC_SLOTS_EXPAND(PMC_SLOTS_##hi, (name, PMC_SLOTS_UNPAREN slots)) PMC_OPERANDS_##name = hi };
+PMC_OPCODES(PMC_OP_SLOT_ENUM)
+#undef PMC_OP_SLOT_ENUM
 
 #define PMC_OPERAND_CONST 0x80000000u
 #define PMC_OPERAND_INDEX_MASK 0x0fffffffu

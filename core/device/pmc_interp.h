@@ -31,13 +31,25 @@
  * sub-graph reads the position only, on its position cell (pmc_cache.h); each
  * point of a lane computes either at most once. In cache_eval center the
  * group's sub-graphs read the texel's centre uv and the cell's centre
- * position, so a stored value depends on its key alone.
+ * position, so a stored value depends on its key alone. What one point does
+ * at a lookup and a store is pmc_cache_point.h's protocol.
+ *
+ * The file reads as its steps: pmc_interp_lanes() decodes an instruction and
+ * runs the control instructions itself (OUTPUT, the cache group's LOOKUP and
+ * STORE, END); every other opcode is computed by one of three groups,
+ * pmc_interp_arith() (componentwise and vector math, colour), pmc_interp_data()
+ * (compositing, rotations, flakes, pbrlib and hair data) and
+ * pmc_interp_pattern() (geometry, images, noise, ramps, shapes, normal maps),
+ * into R, which the loop then writes to the destination slots. An opcode reads
+ * its operands by the slot names PMC_OPCODES (pmc_bytecode.h) gives them:
+ * PMC_FETCH4(A, IMAGE, texcoord). All of it is inlined into the one kernel
+ * function, so the split costs nothing at run time.
  */
 #ifndef PMC_INTERP_H
 #define PMC_INTERP_H
 
 #include "../abi/pmc_bytecode.h"
-#include "pmc_cache.h"
+#include "pmc_cache_point.h"
 #include "pmc_compositing.h"
 #include "pmc_flake.h"
 #include "pmc_hair_data.h"
@@ -68,61 +80,6 @@ PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2) {
   in->footprint = 2.0f * fmax(length(g1), length(g2));
   pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
 }
-
-/* The material cache as one evaluation sees it. A null context (the host
- * reference, or the cache off, whose programs have no cache instructions)
- * makes every lookup a miss. */
-typedef struct PmcCacheContext {
-  PmcCacheTable table;
-  float2 g1, g2;            /* ray-cone uv gradients at the hit */
-  float bias;               /* mip_bias */
-  float4 jitter;            /* added to uv * 2^lambda (x, y) and to the position *
-                             * 2^lambda (x, y, z) before flooring, in [-0.5, 0.5): 0 is
-                             * the nearest texel; uniform random offsets pick a neighbour
-                             * with its bilinear (trilinear) weight (cache_filter) */
-  float radius;             /* ray-cone radius at the hit, scene units (position keys) */
-  pmc_u32 floors;           /* 0: no level floors (the three fields below are ignored) */
-  int level_floor_uv;       /* the material's level floors (pmc_cache_floored_level; */
-  int level_floor_position; /* PMC_LEVEL_NO_FLOOR: none) for uv and position points */
-  int max_refine;           /* levels a floor may lie above the footprint's before bypass */
-  pmc_u32 material;
-  pmc_u32 center;      /* cache_eval center: evaluate misses at the texel centre */
-  pmc_u32 depth;       /* surface hits before this one (0: a camera-ray hit); the
-                        * priority policy tags entries with it, and camera
-                        * lookups are counted apart */
-  PmcCacheTexel texel; /* the shading point's texel, if the caller computed it
-                        * (ready); else the first lookup computes it */
-  PmcCacheTexel cell;  /* the same for its position cell */
-  pmc_u32 hits;        /* out: cache points found in this evaluation */
-#if PMC_CACHE_TRACE_RECORDS
-  pmc_u32 trace_pixel, trace_sample; /* PMC_CACHE_TRACE: who looked up (gpu/cache_trace.h) */
-#endif
-  /* out: PMC_CSTAT_* events, counted privately (no atomics per lookup); the
-   * caller adds them up: the shade kernel once per work-group. */
-  pmc_u32 counts[PMC_CSTAT_COUNT];
-} PmcCacheContext;
-
-/* PMC_CACHE_TRACE (a diagnostic, gpu/cache_trace.h): the shade kernel
- * appends every lookup to a record region behind the cache table: a count
- * word, then two words per lookup (the key's 64-bit cell hash; the pixel, the
- * depth, the sample and whether the key is a position cell). Records past the
- * region's capacity are counted, not written. */
-#ifndef PMC_CACHE_TRACE_RECORDS
-#define PMC_CACHE_TRACE_RECORDS 0
-#endif
-#if PMC_CACHE_TRACE_RECORDS && defined(__OPENCL_VERSION__)
-PMC_FN void pmc_cache_trace(const PmcCacheContext* cx, PmcCacheKey key, int positional) {
-  __global volatile ulong* region = cx->table.entries + cx->table.cells * (ulong)cx->table.ways;
-  const ulong slot = atom_inc(region);
-  if (slot >= (ulong)PMC_CACHE_TRACE_RECORDS) return;
-  region[1ul + 2ul * slot] = key.h1;
-  region[2ul + 2ul * slot] = (ulong)cx->trace_pixel | ((ulong)min(cx->depth, 255u) << 32) |
-                             ((ulong)(cx->trace_sample & 0xfffffu) << 40) | ((ulong)(positional != 0) << 60);
-}
-#define PMC_CACHE_TRACE(cx, key, positional) pmc_cache_trace(cx, key, positional)
-#else
-#define PMC_CACHE_TRACE(cx, key, positional) ((void)0)
-#endif
 
 #ifndef PMC_LANES
 #define PMC_LANES 1
@@ -286,7 +243,8 @@ PMC_FN float pmc_sign1(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0
 PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x + 0.5f); }
 
 /* Componentwise instruction bodies: `expr` of the operands' components a, b
- * (t, d, e) for every component c < width of every lane k < nn, into R. */
+ * (t, d, e) for every component c < width of every lane k < nn, into R. The
+ * operands are the instruction's slots in order (PMC_A the first). */
 #define PMC_CW(fetches, expr)          \
   fetches;                             \
   for (int c = 0; c < (int)width; ++c) \
@@ -296,8 +254,723 @@ PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x
 #define PMC_T pmc_fetch(code, stack, code[pc + 4u], (int)width, nn, T)
 #define PMC_D pmc_fetch(code, stack, code[pc + 5u], (int)width, nn, D)
 #define PMC_E pmc_fetch(code, stack, code[pc + 6u], (int)width, nn, E)
-/* The same operands with all four components (for per-point bodies). */
-#define PMC_FETCH4(V, i) pmc_fetch(code, stack, code[pc + 2u + (i)], 4, nn, V)
+/* The operand word of `op`'s slot `slot` (PMC_OPCODES), and that operand
+ * with all four components into V (for per-point bodies). */
+#define PMC_OPERAND(op, slot) code[pc + 2u + (pmc_u32)PMC_ARG_##op##_##slot]
+#define PMC_FETCH4(V, op, slot) pmc_fetch(code, stack, PMC_OPERAND(op, slot), 4, nn, V)
+
+/* The active lanes of a batch: n of them; virtual lane k is point lane_of[k]
+ * (the identity but inside a cache group's sub-graphs, where the points that
+ * missed are packed to the front). uv / footprint are the uv and the texture
+ * footprint the virtual lane's nodes read: the point's own, or in cache_eval
+ * center the centre and width of its texel, so the stored value depends on
+ * the texel alone (and the footprint is round there: no ellipse, axis 0);
+ * pos likewise the position. */
+typedef struct PmcLanes {
+  int n;
+  int lane_of[PMC_LANES];
+  float2 uv[PMC_LANES];
+  float footprint[PMC_LANES];
+  float2 axis[PMC_LANES]; /* the footprint's ellipse: major half-axis, */
+  float minor[PMC_LANES]; /* minor width */
+  float3 pos[PMC_LANES];
+} PmcLanes;
+
+/* Virtual lane k reads point p's own shading inputs. */
+PMC_FN void pmc_lanes_set(PmcLanes* lanes, int k, int p, const PmcShadingInputs* in) {
+  lanes->lane_of[k] = p;
+  lanes->uv[k] = in[p].uv;
+  lanes->footprint[k] = in[p].footprint;
+  lanes->axis[k] = in[p].footprint_axis;
+  lanes->minor[k] = in[p].footprint_minor;
+  lanes->pos[k] = in[p].position;
+}
+
+/* Every point of the batch, each in its own lane. */
+PMC_FN void pmc_lanes_all(PmcLanes* lanes, const PmcShadingInputs* in, int n) {
+  lanes->n = n;
+  for (int k = 0; k < PMC_BATCH(n); ++k) pmc_lanes_set(lanes, k, k, in);
+  (void)n; /* unused when PMC_LANES is 1 */
+}
+
+/* The cache group of a program as the batch runs it: lookups and stores so
+ * far, which of them are keyed on position, and per point which lookups
+ * missed (bit i: the group's i-th point); every uv point of a point shares
+ * its texel, every position point its cell. */
+typedef struct PmcCacheGroup {
+  pmc_u32 lookups, stores, by_position;
+  pmc_u32 missed[PMC_LANES];
+  PmcCacheTexel texel[PMC_LANES], cell[PMC_LANES];
+} PmcCacheGroup;
+
+PMC_FN void pmc_cache_group_begin(PmcCacheGroup* g, int n, const PmcCacheContext* cache) {
+  (void)n; /* unused when PMC_LANES is 1 */
+  g->lookups = g->stores = g->by_position = 0u;
+  for (int k = 0; k < PMC_BATCH(n); ++k) {
+    g->missed[k] = 0u;
+    g->texel[k].ready = 0u;
+    g->cell[k].ready = 0u;
+    if (cache) {
+      g->texel[k] = cache[k].texel;
+      g->cell[k] = cache[k].cell;
+    }
+  }
+}
+
+/* Packs the points that missed a lookup of the group into the first lanes,
+ * reading their texel's and cell's centres in cache_eval center. */
+PMC_FN void pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
+                                  const PmcCacheContext* cache) {
+  int nn = 0;
+  (void)n; /* unused when PMC_LANES is 1 */
+  for (int k = 0; k < PMC_BATCH(n); ++k)
+    if (g->missed[k] != 0u) {
+      pmc_lanes_set(lanes, nn, k, in);
+      const PmcCacheTexel* texel = &g->texel[k];
+      const PmcCacheTexel* cell = &g->cell[k];
+      if (cache && cache[k].center && texel->ready && !texel->bypass) {
+        lanes->uv[nn] = make_float2(pmc_cache_texel_center(texel->tx, texel->lambda),
+                                    pmc_cache_texel_center(texel->ty, texel->lambda));
+        lanes->footprint[nn] = pmc_cache_texel_footprint(texel->footprint_lambda, cache[k].bias);
+        lanes->axis[nn] = make_float2(0.0f, 0.0f); /* a texel's footprint is round */
+        lanes->minor[nn] = 0.0f;
+      }
+      if (cache && cache[k].center && cell->ready && !cell->bypass)
+        lanes->pos[nn] = make_float3(pmc_cache_cell_center(cell->tx, cell->lambda),
+                                     pmc_cache_cell_center(cell->ty, cell->lambda),
+                                     pmc_cache_cell_center(cell->tz, cell->lambda));
+      ++nn;
+    }
+  lanes->n = nn;
+}
+
+/* CACHE_LOOKUP for every point of the batch. imm: node id (bits 0-13) |
+ * encoding << 14; the one "operand" word is the number of words to skip when
+ * no point needs the group (0 but for the group's last lookup, whose skip
+ * passes the group's sub-graphs and STOREs), with PMC_CACHE_KEY_POSITION set
+ * for a position-keyed point. A hit delivers its value at once. Returns the
+ * pc after the instruction, or past the group when every point hit. */
+PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
+                                       int n, float* stack, PmcCacheContext* cache, PmcCacheGroup* g,
+                                       PmcLanes* lanes) {
+  const pmc_u32 h = code[pc], imm = pmc_op_imm(h), width = pmc_op_width(h), dst = code[pc + 1u];
+  const pmc_u32 bit = 1u << (g->lookups & 31u);
+  const pmc_u32 word = PMC_OPERAND(CACHE_LOOKUP, skip);
+  const int positional = (word & PMC_CACHE_KEY_POSITION) != 0u;
+  const pmc_u32 rank = g->lookups;
+  if (positional) g->by_position |= bit;
+  g->lookups += 1u;
+  for (int k = 0; k < PMC_BATCH(n); ++k) {
+    float4 v;
+    int found = PMC_CACHE_POINT_MISS;
+    if (cache) {
+      const PmcCacheTexel* t =
+          pmc_cache_point_key(&cache[k], in[k].uv, in[k].position, positional, &g->texel[k], &g->cell[k]);
+      found = pmc_cache_point_lookup(&cache[k], t, positional, imm & 0x3fffu, rank, imm >> 14, &v);
+    }
+    if (found == PMC_CACHE_POINT_HIT) {
+      float* row = stack + dst * PMC_LANES + k;
+      row[0] = v.x;
+      if (width > 1u) row[PMC_LANES] = v.y;
+      if (width > 2u) row[2 * PMC_LANES] = v.z;
+    } else {
+      g->missed[k] |= bit;
+    }
+  }
+  const pmc_u32 skip = word & ~PMC_CACHE_KEY_POSITION;
+  pc += 3u;
+  if (skip != 0u) { /* the group's last lookup: pack the points that need it */
+    pmc_lanes_pack_missed(lanes, g, in, n, cache);
+    if (lanes->n == 0) { /* every point hit: skip the sub-graphs and stores */
+      pc += skip;
+      lanes->n = n;
+      for (int k = 0; k < PMC_BATCH(n); ++k) lanes->lane_of[k] = k;
+    }
+  }
+  return pc;
+}
+
+/* CACHE_STORE: the group's k-th STORE belongs to its k-th LOOKUP (same imm).
+ * A point that hit keeps its value; one that missed gets the computed operand
+ * in `dst` and, with a cache, is inserted (pmc_cache_point_store). After the
+ * group's last store every point runs again in its own lane. */
+PMC_FN void pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
+                                   int n, float* stack, PmcCacheContext* cache, PmcCacheGroup* g,
+                                   PmcLanes* lanes, float A[4][PMC_LANES]) {
+  const pmc_u32 h = code[pc], imm = pmc_op_imm(h), width = pmc_op_width(h), dst = code[pc + 1u];
+  const pmc_u32 bit = 1u << (g->stores & 31u);
+  const pmc_u32 rank = g->stores;
+  const int nn = lanes->n;
+  g->stores += 1u;
+  PMC_FETCH4(A, CACHE_STORE, value);
+  for (int j = 0; j < PMC_BATCH(nn); ++j) {
+    int k = lanes->lane_of[j];
+    if (!(g->missed[k] & bit)) continue;
+    float4 v = pmc_lanes4(A, j);
+    if (cache) {
+      const PmcCacheTexel* t = (g->by_position & bit) ? &g->cell[k] : &g->texel[k];
+      v = pmc_cache_point_store(&cache[k], t, imm & 0x3fffu, rank, imm >> 14, v);
+    }
+    float* row = stack + dst * PMC_LANES + k;
+    row[0] = v.x;
+    if (width > 1u) row[PMC_LANES] = v.y;
+    if (width > 2u) row[2 * PMC_LANES] = v.z;
+    if (width > 3u) row[3 * PMC_LANES] = v.w;
+  }
+  if (g->stores == g->lookups) pmc_lanes_all(lanes, in, n); /* the group is done: every point again */
+}
+
+/* The parameters of the opcode groups: the instruction (op, width, imm at
+ * pc), the stack, the active lanes, the shading inputs and textures, and the
+ * operand and result arrays [component][lane]. Each returns 0 for an opcode
+ * not its own. */
+#define PMC_OP_PARAMS                                                                                 \
+  pmc_u32 op, PMC_GLOBAL const pmc_u32 *code, pmc_u32 pc, pmc_u32 width, pmc_u32 nargs, pmc_u32 imm,  \
+      const float *stack, const PmcLanes *lanes, const PmcShadingInputs *in, const PmcTextureSet *ts, \
+      float A[4][PMC_LANES], float B[4][PMC_LANES], float T[4][PMC_LANES], float D[4][PMC_LANES],     \
+      float E[4][PMC_LANES], float F[4][PMC_LANES], float R[4][PMC_LANES]
+#define PMC_OP_ARGS op, code, pc, width, nargs, imm, stack, lanes, in, ts, A, B, T, D, E, F, R
+#define PMC_OP_UNUSED \
+  (void)nargs;        \
+  (void)in;           \
+  (void)ts;           \
+  (void)F
+
+/* Componentwise and vector math, comparisons, colour. */
+PMC_FN int pmc_interp_arith(PMC_OP_PARAMS) {
+  const int nn = lanes->n;
+  PMC_OP_UNUSED;
+  switch (op) {
+    case PMC_OP_MOVE:
+      PMC_CW(PMC_A, A[c][k])
+      break;
+    case PMC_OP_SWIZZLE: {
+      PMC_FETCH4(A, SWIZZLE, in);
+      for (int c = 0; c < (int)width; ++c) {
+        pmc_u32 sel = (imm >> (3 * c)) & 7u;
+        for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = sel < 4u ? A[sel][k] : (sel == 5u ? 1.0f : 0.0f);
+      }
+      break;
+    }
+    case PMC_OP_COMBINE:
+      for (int c = 0; c < (int)width; ++c) {
+        if ((pmc_u32)c < nargs && c < 4) pmc_fetch(code, stack, code[pc + 2u + (pmc_u32)c], 1, nn, A);
+        for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = (pmc_u32)c < nargs ? A[0][k] : 0.0f;
+      }
+      break;
+    case PMC_OP_ADD:
+      PMC_CW(PMC_A; PMC_B, A[c][k] + B[c][k])
+      break;
+    case PMC_OP_SUB:
+      PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k])
+      break;
+    case PMC_OP_MUL:
+      PMC_CW(PMC_A; PMC_B, A[c][k] * B[c][k])
+      break;
+    case PMC_OP_DIV:
+      PMC_CW(PMC_A; PMC_B, A[c][k] / B[c][k])
+      break;
+    case PMC_OP_MOD:
+      PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k] * floor(A[c][k] / B[c][k]))
+      break;
+    case PMC_OP_POW:
+      PMC_CW(PMC_A; PMC_B, pow(A[c][k], B[c][k]))
+      break;
+    case PMC_OP_MIN:
+      PMC_CW(PMC_A; PMC_B, fmin(A[c][k], B[c][k]))
+      break;
+    case PMC_OP_MAX:
+      PMC_CW(PMC_A; PMC_B, fmax(A[c][k], B[c][k]))
+      break;
+    case PMC_OP_DOT: {
+      PMC_FETCH4(A, DOT, in1);
+      PMC_FETCH4(B, DOT, in2);
+      pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float d = A[0][k] * B[0][k];
+        if (m > 1u) d += A[1][k] * B[1][k];
+        if (m > 2u) d += A[2][k] * B[2][k];
+        if (m > 3u) d += A[3][k] * B[3][k];
+        pmc_set_lanes4(R, k, pmc_broadcast(d));
+      }
+      break;
+    }
+    case PMC_OP_ABS:
+      PMC_CW(PMC_A, fabs(A[c][k]))
+      break;
+    case PMC_OP_FLOOR:
+      PMC_CW(PMC_A, floor(A[c][k]))
+      break;
+    case PMC_OP_CEIL:
+      PMC_CW(PMC_A, ceil(A[c][k]))
+      break;
+    case PMC_OP_SIN:
+      PMC_CW(PMC_A, sin(A[c][k]))
+      break;
+    case PMC_OP_COS:
+      PMC_CW(PMC_A, cos(A[c][k]))
+      break;
+    case PMC_OP_SQRT:
+      PMC_CW(PMC_A, sqrt(A[c][k]))
+      break;
+    case PMC_OP_NORMALIZE: {
+      PMC_FETCH4(A, NORMALIZE, in);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float4 a = pmc_lanes4(A, k);
+        float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
+                   (width > 3u ? a.w * a.w : 0.0f);
+        pmc_set_lanes4(R, k, l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a);
+      }
+      break;
+    }
+    case PMC_OP_CLAMP:
+      PMC_CW(PMC_A; PMC_B; PMC_T, fmin(fmax(A[c][k], B[c][k]), T[c][k]))
+      break;
+    case PMC_OP_SMOOTHSTEP:
+      PMC_CW(PMC_A; PMC_B; PMC_T, pmc_smoothstep1(A[c][k], B[c][k], T[c][k]))
+      break;
+    case PMC_OP_MIX:
+      PMC_CW(PMC_A; PMC_B; PMC_T, B[c][k] + (A[c][k] - B[c][k]) * T[c][k])
+      break;
+    case PMC_OP_REMAP:
+      PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D;
+             PMC_E, D[c][k] + (A[c][k] - B[c][k]) * (E[c][k] - D[c][k]) / (T[c][k] - B[c][k]))
+      break;
+    case PMC_OP_IFGREATER:
+      PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] > B[c][k] ? T[c][k] : D[c][k])
+      break;
+    case PMC_OP_IFGREATEREQ:
+      PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] >= B[c][k] ? T[c][k] : D[c][k])
+      break;
+    case PMC_OP_LUMINANCE: {
+      PMC_FETCH4(A, LUMINANCE, in);
+      PMC_FETCH4(B, LUMINANCE, lumacoeffs);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float l = A[0][k] * B[0][k] + A[1][k] * B[1][k] + A[2][k] * B[2][k];
+        pmc_set_lanes4(R, k, make_float4(l, l, l, A[3][k]));
+      }
+      break;
+    }
+    case PMC_OP_RGBTOHSV:
+      PMC_FETCH4(A, RGBTOHSV, in);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_rgb_to_hsv(pmc_lanes4(A, k)));
+      break;
+    case PMC_OP_HSVTORGB:
+      PMC_FETCH4(A, HSVTORGB, in);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_hsv_to_rgb(pmc_lanes4(A, k)));
+      break;
+    case PMC_OP_TAN:
+      PMC_CW(PMC_A, tan(A[c][k]))
+      break;
+    case PMC_OP_ASIN:
+      PMC_CW(PMC_A, asin(A[c][k]))
+      break;
+    case PMC_OP_ACOS:
+      PMC_CW(PMC_A, acos(A[c][k]))
+      break;
+    case PMC_OP_ATAN2:
+      PMC_CW(PMC_A; PMC_B, atan2(A[c][k], B[c][k]))
+      break;
+    case PMC_OP_EXP:
+      PMC_CW(PMC_A, exp(A[c][k]))
+      break;
+    case PMC_OP_LN:
+      PMC_CW(PMC_A, log(A[c][k]))
+      break;
+    case PMC_OP_SIGN:
+      PMC_CW(PMC_A, pmc_sign1(A[c][k]))
+      break;
+    case PMC_OP_ROUND:
+      PMC_CW(PMC_A, pmc_round1(A[c][k]))
+      break;
+    case PMC_OP_FRACT:
+      PMC_CW(PMC_A, A[c][k] - floor(A[c][k]))
+      break;
+    case PMC_OP_LENGTH: {
+      PMC_FETCH4(A, LENGTH, in);
+      pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float d = A[0][k] * A[0][k];
+        if (m > 1u) d += A[1][k] * A[1][k];
+        if (m > 2u) d += A[2][k] * A[2][k];
+        if (m > 3u) d += A[3][k] * A[3][k];
+        pmc_set_lanes4(R, k, pmc_broadcast(sqrt(d)));
+      }
+      break;
+    }
+    case PMC_OP_CROSS:
+      PMC_FETCH4(A, CROSS, in1);
+      PMC_FETCH4(B, CROSS, in2);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(
+            R, k,
+            make_float4(A[1][k] * B[2][k] - A[2][k] * B[1][k], A[2][k] * B[0][k] - A[0][k] * B[2][k],
+                        A[0][k] * B[1][k] - A[1][k] * B[0][k], 0.0f));
+      break;
+    case PMC_OP_NOT:
+      PMC_CW(PMC_A, A[c][k] == 0.0f ? 1.0f : 0.0f)
+      break;
+    case PMC_OP_IFEQUAL:
+      pmc_fetch(code, stack, PMC_OPERAND(IFEQUAL, value1), 1, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(IFEQUAL, value2), 1, nn, B);
+      PMC_CW(PMC_T; PMC_D, A[0][k] == B[0][k] ? T[c][k] : D[c][k])
+      break;
+    default:
+      return 0;
+  }
+  return 1;
+}
+
+/* Compositing, rotations, flakes, pbrlib and hair data nodes. */
+PMC_FN int pmc_interp_data(PMC_OP_PARAMS) {
+  const int nn = lanes->n;
+  PMC_OP_UNUSED;
+  switch (op) {
+    case PMC_OP_BLEND:
+      PMC_CW(PMC_A; PMC_B; PMC_T, pmc_blend1(A[c][k], B[c][k], T[c][k], imm))
+      break;
+    case PMC_OP_ROTATE2D: /* MaterialX mx_rotate_vector2: (ca x + sa y, -sa x + ca y) */
+      PMC_FETCH4(A, ROTATE2D, in);
+      pmc_fetch(code, stack, PMC_OPERAND(ROTATE2D, amount), 1, nn, B);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float a = B[0][k] * (PMC_PI / 180.0f);
+        float sa = sin(a), ca = cos(a);
+        pmc_set_lanes4(R, k,
+                       make_float4(ca * A[0][k] + sa * A[1][k], -sa * A[0][k] + ca * A[1][k], 0.0f, 0.0f));
+      }
+      break;
+    case PMC_OP_ROTATE3D: /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
+                           * v c + cross(v, axis) s + axis dot(axis, v) (1 - c), axis normalised. */
+      PMC_FETCH4(A, ROTATE3D, in);
+      pmc_fetch(code, stack, PMC_OPERAND(ROTATE3D, amount), 1, nn, B);
+      PMC_FETCH4(T, ROTATE3D, axis);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 v = make_float3(A[0][k], A[1][k], A[2][k]), ax = make_float3(T[0][k], T[1][k], T[2][k]);
+        float l = length(ax);
+        ax = l > 0.0f ? ax * (1.0f / l) : ax;
+        float a = B[0][k] * (PMC_PI / 180.0f);
+        float sn = sin(a), cs = cos(a);
+        float3 res = v * cs + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - cs));
+        pmc_set_lanes4(R, k, make_float4(res.x, res.y, res.z, 0.0f));
+      }
+      break;
+    case PMC_OP_COMPOSITE:
+      PMC_FETCH4(A, COMPOSITE, fg);
+      PMC_FETCH4(B, COMPOSITE, bg);
+      pmc_fetch(code, stack, PMC_OPERAND(COMPOSITE, weight), 1, nn, T);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, pmc_composite(pmc_lanes4(A, k), pmc_lanes4(B, k), T[0][k], imm));
+      break;
+    case PMC_OP_PREMULT:
+      PMC_FETCH4(A, PREMULT, in);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_premult(pmc_lanes4(A, k), imm));
+      break;
+    case PMC_OP_OUTSIDE:
+      pmc_fetch(code, stack, PMC_OPERAND(OUTSIDE, mask), 1, nn, B);
+      PMC_CW(PMC_A, A[c][k] * (1.0f - B[0][k]))
+      break;
+    case PMC_OP_FLAKE:
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, size), 1, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, roughness), 1, nn, B);
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, coverage), 1, nn, T);
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, position), 3, nn, D); /* a vector2 texcoord gets z = 0 */
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, normal), 3, nn, E);
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, tangent), 3, nn, F);
+      pmc_fetch(code, stack, PMC_OPERAND(FLAKE, bitangent), 3, nn, R); /* read before R is written */
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 bt = make_float3(R[0][k], R[1][k], R[2][k]);
+        PmcFlake f =
+            pmc_flake(A[0][k], B[0][k], T[0][k], make_float3(D[0][k], D[1][k], D[2][k]),
+                      make_float3(E[0][k], E[1][k], E[2][k]), make_float3(F[0][k], F[1][k], F[2][k]), bt);
+        pmc_set_lanes4(R, k, pmc_flake_output(f, imm));
+      }
+      break;
+    case PMC_OP_ROUGHNESS_ANISO:
+      pmc_fetch(code, stack, PMC_OPERAND(ROUGHNESS_ANISO, roughness), 1, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(ROUGHNESS_ANISO, anisotropy), 1, nn, B);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float2 r = pmc_roughness_anisotropy(A[0][k], B[0][k]);
+        pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
+      }
+      break;
+    case PMC_OP_ROUGHNESS_DUAL:
+      pmc_fetch(code, stack, PMC_OPERAND(ROUGHNESS_DUAL, roughness), 2, nn, A);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float2 r = pmc_roughness_dual(make_float2(A[0][k], A[1][k]));
+        pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
+      }
+      break;
+    case PMC_OP_ARTISTIC_IOR:
+      PMC_FETCH4(A, ARTISTIC_IOR, reflectivity);
+      PMC_FETCH4(B, ARTISTIC_IOR, edge_color);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, pmc_artistic_ior(pmc_lanes4(A, k), pmc_lanes4(B, k), imm != 0u));
+      break;
+    case PMC_OP_BLACKBODY:
+      pmc_fetch(code, stack, PMC_OPERAND(BLACKBODY, temperature), 1, nn, A);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_blackbody(A[0][k]));
+      break;
+    case PMC_OP_HAIR_ROUGHNESS:
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_ROUGHNESS, longitudinal), 1, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_ROUGHNESS, azimuthal), 1, nn, B);
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_ROUGHNESS, scale_TT), 1, nn, T);
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_ROUGHNESS, scale_TRT), 1, nn, D);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, pmc_chiang_hair_roughness(A[0][k], B[0][k], T[0][k], D[0][k], imm));
+      break;
+    case PMC_OP_HAIR_MELANIN:
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_MELANIN, melanin_concentration), 1, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_MELANIN, melanin_redness), 1, nn, B);
+      PMC_FETCH4(T, HAIR_MELANIN, eumelanin_color);
+      PMC_FETCH4(D, HAIR_MELANIN, pheomelanin_color);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, pmc_deon_hair_absorption(A[0][k], B[0][k], pmc_lanes4(T, k), pmc_lanes4(D, k)));
+      break;
+    case PMC_OP_HAIR_COLOR:
+      PMC_FETCH4(A, HAIR_COLOR, color);
+      pmc_fetch(code, stack, PMC_OPERAND(HAIR_COLOR, azimuthal_roughness), 1, nn, B);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, pmc_chiang_hair_absorption(pmc_lanes4(A, k), B[0][k]));
+      break;
+    default:
+      return 0;
+  }
+  return 1;
+}
+
+/* Geometry, images, hex tiling, placement, noise, ramps, splits, shapes, normal maps. */
+PMC_FN int pmc_interp_pattern(PMC_OP_PARAMS) {
+  const int nn = lanes->n;
+  PMC_OP_UNUSED;
+  switch (op) {
+    case PMC_OP_TEXCOORD:
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k, make_float4(lanes->uv[k].x, lanes->uv[k].y, 0.0f, 0.0f));
+      break;
+    case PMC_OP_POSITION:
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 v = lanes->pos[k];
+        pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+      }
+      break;
+    case PMC_OP_NORMAL:
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 v = in[lanes->lane_of[k]].normal;
+        pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+      }
+      break;
+    case PMC_OP_TANGENT:
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 v = in[lanes->lane_of[k]].tangent;
+        pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+      }
+      break;
+    case PMC_OP_BITANGENT:
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float3 v = in[lanes->lane_of[k]].bitangent;
+        pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
+      }
+      break;
+    case PMC_OP_IMAGE: {
+      PMC_FETCH4(A, IMAGE, texcoord);
+      PMC_FETCH4(B, IMAGE, default);
+      PMC_FETCH4(T, IMAGE, mode);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        /* T[1]: the uv chain's footprint scale; the ellipse only where the
+         * chain keeps its direction (PMC_IMAGE_ANISO) */
+        pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
+        const float s = T[1][k];
+        const float2 axis = (bits & PMC_IMAGE_ANISO) ? lanes->axis[k] * s : make_float2(0.0f, 0.0f);
+        float4 c = pmc_texture_sample_ellipse(ts, imm, make_float2(A[0][k], A[1][k]), lanes->footprint[k] * s,
+                                              axis, lanes->minor[k] * s, bits & 3u, (bits >> 2) & 3u,
+                                              (bits >> 4) & 3u, pmc_lanes4(B, k));
+        /* A float image reads the first channel. */
+        pmc_set_lanes4(R, k, width == 1u ? pmc_broadcast(c.x) : c);
+      }
+      break;
+    }
+    case PMC_OP_HEXIMAGE:       /* imm = texture index; the two share their first 11 slots, and */
+    case PMC_OP_HEXNORMALMAP: { /* slots 11, 12 are HEXNORMALMAP's strength, flip_g */
+      /* more operands than arrays: the tiles first, then the rest */
+      PmcHexTiles tiles[PMC_LANES];
+      float gain[PMC_LANES];  /* the tiling's footprint gain */
+      float2 axis[PMC_LANES]; /* the ellipse's major half-axis, tiled */
+      PMC_FETCH4(A, HEXIMAGE, texcoord);
+      PMC_FETCH4(B, HEXIMAGE, tiling);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        A[0][k] *= B[0][k];
+        A[1][k] *= B[1][k];
+        gain[k] = fmax(fabs(B[0][k]), fabs(B[1][k]));
+        /* An even tiling (|x| = |y|: a uniform scale, perhaps mirrored)
+         * maps the ellipse's axes onto the tiled ellipse's; an uneven one
+         * would not: isotropic there. */
+        axis[k] = fabs(B[0][k]) == fabs(B[1][k])
+                      ? make_float2(lanes->axis[k].x * B[0][k], lanes->axis[k].y * B[1][k])
+                      : make_float2(0.0f, 0.0f);
+      }
+      PMC_FETCH4(B, HEXIMAGE, rotation);
+      PMC_FETCH4(T, HEXIMAGE, rotationrange);
+      PMC_FETCH4(D, HEXIMAGE, scale);
+      PMC_FETCH4(E, HEXIMAGE, scalerange);
+      PMC_FETCH4(F, HEXIMAGE, offset);
+      PMC_FETCH4(R, HEXIMAGE, offsetrange);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        tiles[k] =
+            pmc_hextile_tiles(make_float2(A[0][k], A[1][k]), B[0][k], make_float2(T[0][k], T[1][k]), D[0][k],
+                              make_float2(E[0][k], E[1][k]), F[0][k], make_float2(R[0][k], R[1][k]));
+      PMC_FETCH4(A, HEXIMAGE, falloff);
+      PMC_FETCH4(B, HEXIMAGE, default);
+      PMC_FETCH4(T, HEXIMAGE, mode);
+      PMC_FETCH4(D, HEXIMAGE, falloffcontrast); /* HEXNORMALMAP: strength */
+      PMC_FETCH4(E, HEXIMAGE, lumacoeffs);      /* HEXNORMALMAP: flip_g */
+      if (op == PMC_OP_HEXNORMALMAP) {
+        PMC_FETCH4(F, HEXNORMALMAP, normal);
+        PMC_FETCH4(R, HEXNORMALMAP, tangent); /* read before R is written */
+      }
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
+        PmcFootprint fp;
+        fp.width = lanes->footprint[k] * T[1][k] * gain[k];
+        fp.axis = (bits & PMC_IMAGE_ANISO) ? axis[k] * T[1][k] : make_float2(0.0f, 0.0f);
+        fp.minor = lanes->minor[k] * T[1][k] * gain[k];
+        float4 r =
+            op == PMC_OP_HEXIMAGE
+                ? pmc_hextile_image(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
+                                    make_float3(E[0][k], E[1][k], E[2][k]))
+                : pmc_hextile_normalmap(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
+                                        E[0][k] != 0.0f, make_float3(F[0][k], F[1][k], F[2][k]),
+                                        make_float3(R[0][k], R[1][k], R[2][k]));
+        pmc_set_lanes4(R, k, r);
+      }
+      break;
+    }
+    case PMC_OP_PLACE2D:
+      PMC_FETCH4(A, PLACE2D, texcoord);
+      PMC_FETCH4(B, PLACE2D, pivot);
+      PMC_FETCH4(T, PLACE2D, scale);
+      PMC_FETCH4(D, PLACE2D, degrees);
+      PMC_FETCH4(E, PLACE2D, offset);
+      PMC_FETCH4(F, PLACE2D, operationorder);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k,
+                       pmc_place2d(pmc_lanes4(A, k), pmc_lanes4(B, k), pmc_lanes4(T, k), D[0][k],
+                                   pmc_lanes4(E, k), pmc_to_int(F[0][k])));
+      break;
+    case PMC_OP_NOISE2D:
+    case PMC_OP_NOISE3D: {
+      const int dims = op == PMC_OP_NOISE3D ? 3 : 2;
+      pmc_fetch(code, stack, PMC_OPERAND(NOISE2D, texcoord), dims, nn, A);
+      PMC_FETCH4(B, NOISE2D, amplitude);
+      PMC_FETCH4(T, NOISE2D, pivot);
+      pmc_noise_lanes(dims, A[0], A[1], A[2], width, nn, R);
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k] + T[c][k];
+      break;
+    }
+    case PMC_OP_FRACTAL2D:
+    case PMC_OP_FRACTAL3D: {
+      const int dims = op == PMC_OP_FRACTAL3D ? 3 : 2;
+      pmc_fetch(code, stack, PMC_OPERAND(FRACTAL2D, texcoord), dims, nn, A);
+      PMC_FETCH4(B, FRACTAL2D, amplitude);
+      pmc_fetch(code, stack, PMC_OPERAND(FRACTAL2D, octaves), 1, nn, T);
+      pmc_fetch(code, stack, PMC_OPERAND(FRACTAL2D, lacunarity), 1, nn, D);
+      pmc_fetch(code, stack, PMC_OPERAND(FRACTAL2D, diminish), 1, nn, E);
+      int octaves[PMC_LANES];
+      for (int k = 0; k < PMC_BATCH(nn); ++k) octaves[k] = pmc_to_int(T[0][k]);
+      pmc_fractal_lanes(dims, A[0], A[1], A[2], octaves, D[0], E[0], width, nn, R);
+      for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k];
+      break;
+    }
+    case PMC_OP_CELLNOISE2D:
+    case PMC_OP_CELLNOISE3D: {
+      const int dims = op == PMC_OP_CELLNOISE3D ? 3 : 2;
+      pmc_fetch(code, stack, PMC_OPERAND(CELLNOISE2D, texcoord), dims, nn, A);
+      pmc_cellnoise_lanes(dims, A[0], A[1], A[2], nn, R[0]);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) R[1][k] = R[2][k] = R[3][k] = R[0][k];
+      break;
+    }
+    case PMC_OP_WORLEY2D:
+      PMC_FETCH4(A, WORLEY2D, texcoord);
+      PMC_FETCH4(B, WORLEY2D, jitter);
+      PMC_FETCH4(T, WORLEY2D, style);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k,
+                       pmc_op_worley2d(make_float2(A[0][k], A[1][k]), B[0][k], pmc_to_int(T[0][k]), width));
+      break;
+    case PMC_OP_WORLEY3D:
+      PMC_FETCH4(A, WORLEY3D, position);
+      PMC_FETCH4(B, WORLEY3D, jitter);
+      PMC_FETCH4(T, WORLEY3D, style);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(
+            R, k,
+            pmc_op_worley3d(make_float3(A[0][k], A[1][k], A[2][k]), B[0][k], pmc_to_int(T[0][k]), width));
+      break;
+    case PMC_OP_RAMPLR:
+      pmc_fetch(code, stack, PMC_OPERAND(RAMPLR, texcoord), 2, nn, T);
+      PMC_CW(PMC_A; PMC_B, A[c][k] + (B[c][k] - A[c][k]) * clamp(T[0][k], 0.0f, 1.0f))
+      break;
+    case PMC_OP_RAMPTB:
+      pmc_fetch(code, stack, PMC_OPERAND(RAMPTB, texcoord), 2, nn, T);
+      PMC_CW(PMC_A; PMC_B, B[c][k] + (A[c][k] - B[c][k]) * clamp(T[1][k], 0.0f, 1.0f))
+      break;
+    case PMC_OP_RAMP4: {
+      pmc_fetch(code, stack, PMC_OPERAND(RAMP4, texcoord), 2, nn, E);
+      PMC_A;
+      PMC_B;
+      PMC_T;
+      PMC_D;
+      for (int c = 0; c < (int)width; ++c)
+        for (int k = 0; k < PMC_BATCH(nn); ++k) {
+          float s = clamp(E[0][k], 0.0f, 1.0f), t = clamp(E[1][k], 0.0f, 1.0f);
+          float top = A[c][k] + (B[c][k] - A[c][k]) * s;
+          float bottom = T[c][k] + (D[c][k] - T[c][k]) * s;
+          R[c][k] = bottom + (top - bottom) * t;
+        }
+      break;
+    }
+    case PMC_OP_SPLITLR:
+      pmc_fetch(code, stack, PMC_OPERAND(SPLITLR, center), 1, nn, T);
+      pmc_fetch(code, stack, PMC_OPERAND(SPLITLR, texcoord), 2, nn, D);
+      PMC_CW(PMC_A; PMC_B, D[0][k] < T[0][k] ? A[c][k] : B[c][k])
+      break;
+    case PMC_OP_SPLITTB:
+      pmc_fetch(code, stack, PMC_OPERAND(SPLITTB, center), 1, nn, T);
+      pmc_fetch(code, stack, PMC_OPERAND(SPLITTB, texcoord), 2, nn, D);
+      PMC_CW(PMC_A; PMC_B, D[1][k] > T[0][k] ? A[c][k] : B[c][k])
+      break;
+    case PMC_OP_TILEDSHAPE:
+    case PMC_OP_LINEPATTERN:
+      PMC_FETCH4(A, TILEDSHAPE, texcoord);
+      PMC_FETCH4(B, TILEDSHAPE, uvtiling);
+      PMC_FETCH4(T, TILEDSHAPE, uvoffset);
+      PMC_FETCH4(D, TILEDSHAPE, size);
+      PMC_FETCH4(E, TILEDSHAPE, staggered);
+      for (int k = 0; k < PMC_BATCH(nn); ++k) {
+        float2 uv = make_float2(A[0][k], A[1][k]), tiling = make_float2(B[0][k], B[1][k]);
+        float2 offset = make_float2(T[0][k], T[1][k]);
+        pmc_set_lanes4(R, k,
+                       op == PMC_OP_TILEDSHAPE
+                           ? pmc_op_tiledshape(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm)
+                           : pmc_op_linepattern(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm));
+      }
+      break;
+    case PMC_OP_NORMALMAP:
+      PMC_FETCH4(A, NORMALMAP, in);
+      PMC_FETCH4(B, NORMALMAP, scale);
+      PMC_FETCH4(T, NORMALMAP, normal);
+      PMC_FETCH4(D, NORMALMAP, tangent);
+      for (int k = 0; k < PMC_BATCH(nn); ++k)
+        pmc_set_lanes4(R, k,
+                       pmc_normalmap(pmc_lanes4(A, k), B[0][k], make_float3(T[0][k], T[1][k], T[2][k]),
+                                     make_float3(D[0][k], D[1][k], D[2][k])));
+      break;
+    default:
+      return 0;
+  }
+  return 1;
+}
 
 /* Runs the program at `pc` until END for the `n` points `in[0..n)` (n <=
  * PMC_LANES). `stack` holds PMC_STACK_SIZE * PMC_LANES floats, `params` n
@@ -309,706 +982,34 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
   /* Operands and result, [component][lane]. */
   float A[4][PMC_LANES], B[4][PMC_LANES], T[4][PMC_LANES], D[4][PMC_LANES], E[4][PMC_LANES], F[4][PMC_LANES],
       R[4][PMC_LANES];
-  /* Active lanes: nn of them; virtual lane k is point lane_of[k] (the
-   * identity but inside a cache group's sub-graphs, where the points that
-   * missed are packed to the front). uv_now / footprint_now are the uv and
-   * the texture footprint the virtual lane's nodes read: the point's own, or
-   * in cache_eval center the centre and width of its texel, so the stored
-   * value depends on the texel alone (and the footprint is round there: no
-   * ellipse, axis_now 0). */
-  int nn = n;
-  int lane_of[PMC_LANES];
-  float2 uv_now[PMC_LANES];
-  float footprint_now[PMC_LANES];
-  float2 axis_now[PMC_LANES]; /* the footprint's ellipse: major half-axis, */
-  float minor_now[PMC_LANES]; /* minor width */
-  float3 pos_now[PMC_LANES];  /* likewise the position */
-  /* The cache group: lookups and stores so far, which of them are keyed on
-   * position, and per point which lookups missed; every uv point of a point
-   * shares its texel, every position point its cell. */
-  pmc_u32 n_lookups = 0u, n_stores = 0u, by_position = 0u;
-  pmc_u32 missed[PMC_LANES];
-  PmcCacheTexel texel[PMC_LANES], cell[PMC_LANES];
-  for (int k = 0; k < PMC_BATCH(n); ++k) {
-    lane_of[k] = k;
-    uv_now[k] = in[k].uv;
-    footprint_now[k] = in[k].footprint;
-    axis_now[k] = in[k].footprint_axis;
-    minor_now[k] = in[k].footprint_minor;
-    pos_now[k] = in[k].position;
-    missed[k] = 0u;
-    texel[k].ready = 0u;
-    cell[k].ready = 0u;
-    if (cache) {
-      texel[k] = cache[k].texel;
-      cell[k] = cache[k].cell;
-    }
-  }
+  PmcLanes lanes_now;
+  PmcLanes* lanes = &lanes_now;
+  PmcCacheGroup group;
+  pmc_lanes_all(lanes, in, n);
+  pmc_cache_group_begin(&group, n, cache);
   for (int guard = 0; guard < 1 << 16; ++guard) {
-    pmc_u32 h = code[pc];
-    pmc_u32 op = pmc_op_code(h);
-    pmc_u32 width = pmc_op_width(h);
-    pmc_u32 nargs = pmc_op_nargs(h);
-    pmc_u32 imm = pmc_op_imm(h);
-    pmc_u32 dst = code[pc + 1u];
+    const pmc_u32 h = code[pc];
+    const pmc_u32 op = pmc_op_code(h), width = pmc_op_width(h), nargs = pmc_op_nargs(h), imm = pmc_op_imm(h);
+    const pmc_u32 dst = code[pc + 1u];
+    const int nn = lanes->n;
     if (op == PMC_OP_END) return;
-    switch (op) {
-      case PMC_OP_OUTPUT: {
-        PMC_FETCH4(A, 0);
-        for (pmc_u32 i = 0; i < width && imm + i < PMC_P_COUNT; ++i)
-          for (int k = 0; k < PMC_BATCH(nn); ++k) params[k * PMC_P_COUNT + (int)(imm + i)] = A[i][k];
-        pc += 2u + nargs;
-        continue;
+    if (op == PMC_OP_OUTPUT) {
+      PMC_FETCH4(A, OUTPUT, in);
+      for (pmc_u32 i = 0; i < width && imm + i < PMC_P_COUNT; ++i)
+        for (int k = 0; k < PMC_BATCH(nn); ++k) params[k * PMC_P_COUNT + (int)(imm + i)] = A[i][k];
+    } else if (op == PMC_OP_CACHE_LOOKUP) {
+      pc = pmc_interp_cache_lookup(code, pc, in, n, stack, cache, &group, lanes);
+      continue;
+    } else if (op == PMC_OP_CACHE_STORE) {
+      pmc_interp_cache_store(code, pc, in, n, stack, cache, &group, lanes, A);
+    } else if (pmc_interp_arith(PMC_OP_ARGS) || pmc_interp_data(PMC_OP_ARGS) ||
+               pmc_interp_pattern(PMC_OP_ARGS)) {
+      for (int c = 0; c < (int)width; ++c) {
+        float* row = stack + (dst + (pmc_u32)c) * PMC_LANES;
+        for (int k = 0; k < PMC_BATCH(nn); ++k) row[k] = R[c][k];
       }
-      case PMC_OP_MOVE:
-        PMC_CW(PMC_A, A[c][k])
-        break;
-      case PMC_OP_SWIZZLE: {
-        PMC_FETCH4(A, 0);
-        for (int c = 0; c < (int)width; ++c) {
-          pmc_u32 sel = (imm >> (3 * c)) & 7u;
-          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = sel < 4u ? A[sel][k] : (sel == 5u ? 1.0f : 0.0f);
-        }
-        break;
-      }
-      case PMC_OP_COMBINE:
-        for (int c = 0; c < (int)width; ++c) {
-          if ((pmc_u32)c < nargs && c < 4) pmc_fetch(code, stack, code[pc + 2u + (pmc_u32)c], 1, nn, A);
-          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = (pmc_u32)c < nargs ? A[0][k] : 0.0f;
-        }
-        break;
-      case PMC_OP_TEXCOORD:
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k, make_float4(uv_now[k].x, uv_now[k].y, 0.0f, 0.0f));
-        break;
-      case PMC_OP_POSITION:
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = pos_now[k];
-          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
-        }
-        break;
-      case PMC_OP_NORMAL:
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = in[lane_of[k]].normal;
-          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
-        }
-        break;
-      case PMC_OP_TANGENT:
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = in[lane_of[k]].tangent;
-          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
-        }
-        break;
-      case PMC_OP_BITANGENT:
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = in[lane_of[k]].bitangent;
-          pmc_set_lanes4(R, k, make_float4(v.x, v.y, v.z, 0.0f));
-        }
-        break;
-      case PMC_OP_CACHE_LOOKUP: {
-        /* imm: node id (bits 0-13) | encoding << 14; the one "operand" word is
-         * the number of words to skip when no point needs the group (0 but
-         * for the group's last lookup, whose skip passes the group's
-         * sub-graphs and STOREs), with PMC_CACHE_KEY_POSITION set for a
-         * position-keyed point. A hit delivers its value at once. */
-        pmc_u32 bit = 1u << (n_lookups & 31u);
-        const pmc_u32 word = code[pc + 2u];
-        const int positional = (word & PMC_CACHE_KEY_POSITION) != 0u;
-        if (positional) by_position |= bit;
-        n_lookups += 1u;
-        for (int k = 0; k < PMC_BATCH(n); ++k) {
-          int hit = 0;
-          if (cache) {
-            PmcCacheContext* cx = &cache[k];
-            /* once per point: every cache point of a kind shares its texel or cell */
-            if (positional && !cell[k].ready)
-              cell[k] = pmc_cache_cell_floored(in[k].position, cx->radius, cx->bias, cx->jitter, cx->material,
-                                               cx->floors ? cx->level_floor_position : PMC_LEVEL_NO_FLOOR,
-                                               cx->max_refine);
-            if (!positional && !texel[k].ready)
-              texel[k] = pmc_cache_texel_floored(
-                  in[k].uv, cx->g1, cx->g2, cx->bias, make_float2(cx->jitter.x, cx->jitter.y), cx->material,
-                  cx->floors ? cx->level_floor_uv : PMC_LEVEL_NO_FLOOR, cx->max_refine);
-            const PmcCacheTexel* t = positional ? &cell[k] : &texel[k];
-            if (t->bypass) { /* too fine a texel to pay: evaluate, never insert */
-              cx->counts[PMC_CSTAT_BYPASSED] += 1u;
-              missed[k] |= bit;
-              continue;
-            }
-            PmcCacheKey key = pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_lookups - 1u);
-            PMC_CACHE_TRACE(cx, key, positional);
-            pmc_u32 bits;
-            const pmc_u32 camera = cx->depth == 0u ? 1u : 0u;
-            cx->counts[PMC_CSTAT_LOOKUPS] += 1u;
-            cx->counts[PMC_CSTAT_CAMERA_LOOKUPS] += camera;
-            cx->counts[PMC_CSTAT_POSITION_LOOKUPS] += (pmc_u32)positional;
-            if (pmc_cache_lookup(&cx->table, key, &bits)) {
-              float4 v = pmc_cache_decode(bits, imm >> 14);
-              float* row = stack + dst * PMC_LANES + k;
-              row[0] = v.x;
-              if (width > 1u) row[PMC_LANES] = v.y;
-              if (width > 2u) row[2 * PMC_LANES] = v.z;
-              cx->hits += 1u;
-              cx->counts[PMC_CSTAT_HITS] += 1u;
-              cx->counts[PMC_CSTAT_CAMERA_HITS] += camera;
-              cx->counts[PMC_CSTAT_POSITION_HITS] += (pmc_u32)positional;
-              hit = 1;
-            } else {
-              cx->counts[PMC_CSTAT_MISSES] += 1u;
-            }
-          }
-          if (!hit) missed[k] |= bit;
-        }
-        pmc_u32 skip = word & ~PMC_CACHE_KEY_POSITION;
-        pc += 3u;
-        if (skip != 0u) { /* the group's last lookup: pack the points that need it */
-          nn = 0;
-          for (int k = 0; k < PMC_BATCH(n); ++k)
-            if (missed[k] != 0u) {
-              lane_of[nn] = k;
-              uv_now[nn] = in[k].uv;
-              footprint_now[nn] = in[k].footprint;
-              axis_now[nn] = in[k].footprint_axis;
-              minor_now[nn] = in[k].footprint_minor;
-              pos_now[nn] = in[k].position;
-              if (cache && cache[k].center && texel[k].ready && !texel[k].bypass) {
-                uv_now[nn] = make_float2(pmc_cache_texel_center(texel[k].tx, texel[k].lambda),
-                                         pmc_cache_texel_center(texel[k].ty, texel[k].lambda));
-                footprint_now[nn] = pmc_cache_texel_footprint(texel[k].footprint_lambda, cache[k].bias);
-                axis_now[nn] = make_float2(0.0f, 0.0f); /* a texel's footprint is round */
-                minor_now[nn] = 0.0f;
-              }
-              if (cache && cache[k].center && cell[k].ready && !cell[k].bypass)
-                pos_now[nn] = make_float3(pmc_cache_cell_center(cell[k].tx, cell[k].lambda),
-                                          pmc_cache_cell_center(cell[k].ty, cell[k].lambda),
-                                          pmc_cache_cell_center(cell[k].tz, cell[k].lambda));
-              ++nn;
-            }
-          if (nn == 0) { /* every point hit: skip the sub-graphs and stores */
-            pc += skip;
-            nn = n;
-            for (int k = 0; k < PMC_BATCH(n); ++k) lane_of[k] = k;
-          }
-        }
-        continue;
-      }
-      case PMC_OP_CACHE_STORE: {
-        /* The group's k-th STORE belongs to its k-th LOOKUP (same imm). A
-         * point that hit keeps its value; one that missed gets the computed
-         * operand in `dst` and, with a cache, is inserted (in center mode the
-         * stored, quantised value is delivered: a texel's value is then the
-         * same whether this sample missed or a later one hits, which makes
-         * center-mode renders independent of who inserts). */
-        pmc_u32 bit = 1u << (n_stores & 31u);
-        n_stores += 1u;
-        PMC_FETCH4(A, 0);
-        for (int j = 0; j < PMC_BATCH(nn); ++j) {
-          int k = lane_of[j];
-          if (!(missed[k] & bit)) continue;
-          float4 v = pmc_lanes4(A, j);
-          if (cache) {
-            PmcCacheContext* cx = &cache[k];
-            pmc_u32 bits;
-            const PmcCacheTexel* t = (by_position & bit) ? &cell[k] : &texel[k];
-            if (t->bypass) {
-              /* evaluated without the cache: nothing to insert */
-            } else if (pmc_cache_encode(v, imm >> 14, &bits)) {
-              if (cx->center) v = pmc_cache_decode(bits, imm >> 14);
-              PmcCacheKey key =
-                  pmc_cache_key_at(t->hash, t->base, cx->material, imm & 0x3fffu, n_stores - 1u);
-              int result = pmc_cache_insert(&cx->table, key, bits, cx->depth);
-              if (result == 1) cx->counts[PMC_CSTAT_INSERTS] += 1u;
-              if (result == 2) cx->counts[PMC_CSTAT_REPLACED] += 1u;
-              if (result == 0) cx->counts[PMC_CSTAT_ALREADY_PRESENT] += 1u;
-              if (result < 0) cx->counts[PMC_CSTAT_DROPPED_FULL] += 1u;
-            } else {
-              cx->counts[PMC_CSTAT_NOT_ENCODABLE] += 1u;
-            }
-          }
-          float* row = stack + dst * PMC_LANES + k;
-          row[0] = v.x;
-          if (width > 1u) row[PMC_LANES] = v.y;
-          if (width > 2u) row[2 * PMC_LANES] = v.z;
-          if (width > 3u) row[3 * PMC_LANES] = v.w;
-        }
-        if (n_stores == n_lookups) { /* the group is done: every point again */
-          nn = n;
-          for (int k = 0; k < PMC_BATCH(n); ++k) {
-            lane_of[k] = k;
-            uv_now[k] = in[k].uv;
-            footprint_now[k] = in[k].footprint;
-            axis_now[k] = in[k].footprint_axis;
-            minor_now[k] = in[k].footprint_minor;
-            pos_now[k] = in[k].position;
-          }
-        }
-        pc += 2u + nargs;
-        continue;
-      }
-      case PMC_OP_ADD:
-        PMC_CW(PMC_A; PMC_B, A[c][k] + B[c][k])
-        break;
-      case PMC_OP_SUB:
-        PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k])
-        break;
-      case PMC_OP_MUL:
-        PMC_CW(PMC_A; PMC_B, A[c][k] * B[c][k])
-        break;
-      case PMC_OP_DIV:
-        PMC_CW(PMC_A; PMC_B, A[c][k] / B[c][k])
-        break;
-      case PMC_OP_MOD:
-        PMC_CW(PMC_A; PMC_B, A[c][k] - B[c][k] * floor(A[c][k] / B[c][k]))
-        break;
-      case PMC_OP_POW:
-        PMC_CW(PMC_A; PMC_B, pow(A[c][k], B[c][k]))
-        break;
-      case PMC_OP_MIN:
-        PMC_CW(PMC_A; PMC_B, fmin(A[c][k], B[c][k]))
-        break;
-      case PMC_OP_MAX:
-        PMC_CW(PMC_A; PMC_B, fmax(A[c][k], B[c][k]))
-        break;
-      case PMC_OP_DOT: {
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float d = A[0][k] * B[0][k];
-          if (m > 1u) d += A[1][k] * B[1][k];
-          if (m > 2u) d += A[2][k] * B[2][k];
-          if (m > 3u) d += A[3][k] * B[3][k];
-          pmc_set_lanes4(R, k, pmc_broadcast(d));
-        }
-        break;
-      }
-      case PMC_OP_ABS:
-        PMC_CW(PMC_A, fabs(A[c][k]))
-        break;
-      case PMC_OP_FLOOR:
-        PMC_CW(PMC_A, floor(A[c][k]))
-        break;
-      case PMC_OP_CEIL:
-        PMC_CW(PMC_A, ceil(A[c][k]))
-        break;
-      case PMC_OP_SIN:
-        PMC_CW(PMC_A, sin(A[c][k]))
-        break;
-      case PMC_OP_COS:
-        PMC_CW(PMC_A, cos(A[c][k]))
-        break;
-      case PMC_OP_SQRT:
-        PMC_CW(PMC_A, sqrt(A[c][k]))
-        break;
-      case PMC_OP_NORMALIZE: {
-        PMC_FETCH4(A, 0);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float4 a = pmc_lanes4(A, k);
-          float l2 = a.x * a.x + (width > 1u ? a.y * a.y : 0.0f) + (width > 2u ? a.z * a.z : 0.0f) +
-                     (width > 3u ? a.w * a.w : 0.0f);
-          pmc_set_lanes4(R, k, l2 > 0.0f ? a * (1.0f / sqrt(l2)) : a);
-        }
-        break;
-      }
-      case PMC_OP_CLAMP:
-        PMC_CW(PMC_A; PMC_B; PMC_T, fmin(fmax(A[c][k], B[c][k]), T[c][k]))
-        break;
-      case PMC_OP_SMOOTHSTEP:
-        PMC_CW(PMC_A; PMC_B; PMC_T, pmc_smoothstep1(A[c][k], B[c][k], T[c][k]))
-        break;
-      case PMC_OP_MIX: /* fg, bg, mix: bg + (fg - bg) * mix */
-        PMC_CW(PMC_A; PMC_B; PMC_T, B[c][k] + (A[c][k] - B[c][k]) * T[c][k])
-        break;
-      case PMC_OP_REMAP: /* in, inlow, inhigh, outlow, outhigh */
-        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D;
-               PMC_E, D[c][k] + (A[c][k] - B[c][k]) * (E[c][k] - D[c][k]) / (T[c][k] - B[c][k]))
-        break;
-      case PMC_OP_IFGREATER: /* value1, value2, in1, in2 */
-        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] > B[c][k] ? T[c][k] : D[c][k])
-        break;
-      case PMC_OP_IFGREATEREQ:
-        PMC_CW(PMC_A; PMC_B; PMC_T; PMC_D, A[c][k] >= B[c][k] ? T[c][k] : D[c][k])
-        break;
-      case PMC_OP_LUMINANCE: {
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float l = A[0][k] * B[0][k] + A[1][k] * B[1][k] + A[2][k] * B[2][k];
-          pmc_set_lanes4(R, k, make_float4(l, l, l, A[3][k]));
-        }
-        break;
-      }
-      case PMC_OP_RGBTOHSV:
-        PMC_FETCH4(A, 0);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_rgb_to_hsv(pmc_lanes4(A, k)));
-        break;
-      case PMC_OP_HSVTORGB:
-        PMC_FETCH4(A, 0);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_hsv_to_rgb(pmc_lanes4(A, k)));
-        break;
-      case PMC_OP_IMAGE: { /* uv, default, mode; imm = texture index */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          /* T[1]: the uv chain's footprint scale; the ellipse only where the
-           * chain keeps its direction (PMC_IMAGE_ANISO) */
-          pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
-          const float s = T[1][k];
-          const float2 axis = (bits & PMC_IMAGE_ANISO) ? axis_now[k] * s : make_float2(0.0f, 0.0f);
-          float4 c = pmc_texture_sample_ellipse(ts, imm, make_float2(A[0][k], A[1][k]), footprint_now[k] * s,
-                                                axis, minor_now[k] * s, bits & 3u, (bits >> 2) & 3u,
-                                                (bits >> 4) & 3u, pmc_lanes4(B, k));
-          /* A float image reads the first channel. */
-          pmc_set_lanes4(R, k, width == 1u ? pmc_broadcast(c.x) : c);
-        }
-        break;
-      }
-      case PMC_OP_HEXIMAGE:       /* see PMC_OPCODES for the operands; imm = texture index */
-      case PMC_OP_HEXNORMALMAP: { /* more operands than arrays: the tiles first, then the rest */
-        PmcHexTiles tiles[PMC_LANES];
-        float gain[PMC_LANES];  /* the tiling's footprint gain */
-        float2 axis[PMC_LANES]; /* the ellipse's major half-axis, tiled */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          A[0][k] *= B[0][k];
-          A[1][k] *= B[1][k];
-          gain[k] = fmax(fabs(B[0][k]), fabs(B[1][k]));
-          /* An even tiling (|x| = |y|: a uniform scale, perhaps mirrored)
-           * maps the ellipse's axes onto the tiled ellipse's; an uneven one
-           * would not: isotropic there. */
-          axis[k] = fabs(B[0][k]) == fabs(B[1][k])
-                        ? make_float2(axis_now[k].x * B[0][k], axis_now[k].y * B[1][k])
-                        : make_float2(0.0f, 0.0f);
-        }
-        PMC_FETCH4(B, 2);
-        PMC_FETCH4(T, 3);
-        PMC_FETCH4(D, 4);
-        PMC_FETCH4(E, 5);
-        PMC_FETCH4(F, 6);
-        PMC_FETCH4(R, 7);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          tiles[k] = pmc_hextile_tiles(make_float2(A[0][k], A[1][k]), B[0][k], make_float2(T[0][k], T[1][k]),
-                                       D[0][k], make_float2(E[0][k], E[1][k]), F[0][k],
-                                       make_float2(R[0][k], R[1][k]));
-        PMC_FETCH4(A, 8);  /* falloff */
-        PMC_FETCH4(B, 9);  /* default */
-        PMC_FETCH4(T, 10); /* mode */
-        PMC_FETCH4(D, 11); /* falloffcontrast | strength */
-        PMC_FETCH4(E, 12); /* lumacoeffs | flip_g */
-        if (op == PMC_OP_HEXNORMALMAP) {
-          PMC_FETCH4(F, 13); /* normal */
-          PMC_FETCH4(R, 14); /* tangent, read before R is written */
-        }
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          pmc_u32 bits = (pmc_u32)pmc_to_int(T[0][k]);
-          PmcFootprint fp;
-          fp.width = footprint_now[k] * T[1][k] * gain[k];
-          fp.axis = (bits & PMC_IMAGE_ANISO) ? axis[k] * T[1][k] : make_float2(0.0f, 0.0f);
-          fp.minor = minor_now[k] * T[1][k] * gain[k];
-          float4 r =
-              op == PMC_OP_HEXIMAGE
-                  ? pmc_hextile_image(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
-                                      make_float3(E[0][k], E[1][k], E[2][k]))
-                  : pmc_hextile_normalmap(ts, imm, &tiles[k], fp, bits, pmc_lanes4(B, k), A[0][k], D[0][k],
-                                          E[0][k] != 0.0f, make_float3(F[0][k], F[1][k], F[2][k]),
-                                          make_float3(R[0][k], R[1][k], R[2][k]));
-          pmc_set_lanes4(R, k, r);
-        }
-        break;
-      }
-      case PMC_OP_PLACE2D:
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        PMC_FETCH4(D, 3);
-        PMC_FETCH4(E, 4);
-        PMC_FETCH4(F, 5);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k,
-                         pmc_place2d(pmc_lanes4(A, k), pmc_lanes4(B, k), pmc_lanes4(T, k), D[0][k],
-                                     pmc_lanes4(E, k), pmc_to_int(F[0][k])));
-        break;
-      case PMC_OP_NOISE2D:   /* texcoord, amplitude, pivot */
-      case PMC_OP_NOISE3D: { /* position, amplitude, pivot */
-        const int dims = op == PMC_OP_NOISE3D ? 3 : 2;
-        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        pmc_noise_lanes(dims, A[0], A[1], A[2], width, nn, R);
-        for (int c = 0; c < 4; ++c)
-          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k] + T[c][k];
-        break;
-      }
-      case PMC_OP_FRACTAL2D:   /* texcoord, amplitude, octaves, lacunarity, diminish */
-      case PMC_OP_FRACTAL3D: { /* position, ... */
-        const int dims = op == PMC_OP_FRACTAL3D ? 3 : 2;
-        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
-        PMC_FETCH4(B, 1);
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        pmc_fetch(code, stack, code[pc + 5u], 1, nn, D);
-        pmc_fetch(code, stack, code[pc + 6u], 1, nn, E);
-        int octaves[PMC_LANES];
-        for (int k = 0; k < PMC_BATCH(nn); ++k) octaves[k] = pmc_to_int(T[0][k]);
-        pmc_fractal_lanes(dims, A[0], A[1], A[2], octaves, D[0], E[0], width, nn, R);
-        for (int c = 0; c < 4; ++c)
-          for (int k = 0; k < PMC_BATCH(nn); ++k) R[c][k] = R[c][k] * B[c][k];
-        break;
-      }
-      case PMC_OP_CELLNOISE2D:
-      case PMC_OP_CELLNOISE3D: {
-        const int dims = op == PMC_OP_CELLNOISE3D ? 3 : 2;
-        pmc_fetch(code, stack, code[pc + 2u], dims, nn, A);
-        pmc_cellnoise_lanes(dims, A[0], A[1], A[2], nn, R[0]);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) R[1][k] = R[2][k] = R[3][k] = R[0][k];
-        break;
-      }
-      case PMC_OP_WORLEY2D: /* texcoord, jitter, style */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k,
-                         pmc_op_worley2d(make_float2(A[0][k], A[1][k]), B[0][k], pmc_to_int(T[0][k]), width));
-        break;
-      case PMC_OP_WORLEY3D:
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(
-              R, k,
-              pmc_op_worley3d(make_float3(A[0][k], A[1][k], A[2][k]), B[0][k], pmc_to_int(T[0][k]), width));
-        break;
-      case PMC_OP_RAMPLR: /* valuel, valuer, texcoord */
-        pmc_fetch(code, stack, code[pc + 4u], 2, nn, T);
-        PMC_CW(PMC_A; PMC_B, A[c][k] + (B[c][k] - A[c][k]) * clamp(T[0][k], 0.0f, 1.0f))
-        break;
-      case PMC_OP_RAMPTB: /* valuet, valueb, texcoord */
-        pmc_fetch(code, stack, code[pc + 4u], 2, nn, T);
-        PMC_CW(PMC_A; PMC_B, B[c][k] + (A[c][k] - B[c][k]) * clamp(T[1][k], 0.0f, 1.0f))
-        break;
-      case PMC_OP_RAMP4: { /* tl, tr, bl, br, texcoord */
-        pmc_fetch(code, stack, code[pc + 6u], 2, nn, E);
-        PMC_A;
-        PMC_B;
-        PMC_T;
-        PMC_D;
-        for (int c = 0; c < (int)width; ++c)
-          for (int k = 0; k < PMC_BATCH(nn); ++k) {
-            float s = clamp(E[0][k], 0.0f, 1.0f), t = clamp(E[1][k], 0.0f, 1.0f);
-            float top = A[c][k] + (B[c][k] - A[c][k]) * s;
-            float bottom = T[c][k] + (D[c][k] - T[c][k]) * s;
-            R[c][k] = bottom + (top - bottom) * t;
-          }
-        break;
-      }
-      case PMC_OP_SPLITLR: /* valuel, valuer, center, texcoord */
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        pmc_fetch(code, stack, code[pc + 5u], 2, nn, D);
-        PMC_CW(PMC_A; PMC_B, D[0][k] < T[0][k] ? A[c][k] : B[c][k])
-        break;
-      case PMC_OP_SPLITTB: /* valuet, valueb, center, texcoord */
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        pmc_fetch(code, stack, code[pc + 5u], 2, nn, D);
-        PMC_CW(PMC_A; PMC_B, D[1][k] > T[0][k] ? A[c][k] : B[c][k])
-        break;
-      case PMC_OP_TILEDSHAPE:  /* texcoord, uvtiling, uvoffset, size, staggered; imm = shape */
-      case PMC_OP_LINEPATTERN: /* texcoord, uvtiling, uvoffset, thickness, staggered; imm = kind */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        PMC_FETCH4(D, 3);
-        PMC_FETCH4(E, 4);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float2 uv = make_float2(A[0][k], A[1][k]), tiling = make_float2(B[0][k], B[1][k]);
-          float2 offset = make_float2(T[0][k], T[1][k]);
-          pmc_set_lanes4(R, k,
-                         op == PMC_OP_TILEDSHAPE
-                             ? pmc_op_tiledshape(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm)
-                             : pmc_op_linepattern(uv, tiling, offset, D[0][k], E[0][k] != 0.0f, imm));
-        }
-        break;
-      case PMC_OP_NORMALMAP: /* in, scale, normal, tangent */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        PMC_FETCH4(T, 2);
-        PMC_FETCH4(D, 3);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k,
-                         pmc_normalmap(pmc_lanes4(A, k), B[0][k], make_float3(T[0][k], T[1][k], T[2][k]),
-                                       make_float3(D[0][k], D[1][k], D[2][k])));
-        break;
-      case PMC_OP_TAN:
-        PMC_CW(PMC_A, tan(A[c][k]))
-        break;
-      case PMC_OP_ASIN:
-        PMC_CW(PMC_A, asin(A[c][k]))
-        break;
-      case PMC_OP_ACOS:
-        PMC_CW(PMC_A, acos(A[c][k]))
-        break;
-      case PMC_OP_ATAN2:
-        PMC_CW(PMC_A; PMC_B, atan2(A[c][k], B[c][k]))
-        break;
-      case PMC_OP_EXP:
-        PMC_CW(PMC_A, exp(A[c][k]))
-        break;
-      case PMC_OP_LN:
-        PMC_CW(PMC_A, log(A[c][k]))
-        break;
-      case PMC_OP_SIGN:
-        PMC_CW(PMC_A, pmc_sign1(A[c][k]))
-        break;
-      case PMC_OP_ROUND:
-        PMC_CW(PMC_A, pmc_round1(A[c][k]))
-        break;
-      case PMC_OP_FRACT:
-        PMC_CW(PMC_A, A[c][k] - floor(A[c][k]))
-        break;
-      case PMC_OP_LENGTH: {
-        PMC_FETCH4(A, 0);
-        pmc_u32 m = imm == 0u ? 3u : imm; /* imm = operand width */
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float d = A[0][k] * A[0][k];
-          if (m > 1u) d += A[1][k] * A[1][k];
-          if (m > 2u) d += A[2][k] * A[2][k];
-          if (m > 3u) d += A[3][k] * A[3][k];
-          pmc_set_lanes4(R, k, pmc_broadcast(sqrt(d)));
-        }
-        break;
-      }
-      case PMC_OP_CROSS:
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(
-              R, k,
-              make_float4(A[1][k] * B[2][k] - A[2][k] * B[1][k], A[2][k] * B[0][k] - A[0][k] * B[2][k],
-                          A[0][k] * B[1][k] - A[1][k] * B[0][k], 0.0f));
-        break;
-      case PMC_OP_NOT:
-        PMC_CW(PMC_A, A[c][k] == 0.0f ? 1.0f : 0.0f)
-        break;
-      case PMC_OP_IFEQUAL: /* value1, value2, in1, in2 (values compared on their first component) */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        PMC_CW(PMC_T; PMC_D, A[0][k] == B[0][k] ? T[c][k] : D[c][k])
-        break;
-      case PMC_OP_BLEND: /* fg, bg, mix; imm = mode */
-        PMC_CW(PMC_A; PMC_B; PMC_T, pmc_blend1(A[c][k], B[c][k], T[c][k], imm))
-        break;
-      case PMC_OP_ROTATE2D: /* MaterialX mx_rotate_vector2: (ca x + sa y, -sa x + ca y) */
-        PMC_FETCH4(A, 0);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float a = B[0][k] * (PMC_PI / 180.0f);
-          float sa = sin(a), ca = cos(a);
-          pmc_set_lanes4(R, k,
-                         make_float4(ca * A[0][k] + sa * A[1][k], -sa * A[0][k] + ca * A[1][k], 0.0f, 0.0f));
-        }
-        break;
-      case PMC_OP_ROTATE3D: /* MaterialX mx_rotate_vector3 (Rodrigues, v' = v M):
-                             * v c + cross(v, axis) s + axis dot(axis, v) (1 - c), axis normalised. */
-        PMC_FETCH4(A, 0);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        PMC_FETCH4(T, 2);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 v = make_float3(A[0][k], A[1][k], A[2][k]), ax = make_float3(T[0][k], T[1][k], T[2][k]);
-          float l = length(ax);
-          ax = l > 0.0f ? ax * (1.0f / l) : ax;
-          float a = B[0][k] * (PMC_PI / 180.0f);
-          float sn = sin(a), cs = cos(a);
-          float3 res = v * cs + cross(v, ax) * sn + ax * (dot(ax, v) * (1.0f - cs));
-          pmc_set_lanes4(R, k, make_float4(res.x, res.y, res.z, 0.0f));
-        }
-        break;
-      case PMC_OP_COMPOSITE: /* fg, bg, mix; imm = PMC_COMP_* */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k, pmc_composite(pmc_lanes4(A, k), pmc_lanes4(B, k), T[0][k], imm));
-        break;
-      case PMC_OP_PREMULT: /* imm 0: premult, 1: unpremult */
-        PMC_FETCH4(A, 0);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_premult(pmc_lanes4(A, k), imm));
-        break;
-      case PMC_OP_OUTSIDE: /* in, mask (one float) */
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        PMC_CW(PMC_A, A[c][k] * (1.0f - B[0][k]))
-        break;
-      case PMC_OP_FLAKE: /* size, roughness, coverage, position, normal, tangent, bitangent */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        pmc_fetch(code, stack, code[pc + 5u], 3, nn, D); /* a vector2 texcoord gets z = 0 */
-        pmc_fetch(code, stack, code[pc + 6u], 3, nn, E);
-        pmc_fetch(code, stack, code[pc + 7u], 3, nn, F);
-        pmc_fetch(code, stack, code[pc + 8u], 3, nn, R); /* the bitangent, read before R is written */
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float3 bt = make_float3(R[0][k], R[1][k], R[2][k]);
-          PmcFlake f =
-              pmc_flake(A[0][k], B[0][k], T[0][k], make_float3(D[0][k], D[1][k], D[2][k]),
-                        make_float3(E[0][k], E[1][k], E[2][k]), make_float3(F[0][k], F[1][k], F[2][k]), bt);
-          pmc_set_lanes4(R, k, pmc_flake_output(f, imm));
-        }
-        break;
-      case PMC_OP_ROUGHNESS_ANISO: /* roughness, anisotropy */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float2 r = pmc_roughness_anisotropy(A[0][k], B[0][k]);
-          pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
-        }
-        break;
-      case PMC_OP_ROUGHNESS_DUAL: /* roughness (vector2) */
-        pmc_fetch(code, stack, code[pc + 2u], 2, nn, A);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) {
-          float2 r = pmc_roughness_dual(make_float2(A[0][k], A[1][k]));
-          pmc_set_lanes4(R, k, make_float4(r.x, r.y, 0.0f, 0.0f));
-        }
-        break;
-      case PMC_OP_ARTISTIC_IOR: /* reflectivity, edge_color; imm 1: extinction */
-        PMC_FETCH4(A, 0);
-        PMC_FETCH4(B, 1);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k, pmc_artistic_ior(pmc_lanes4(A, k), pmc_lanes4(B, k), imm != 0u));
-        break;
-      case PMC_OP_BLACKBODY: /* temperature */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        for (int k = 0; k < PMC_BATCH(nn); ++k) pmc_set_lanes4(R, k, pmc_blackbody(A[0][k]));
-        break;
-      case PMC_OP_HAIR_ROUGHNESS: /* longitudinal, azimuthal, scale_TT, scale_TRT */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        pmc_fetch(code, stack, code[pc + 4u], 1, nn, T);
-        pmc_fetch(code, stack, code[pc + 5u], 1, nn, D);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k, pmc_chiang_hair_roughness(A[0][k], B[0][k], T[0][k], D[0][k], imm));
-        break;
-      case PMC_OP_HAIR_MELANIN: /* concentration, redness, eumelanin_color, pheomelanin_color */
-        pmc_fetch(code, stack, code[pc + 2u], 1, nn, A);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        PMC_FETCH4(T, 2);
-        PMC_FETCH4(D, 3);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k,
-                         pmc_deon_hair_absorption(A[0][k], B[0][k], pmc_lanes4(T, k), pmc_lanes4(D, k)));
-        break;
-      case PMC_OP_HAIR_COLOR: /* color, azimuthal_roughness */
-        PMC_FETCH4(A, 0);
-        pmc_fetch(code, stack, code[pc + 3u], 1, nn, B);
-        for (int k = 0; k < PMC_BATCH(nn); ++k)
-          pmc_set_lanes4(R, k, pmc_chiang_hair_absorption(pmc_lanes4(A, k), B[0][k]));
-        break;
-      default:
-        return; /* unknown opcode: the compiler never emits one; stop safely */
-    }
-    for (int c = 0; c < (int)width; ++c) {
-      float* row = stack + (dst + (pmc_u32)c) * PMC_LANES;
-      for (int k = 0; k < PMC_BATCH(nn); ++k) row[k] = R[c][k];
+    } else {
+      return; /* unknown opcode: the compiler never emits one; stop safely */
     }
     pc += 2u + nargs;
   }
@@ -1027,6 +1028,10 @@ PMC_FN void pmc_interp_run(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const Pmc
 #undef PMC_D
 #undef PMC_E
 #undef PMC_FETCH4
+#undef PMC_OPERAND
+#undef PMC_OP_PARAMS
+#undef PMC_OP_ARGS
+#undef PMC_OP_UNUSED
 
 /* Parameter defaults of standard_surface (PMC_STANDARD_SURFACE); the normal
  * defaults to the shading normal. */

@@ -397,7 +397,7 @@ double tolerance(Tol t, double h, double m) {
 
 const char* op_name(int op) {
   static const char* names[] = {
-#define PMC_TEST_OP_NAME(name, lo, hi) #name,
+#define PMC_TEST_OP_NAME(name, lo, hi, slots) #name,
       PMC_OPCODES(PMC_TEST_OP_NAME)
 #undef PMC_TEST_OP_NAME
   };

@@ -97,7 +97,7 @@ TEST(MtlxInclude, IncludedMaterialsNodegraphsAndLooksJoinTheDocument) {
   EXPECT_EQ(wood->input("file")->value.f[0], 1.0f) << "srgb_texture from the included root";
 
   // The included look assigns the included material.
-  std::vector<MtlxAssignment> looks = read_mtlx_assignments(dir + "/main.mtlx");
+  std::vector<MtlxAssignment> looks = read_mtlx_assignments(MtlxDocument::from_file(dir + "/main.mtlx"));
   ASSERT_EQ(looks.size(), 1u);
   EXPECT_EQ(looks[0].material, "M_inc");
   EXPECT_EQ(looks[0].geom, "/table");

@@ -1,15 +1,17 @@
 // node_table_test.cpp — the node table (materials/node_table.h) against the interpreter.
 //
 // The table lists each node's inputs in the order its opcode reads them; the
-// interpreter (core/device/pmc_interp.h) reads operands by position. Nothing
-// else ties the two together, so here every node the table emits is compiled
-// through the table with a distinct value in every input lane, run on the
-// host interpreter, and compared with an answer computed from the inputs *by
-// name*: an analytic formula, or a direct call of the device function the
-// opcode wraps with the named arguments in their documented places. Swapping
-// any two inputs of different roles changes the answer. A node without an
-// expected answer here fails the completeness test, so a new node cannot be
-// added to the table without one.
+// interpreter (core/device/pmc_interp.h) reads operands by the slot names
+// PMC_OPCODES gives them. The names tie the two together only where a node's
+// inputs carry its opcode's slot names (checked at the end), so here every
+// node the table emits is compiled through the table with a distinct value
+// in every input lane, run on the host interpreter, and compared with an
+// answer computed from the inputs *by name*: an analytic formula, or a
+// direct call of the device function the opcode wraps with the named
+// arguments in their documented places. Swapping any two inputs of
+// different roles changes the answer. A node without an expected answer
+// here fails the completeness test, so a new node cannot be added to the
+// table without one.
 #include "materials/node_table.h"
 
 #include <gtest/gtest.h>
@@ -590,6 +592,87 @@ TEST(NodeTable, StandardSurfaceDefaultsAreTheDevicesDefaults) {
   EXPECT_EQ(p[PMC_P_BASE_COLOR], 0.8f);  // MaterialX 1.39 standard_surface base_color
   EXPECT_EQ(p[PMC_P_SPECULAR_ROUGHNESS], 0.2f);
   EXPECT_EQ(p[PMC_P_COAT_ROUGHNESS], 0.1f);
+}
+
+}  // namespace
+}  // namespace pmc
+
+namespace pmc {
+namespace {
+
+// The opcode table's operand slots (PMC_OPCODES): operand counts and names.
+struct OpcodeSlots {
+  unsigned lo, hi;
+  std::vector<std::string> names;
+};
+std::vector<OpcodeSlots> opcode_slots() {
+  std::vector<OpcodeSlots> ops;
+#define PMC_TEST_OP_SLOTS(name, lo, hi, slots) ops.push_back({lo, hi, split_slot_names(#slots)});
+  auto split_slot_names = [](std::string s) {  // "(in, low, high)"
+    std::vector<std::string> names;
+    std::string cur;
+    for (char c : s) {
+      if (c == '(' || c == ' ') continue;
+      if (c == ',' || c == ')') {
+        if (!cur.empty()) names.push_back(cur);
+        cur.clear();
+      } else {
+        cur += c;
+      }
+    }
+    return names;
+  };
+  PMC_OPCODES(PMC_TEST_OP_SLOTS)
+#undef PMC_TEST_OP_SLOTS
+  return ops;
+}
+
+// A node's operands as its opcode receives them: the operand inputs in table
+// order, and for a texture node the mode Emit::Image adds after `default`.
+std::vector<std::string> operand_names(const NodeDef& def) {
+  std::vector<std::string> names;
+  for (const InputDef& in : def.inputs) {
+    if (!in.operand || in.type == "string" || in.type == "filename") continue;
+    names.push_back(in.name);
+    if (def.emit == Emit::Image && in.name == "default") names.push_back("mode");
+  }
+  return names;
+}
+
+TEST(NodeTable, OperandSlotsNameEveryOpcodesOperandsOnce) {
+  const std::vector<OpcodeSlots> ops = opcode_slots();
+  ASSERT_EQ(ops.size(), size_t(PMC_OP_COUNT));
+  EXPECT_EQ(ops[PMC_OP_CLAMP].names, (std::vector<std::string>{"in", "low", "high"}));
+  EXPECT_EQ(unsigned(PMC_ARG_CLAMP_high), 2u);
+  EXPECT_EQ(unsigned(PMC_ARG_HEXNORMALMAP_tangent), 14u);
+  for (size_t op = 0; op < ops.size(); ++op) {
+    EXPECT_EQ(ops[op].names.size(), size_t(ops[op].hi)) << "opcode " << op;
+    EXPECT_LE(ops[op].lo, ops[op].hi) << "opcode " << op;
+  }
+}
+
+// The table's inputs are in the opcode's slot order: every node emitted as an
+// opcode passes as many operands as the opcode takes, and a node whose inputs
+// carry all of its opcode's slot names has them in the slots' order.
+TEST(NodeTable, OperandInputsFollowTheOpcodesSlots) {
+  const std::vector<OpcodeSlots> ops = opcode_slots();
+  int named = 0;
+  for (const std::string& c : supported_categories()) {
+    const NodeDef* def = find_node_def(c);
+    if (def->opcode < 0 ||
+        (def->emit != Emit::Opcode && def->emit != Emit::Image && def->emit != Emit::WidthImm))
+      continue;
+    const OpcodeSlots& slots = ops[size_t(def->opcode)];
+    const std::vector<std::string> names = operand_names(*def);
+    EXPECT_GE(names.size(), size_t(slots.lo)) << c;
+    EXPECT_LE(names.size(), size_t(slots.hi)) << c;
+    if (names.size() == slots.names.size() &&
+        std::is_permutation(names.begin(), names.end(), slots.names.begin())) {
+      EXPECT_EQ(names, slots.names) << c << ": inputs not in the order of its opcode's slots";
+      ++named;
+    }
+  }
+  EXPECT_GT(named, 30);  // most nodes name their operands as their opcode does
 }
 
 }  // namespace
