@@ -82,6 +82,9 @@ enum class CacheFilter { Nearest, Bilinear };
 // insert from a camera-ray hit replace an entry from a deeper bounce
 // (core/device/pmc_cache.h).
 enum class CachePolicy { KeepFirst, Priority };
+// Where a path's numbers come from (core/device/pmc_rng.h): Owen-scrambled
+// Sobol points, or independent hashed numbers (the sampler before Sobol).
+enum class Sampler { Sobol, Random };
 
 // --cache-lobe-spread's default: how much position cells widen per bounce, C
 // of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
@@ -109,6 +112,10 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     S(seed), "seed", "S",                                                                                     \
     "random seed, 0..4294967295; equal seeds give identical images (with the cache: in --cache-eval "         \
     "center, not hit)")                                                                                       \
+  X(sampler, "sampler", "--sampler", Sampler, Sampler::Sobol, 0, 0, "", Image, FIXED, S(sampler), "sampler",  \
+    "sobol|random",                                                                                           \
+    "the numbers each sample draws: Owen-scrambled Sobol points (stratified: less noise at equal samples) "   \
+    "or independent hashed numbers (the sampler before Sobol, for comparisons)")                              \
   X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",    \
     "progressive material cache")                                                                             \
   X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024, got {}",     \
