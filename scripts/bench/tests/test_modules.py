@@ -11,7 +11,7 @@ from unittest import mock
 
 from bench import cache, cache_bandwidth, cache_policy, cache_position, common, mtlx_conformance
 
-MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "gpu", "layered_bsdf", "material_peers", "materials", "mtlx_conformance", "speed", "sweep", "trace"]
+MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "gpu", "layered_bsdf", "material_peers", "materials", "mtlx_conformance", "sampler", "speed", "sweep", "trace", "waves"]
 
 
 def parse(module, argv, env=None):
