@@ -32,6 +32,7 @@ PROG = "bench.sampler"
 SECTION = "## Sampler: Owen-scrambled Sobol against random numbers (scripts/bench-sampler)"
 SCENE = ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]
 SAMPLERS = ("random", "sobol")
+TRIM = 0.01  # the trimmed display MSE drops the worst 1% of pixels (the caustics' fireflies)
 
 
 def spp_list(text):
@@ -56,8 +57,11 @@ def parse(argv=None):
                    help="seeds per point; relMSE is their mean (default 2)")
     p.add_argument("--width", type=common.positive_int, default=160, metavar="W", help="image width (default 160)")
     p.add_argument("--height", type=common.positive_int, default=90, metavar="H", help="image height (default 90)")
-    p.add_argument("--plot", default="docs/plots/sampler_relmse.png", metavar="PNG",
-                   help="the relMSE-against-spp plot (default docs/plots/sampler_relmse.png; - for none)")
+    p.add_argument("--max-depth", type=common.positive_int, metavar="D",
+                   help="pmc's --max-depth (default pmc's; 1: direct light only, in a section of its own)")
+    p.add_argument("--plot", metavar="PNG",
+                   help="the error-against-spp plot (default docs/plots/sampler_relmse.png, with --max-depth D "
+                        "docs/plots/sampler_relmse_depthD.png; - for none)")
     common.add_pmc(p)
     common.add_out_dir(p, "out/bench-sampler")
     common.add_doc(p)
@@ -69,6 +73,8 @@ def measure(a):
     out, log = a.out_dir, os.path.join(a.out_dir, "log.txt")
     open(log, "w").close()
     size = ["--width", str(a.width), "--height", str(a.height), "--quiet"]
+    if a.max_depth:
+        size += ["--max-depth", str(a.max_depth)]
     ref = f"{out}/reference.exr"
     t0 = time.time()
     print(f"{PROG}: reference, {a.ref_spp} spp", flush=True)
@@ -89,6 +95,8 @@ def measure(a):
                 runs.append({"off": m["cacheless_vs_reference"]["relmse"], "on": m["cached_vs_reference"]["relmse"],
                              "png_off": display_mse(f"{d}/cache_off.png", ref_png),
                              "png_on": display_mse(f"{d}/cache_on.png", ref_png),
+                             "trim_off": display_mse(f"{d}/cache_off.png", ref_png, TRIM),
+                             "trim_on": display_mse(f"{d}/cache_on.png", ref_png, TRIM),
                              "time_off": m["time_off_seconds"], "time_on": m["time_on_seconds"]})
             points[sampler][spp] = runs
             mean_off = sum(r["off"] for r in runs) / len(runs)
@@ -96,7 +104,7 @@ def measure(a):
     return {"width": a.width, "height": a.height, "ref_spp": a.ref_spp, "seeds": a.seeds, "spps": a.spps,
             "fit_max_spp": a.fit_max_spp, "points": points, "device": ref_stats.get("device", "?"),
             "command": a.command, "date": common.utc_now(), "rev": common.git_rev(ignore=["docs"]),
-            "minutes": (time.time() - t0) / 60, "plot": a.plot}
+            "minutes": (time.time() - t0) / 60, "plot": a.plot, "max_depth": a.max_depth}
 
 
 def read_png(path):
@@ -104,9 +112,11 @@ def read_png(path):
     return numpy.asarray(matplotlib.image.imread(path), dtype=numpy.float64)[..., :3]
 
 
-def display_mse(path, reference):
-    """Mean squared error of an 8-bit PNG's RGB (0..1) against the reference's."""
-    return float(numpy.mean((read_png(path) - reference) ** 2))
+def display_mse(path, reference, trim=0.0):
+    """Mean squared error of an 8-bit PNG's RGB (0..1) against the reference's,
+    without the worst `trim` fraction of pixels."""
+    err = numpy.sort(numpy.mean((read_png(path) - reference) ** 2, axis=-1).ravel())
+    return float(numpy.mean(err[:len(err) - int(trim * len(err))]))
 
 
 def mean(xs):
@@ -143,7 +153,7 @@ def plot(data, path):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.2))
-    for ax, (prefix, what) in zip(axes, (("", "relMSE"), ("png_", "display MSE (8-bit PNG)"))):
+    for ax, (prefix, what) in zip(axes, (("", "relMSE"), ("trim_", "display MSE, worst 1% dropped"))):
         for key, style in (("off", "-"), ("on", "--")):
             for sampler, marker in zip(SAMPLERS, ("o", "s")):
                 c = curves(data, prefix + key)[sampler]
@@ -165,19 +175,20 @@ def plot(data, path):
 
 
 def report(data):
-    c = {key: curves(data, key) for key in ("off", "on", "png_off", "png_on")}
+    c = {key: curves(data, key) for key in ("off", "on", "png_off", "png_on", "trim_off", "trim_on")}
     rows = []
     for i, (spp, _) in enumerate(c["off"]["sobol"]):
         row = [str(spp)]
-        for key in ("off", "png_off", "on", "png_on"):
+        for key in ("off", "png_off", "trim_off", "on", "trim_on"):
             r, s = c[key]["random"][i][1], c[key]["sobol"][i][1]
             fmt = ".5f" if key in ("off", "on") else ".2e"
-            row += [f"{r:{fmt}}", f"{s:{fmt}}", f"**{r / s:.2f}**" if key == "png_off" else f"{r / s:.2f}"]
+            row += [f"{r:{fmt}}", f"{s:{fmt}}", f"**{r / s:.2f}**" if key == "trim_off" else f"{r / s:.2f}"]
         for sampler in SAMPLERS:
             row.append(f"{mean(r['time_off'] for r in data['points'][sampler][str(spp)]):.2f}")
         rows.append(row)
     header = ["spp"]
-    for what in ("relMSE, off", "display MSE, off", "relMSE, on", "display MSE, on"):
+    for what in ("relMSE, off", "display MSE, off", "trimmed display MSE, off", "relMSE, on",
+                 "trimmed display MSE, on"):
         header += [f"{what}: random", "Sobol", "random / Sobol"]
     header += ["render random (s)", "render Sobol (s)"]
     table = common.md_table(header, rows)
@@ -187,14 +198,14 @@ def report(data):
     if data.get("plot") and data["plot"] != "-":
         plot(data, data["plot"])
         plot_line = f"\n![error against spp]({os.path.relpath(data['plot'], 'docs')})\n"
-    section = f"""{SECTION}
+    section = f"""{section_title(data.get("max_depth"))}
 
 Produced by `{data['command']}` on {data['date']} ({data['minutes']:.1f} minutes), pmc at {data['rev']}.
-Machine: {common.machine(data['device'])}. Default scene, {data['width']}x{data['height']}, cacheless
+Machine: {common.machine(data['device'])}. Default scene{depth_text(data)}, {data['width']}x{data['height']}, cacheless
 reference of {data['ref_spp']} spp (Sobol, seed 1000); each point is the mean of {data['seeds']}
 seed(s) of `pmc compare --reference` (cache off and on) with `--sampler random|sobol`: pmc's relMSE of
 the linear images, and the mean squared error of the displayed 8-bit PNGs (RGB in 0..1, filmic view)
-against the reference's PNG.
+against the reference's PNG, whole and without the worst 1% of pixels (trimmed).
 
 {table}
 
@@ -203,7 +214,8 @@ Slopes in log-log, 1 to {fit} spp (squared errors: independent samples give -1):
 | error | random, off | Sobol, off | random, on | Sobol, on |
 | --- | --- | --- | --- | --- |
 | relMSE | {k[('random', 'off')]:.2f} | {k[('sobol', 'off')]:.2f} | {k[('random', 'on')]:.2f} | {k[('sobol', 'on')]:.2f} |
-| display MSE | {k[('random', 'png_off')]:.2f} | **{k[('sobol', 'png_off')]:.2f}** | {k[('random', 'png_on')]:.2f} | {k[('sobol', 'png_on')]:.2f} |
+| display MSE | {k[('random', 'png_off')]:.2f} | {k[('sobol', 'png_off')]:.2f} | {k[('random', 'png_on')]:.2f} | {k[('sobol', 'png_on')]:.2f} |
+| trimmed display MSE | {k[('random', 'trim_off')]:.2f} | **{k[('sobol', 'trim_off')]:.2f}** | {k[('random', 'trim_on')]:.2f} | {k[('sobol', 'trim_on')]:.2f} |
 
 relMSE has a heavy tail on this scene: caustics off the mirror sphere (floor, sphere, lamp) are rare
 samples thousands of times brighter than their pixel, and how many a render draws decides its relMSE
@@ -213,16 +225,28 @@ N^-3 of a smooth 2D integrand (tests/core/sobol_sampler_test.cpp measures that o
 counts approach the reference's own noise and the PNGs' 8-bit steps.
 {plot_line}"""
     printed = (f"{table}\n\n{PROG}: slopes (1..{fit} spp) relMSE random {k[('random', 'off')]:.2f}, "
-               f"Sobol {k[('sobol', 'off')]:.2f}; display MSE random {k[('random', 'png_off')]:.2f}, "
-               f"Sobol {k[('sobol', 'png_off')]:.2f}")
+               f"Sobol {k[('sobol', 'off')]:.2f}; trimmed display MSE random {k[('random', 'trim_off')]:.2f}, "
+               f"Sobol {k[('sobol', 'trim_off')]:.2f}")
     return section, printed
+
+
+def section_title(max_depth):
+    return SECTION if not max_depth else SECTION.replace("(scripts", f"at --max-depth {max_depth} (scripts")
+
+
+def depth_text(data):
+    d = data.get("max_depth")
+    return "" if not d else f" at --max-depth {d}" + (" (direct light only)" if d == 1 else "")
 
 
 def main(argv=None):
     a = parse(argv)
+    if a.plot is None:
+        a.plot = "docs/plots/sampler_relmse.png" if not a.max_depth else \
+            f"docs/plots/sampler_relmse_depth{a.max_depth}.png"
     if not a.report_only and a.fit_max_spp < min(a.spps):
         sys.exit(f"{PROG}: --fit-max-spp {a.fit_max_spp} is below every count in --spps")
-    common.measure_and_report(a, PROG, SECTION, measure, report, inputs=[SCENE[0], SCENE[2]])
+    common.measure_and_report(a, PROG, section_title(a.max_depth), measure, report, inputs=[SCENE[0], SCENE[2]])
 
 
 if __name__ == "__main__":
