@@ -4,8 +4,9 @@
 // record per cache lookup to a region behind the cache table
 // (core/device/pmc_interp.h, PMC_CACHE_TRACE_RECORDS), and the renderer writes
 // them to FILE after the render. The records come in the order the lookups
-// took their slots: wave by wave (a wave is one sample of the frame, or of the
-// crop), bounce by bounce, batch by batch; within one kernel launch the
+// took their slots: wave by wave (a wave is one or several samples of the
+// frame, or of the crop, or of a block of its pixels: gpu/wavefront_renderer.cpp),
+// bounce by bounce, batch by batch; within one kernel launch the
 // work-items race. That is the order a replacement policy sees, so a trace
 // can be replayed against other policies, table sizes and orders
 // (core/cache_replay.h, `pmc cache-replay`; docs/BENCHMARKS.md, "Cache

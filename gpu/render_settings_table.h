@@ -83,6 +83,9 @@ enum class CacheFilter { Nearest, Bilinear };
 // insert from a camera-ray hit replace an entry from a deeper bounce
 // (core/device/pmc_cache.h).
 enum class CachePolicy { KeepFirst, Priority };
+// Where a path's numbers come from (core/device/pmc_rng.h): Owen-scrambled
+// Sobol points, or independent hashed numbers (the sampler before Sobol).
+enum class Sampler { Sobol, Random };
 
 // --cache-lobe-spread's default: how much position cells widen per bounce, C
 // of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
@@ -115,6 +118,10 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     "next-event estimation picks a light by its importance at the shading point (a light tree over the "     \
     "finite lights, lights at infinity by irradiance); off: by power alone, the environment weighted by "     \
     "the scene's size (the old selection, for comparisons)")                                                  \
+  X(sampler, "sampler", "--sampler", Sampler, Sampler::Sobol, 0, 0, "", Image, FIXED, S(sampler), "sampler",  \
+    "sobol|random",                                                                                           \
+    "the numbers each sample draws: Owen-scrambled Sobol points (stratified: less noise at equal samples) "   \
+    "or independent hashed numbers (the sampler before Sobol, for comparisons)")                              \
   X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), "enabled", "off|on",    \
     "progressive material cache")                                                                             \
   X(cache_entries, "cache_entries", "--cache-entries", int64_t, 8, 1, 1024, "must be in 1..1024, got {}",     \

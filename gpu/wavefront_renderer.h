@@ -19,6 +19,7 @@
 
 #include "core/camera.h"
 #include "core/device/pmc_cache.h"
+#include "core/device/pmc_rng.h"
 #include "core/embree_tracer.h"
 #include "core/film_sum.h"
 #include "core/image_io.h"
@@ -104,8 +105,9 @@ struct RenderSettings {
   bool light_tree = true;             // the light tree sampler; false: by power (core/lights.h)
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
-  size_t max_wave_paths = 1 << 20;  // paths in flight per wave
+  size_t max_wave_paths = 1 << 20;  // paths in flight per wave (several samples of each pixel when it can)
   TransferMode transfer = TransferMode::Auto;
+  uint32_t sampler = PMC_SAMPLER_SOBOL;  // PMC_SAMPLER_* (core/device/pmc_rng.h)
   CacheSettings cache;
   // Render passes to fill (PassBit, core/render_passes.h); any bit fills them
   // all (PmcFrame.passes_on), the bits choose what is written.

@@ -150,6 +150,9 @@
   X(PmcFrame, cache_max_refine)    \
   X(PmcFrame, cache_lobe_spread)   \
   X(PmcFrame, passes_on)           \
+  X(PmcFrame, wave_pixels)         \
+  X(PmcFrame, wave_samples)        \
+  X(PmcFrame, sampler)             \
   X(PmcCounters, next_rays)
 // clang-format on
 

@@ -275,7 +275,9 @@ typedef struct PmcFrame {
   pmc_i32 cache_max_refine; /* cache_max_refine: level floors above the footprint's before bypass */
   float cache_lobe_spread;  /* cache_lobe_spread: position cells widen per bounce (pmc_lobe_spread) */
   pmc_u32 passes_on;        /* render passes: fill PmcPathPasses and the pass film */
-  pmc_u32 pad[3];
+  pmc_u32 wave_pixels;      /* path i of the wave: pixel pixel_offset + i % wave_pixels of the window, */
+  pmc_u32 wave_samples;     /* sample `sample` + i / wave_pixels; path_count = wave_pixels x wave_samples */
+  pmc_u32 sampler;          /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

@@ -1,16 +1,34 @@
-/* pmc_rng.h — counter-based random numbers shared by host and kernels.
+/* pmc_rng.h — the numbers a path draws, shared by host and kernels.
  *
- * Every random number is a pure function of (seed, pixel, sample, bounce,
+ * Every number is a pure function of (seed, pixel, sample index, bounce,
  * dimension): no generator state travels with a path, so the image does not
- * depend on thread count, queue order or chunking, and cache-on / cache-off
- * renders consume identical random streams sample for sample. The mixer is
- * Chris Wellons' "lowbias32" integer hash (a published constant pair with very
- * low avalanche bias); a path key is hashed once, each dimension once more.
+ * depend on thread count, queue order, wave shape or chunking, sample i of a
+ * pixel is the same sample in any process (farm parts merge exactly), and
+ * cache-on / cache-off renders consume identical streams sample for sample.
+ *
+ * Two samplers (PmcFrame.sampler):
+ *   PMC_SAMPLER_SOBOL  (the default) Owen-scrambled Sobol points, Burley 2020
+ *     (pmc_sobol.h). The dimensions of a bounce come in sets (PMC_SET_*): a 2D
+ *     set (pixel jitter, light uv, BSDF uv, cache jitter) is one 2D Sobol
+ *     (0,2)-sequence, a 1D set (light pick, lobe, roulette) a scrambled van
+ *     der Corput sequence. Each (pixel, bounce, set) has its own index shuffle
+ *     and scramble seeds, hashed from the seed and pixel: pixels are
+ *     decorrelated, and sets are "padded" together as independent
+ *     low-discrepancy sequences, as Burley does. The first 2^k samples of any
+ *     pixel put one point in every elementary interval of area 2^-k of each
+ *     2D set (tests/core/sobol_sampler_test.cpp).
+ *   PMC_SAMPLER_RANDOM independent hashed numbers (the sampler before Sobol):
+ *     Chris Wellons' "lowbias32" integer hash of the path key and the
+ *     dimension; kept to compare against (scripts/bench/sampler.py).
  */
 #ifndef PMC_RNG_H
 #define PMC_RNG_H
 
 #include "../abi/pmc_vec.h"
+#include "pmc_sobol.h"
+
+#define PMC_SAMPLER_SOBOL 0u
+#define PMC_SAMPLER_RANDOM 1u
 
 PMC_FN pmc_u32 pmc_hash_u32(pmc_u32 x) {
   x ^= x >> 16;
@@ -21,28 +39,92 @@ PMC_FN pmc_u32 pmc_hash_u32(pmc_u32 x) {
   return x;
 }
 
-/* Key of one path: seed, pixel and sample index. */
+/* A dimension: its number for the random sampler, and for Sobol the set it
+ * belongs to and its axis in the set (0: x, 1: y). */
+#define PMC_DIM(number, set, axis) ((number) | ((set) << 8) | ((axis) << 16))
+#define PMC_DIM_NUMBER(dim) ((dim)&0xffu)
+#define PMC_DIM_SET(dim) (((dim) >> 8) & 0xffu)
+#define PMC_DIM_AXIS(dim) ((dim) >> 16)
+
+/* The sets of one bounce; 2D sets draw (x, y) from one Sobol pair. */
+#define PMC_SET_PIXEL 0u      /* 2D: jitter in the pixel (camera rays, bounce 0) */
+#define PMC_SET_LIGHT_PICK 1u /* 1D: which light */
+#define PMC_SET_LIGHT_UV 2u   /* 2D: the point on it */
+#define PMC_SET_LOBE 3u       /* 1D: which BSDF lobe */
+#define PMC_SET_BSDF_UV 4u    /* 2D: the direction in the lobe */
+#define PMC_SET_RR 5u         /* 1D: Russian roulette */
+#define PMC_SET_CACHE 6u      /* 2D: the cache's bilinear texel jitter */
+#define PMC_SET_COUNT 7u
+
+#define PMC_DIM_PIXEL_X PMC_DIM(0u, PMC_SET_PIXEL, 0u)
+#define PMC_DIM_PIXEL_Y PMC_DIM(1u, PMC_SET_PIXEL, 1u)
+#define PMC_DIM_LIGHT_PICK PMC_DIM(2u, PMC_SET_LIGHT_PICK, 0u)
+#define PMC_DIM_LIGHT_U PMC_DIM(3u, PMC_SET_LIGHT_UV, 0u)
+#define PMC_DIM_LIGHT_V PMC_DIM(4u, PMC_SET_LIGHT_UV, 1u)
+#define PMC_DIM_LOBE PMC_DIM(5u, PMC_SET_LOBE, 0u)
+#define PMC_DIM_BSDF_U PMC_DIM(6u, PMC_SET_BSDF_UV, 0u)
+#define PMC_DIM_BSDF_V PMC_DIM(7u, PMC_SET_BSDF_UV, 1u)
+#define PMC_DIM_RR PMC_DIM(8u, PMC_SET_RR, 0u)
+#define PMC_DIM_CACHE_U PMC_DIM(9u, PMC_SET_CACHE, 0u)
+#define PMC_DIM_CACHE_V PMC_DIM(10u, PMC_SET_CACHE, 1u)
+
+/* The 1D sets (the others are 2D). */
+#define PMC_SETS_1D ((1u << PMC_SET_LIGHT_PICK) | (1u << PMC_SET_LOBE) | (1u << PMC_SET_RR))
+
+/* The random sampler's key of one path (seed, pixel and sample index). */
 PMC_FN pmc_u32 pmc_path_key(pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
   return pmc_hash_u32(seed ^ pmc_hash_u32(pixel ^ pmc_hash_u32(sample + 0x9e3779b9u)));
 }
 
-/* Uniform float in [0, 1) for dimension `dim` of bounce `bounce` of a path. */
-PMC_FN float pmc_rand(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 dim) {
-  pmc_u32 h = pmc_hash_u32(path_key ^ pmc_hash_u32(bounce * 32u + dim));
+/* The random sampler: a uniform float in [0, 1) per (path key, bounce, dimension number). */
+PMC_FN float pmc_rand_hashed(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 number) {
+  pmc_u32 h = pmc_hash_u32(path_key ^ pmc_hash_u32(bounce * 32u + number));
   return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
 
-/* Dimensions used at each bounce (keep them distinct). */
-#define PMC_DIM_PIXEL_X 0u
-#define PMC_DIM_PIXEL_Y 1u
-#define PMC_DIM_LIGHT_PICK 2u
-#define PMC_DIM_LIGHT_U 3u
-#define PMC_DIM_LIGHT_V 4u
-#define PMC_DIM_LOBE 5u
-#define PMC_DIM_BSDF_U 6u
-#define PMC_DIM_BSDF_V 7u
-#define PMC_DIM_RR 8u
-#define PMC_DIM_CACHE_U 9u
-#define PMC_DIM_CACHE_V 10u
+/* What a path's numbers are keyed by: its sampler, its sample index and a
+ * hash (random: of the seed, pixel and sample, pmc_path_key; Sobol: of the
+ * seed and pixel, which every set's seeds start from). */
+typedef struct PmcSampler {
+  pmc_u32 kind; /* PMC_SAMPLER_* */
+  pmc_u32 key;
+  pmc_u32 sample;
+} PmcSampler;
+
+PMC_FN PmcSampler pmc_sampler(pmc_u32 kind, pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
+  PmcSampler s;
+  s.kind = kind;
+  s.key = kind == PMC_SAMPLER_RANDOM ? pmc_path_key(seed, pixel, sample)
+                                     : pmc_hash_u32(seed ^ pmc_hash_u32(pixel + 0x6a09e667u));
+  s.sample = sample;
+  return s;
+}
+
+/* The Sobol seed of one (seed, pixel, bounce, set): its index shuffle; axis a
+ * of the set scrambles with pmc_hash_u32(set seed + 1 + a). */
+PMC_FN pmc_u32 pmc_set_seed(PmcSampler s, pmc_u32 bounce, pmc_u32 set) {
+  return pmc_hash_u32(s.key ^ pmc_hash_u32(bounce * PMC_SET_COUNT + set));
+}
+
+/* Both numbers of a 2D set, dimensions `dim_x` and `dim_y` (PMC_DIM_*), of
+ * bounce `bounce` (0: the camera ray's; d: the d-th surface hit's). */
+PMC_FN float2 pmc_rand2(PmcSampler s, pmc_u32 bounce, pmc_u32 dim_x, pmc_u32 dim_y) {
+  if (s.kind == PMC_SAMPLER_RANDOM)
+    return make_float2(pmc_rand_hashed(s.key, bounce, PMC_DIM_NUMBER(dim_x)),
+                       pmc_rand_hashed(s.key, bounce, PMC_DIM_NUMBER(dim_y)));
+  const pmc_u32 seed = pmc_set_seed(s, bounce, PMC_DIM_SET(dim_x));
+  return pmc_sobol2(s.sample, seed, pmc_hash_u32(seed + 1u), pmc_hash_u32(seed + 2u));
+}
+
+/* One number in [0, 1): dimension `dim` of bounce `bounce`. Draw both axes
+ * of a 2D set with one pmc_rand2 (each call shuffles the index once). */
+PMC_FN float pmc_rand(PmcSampler s, pmc_u32 bounce, pmc_u32 dim) {
+  if (s.kind == PMC_SAMPLER_RANDOM) return pmc_rand_hashed(s.key, bounce, PMC_DIM_NUMBER(dim));
+  const pmc_u32 set = PMC_DIM_SET(dim);
+  const pmc_u32 seed = pmc_set_seed(s, bounce, set);
+  if ((PMC_SETS_1D >> set) & 1u) return pmc_sobol1(s.sample, seed, pmc_hash_u32(seed + 1u));
+  const float2 p = pmc_sobol2(s.sample, seed, pmc_hash_u32(seed + 1u), pmc_hash_u32(seed + 2u));
+  return PMC_DIM_AXIS(dim) == 0u ? p.x : p.y;
+}
 
 #endif /* PMC_RNG_H */

@@ -33,19 +33,31 @@
 /* After the headers: it uses their types. */
 #include "material_network.cl"
 
+/* A wave holds wave_samples samples of wave_pixels pixels of the window:
+ * path i is sample frame->sample + i / wave_pixels of the window's pixel
+ * frame->pixel_offset + i % wave_pixels (so the paths of one pixel are
+ * wave_pixels apart, and pmc_film_accumulate walks them per pixel). */
+static inline uint pmc_path_sample(__constant PmcFrame* frame, uint path) {
+  return frame->sample + path / frame->wave_pixels;
+}
+
+/* The numbers of path `path` (pmc_rng.h), whose pixel is `pixel` of the full
+ * frame: the same in any window, wave shape or process. */
+static inline PmcSampler pmc_path_sampler(__constant PmcFrame* frame, uint pixel, uint path) {
+  return pmc_sampler(frame->sampler, frame->seed, pixel, pmc_path_sample(frame, path));
+}
+
 __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays, __global PmcPathState* paths,
                               __global PmcPathPasses* passes) {
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
-  uint k = frame->pixel_offset + i; /* index into the window (crop), row by row */
+  uint k = frame->pixel_offset + i % frame->wave_pixels; /* index into the window (crop), row by row */
   uint x = frame->crop_x0 + k % frame->crop_width;
   uint y = frame->crop_y0 + k / frame->crop_width;
   uint pixel = y * (uint)frame->width + x; /* in the full frame: the RNG key is the same in any window */
-  uint key = pmc_path_key(frame->seed, pixel, frame->sample);
-  float jx = pmc_rand(key, 0u, PMC_DIM_PIXEL_X);
-  float jy = pmc_rand(key, 0u, PMC_DIM_PIXEL_Y);
-  float sx = ((float)x + jx) / (float)frame->width * 2.0f - 1.0f;
-  float sy = 1.0f - ((float)y + jy) / (float)frame->height * 2.0f;
+  const float2 jitter = pmc_rand2(pmc_path_sampler(frame, pixel, i), 0u, PMC_DIM_PIXEL_X, PMC_DIM_PIXEL_Y);
+  float sx = ((float)x + jitter.x) / (float)frame->width * 2.0f - 1.0f;
+  float sy = 1.0f - ((float)y + jitter.y) / (float)frame->height * 2.0f;
   float3 dir = normalize(pmc_load3(frame->cam_forward) + pmc_load3(frame->cam_right) * sx +
                          pmc_load3(frame->cam_up) * sy);
   __global PmcRay* r = &rays[i];
@@ -258,9 +270,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     }
     hp->cache_position_mask = info->cache_position_mask;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
-      uint ckey = pmc_path_key(frame->seed, path->pixel, frame->sample);
-      hp->cache_jitter = make_float4(pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_U) - 0.5f,
-                                     pmc_rand(ckey, path->depth + 1u, PMC_DIM_CACHE_V) - 0.5f, 0.0f, 0.0f);
+      const float2 j = pmc_rand2(pmc_path_sampler(frame, path->pixel, hp->path), path->depth + 1u,
+                                 PMC_DIM_CACHE_U, PMC_DIM_CACHE_V);
+      hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
     }
     const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
     if ((all & ~hp->cache_position_mask) != 0u)
@@ -312,7 +324,7 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
     cache->hits = 0u;
 #if PMC_CACHE_TRACE_RECORDS
     cache->trace_pixel = hp->pixel;
-    cache->trace_sample = frame->sample;
+    cache->trace_sample = pmc_path_sample(frame, hp->path);
 #endif
     for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache->counts[c] = 0u;
   }
@@ -396,7 +408,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   pmc_shading_frame(ns, hp->tangent, bsdf, &t, &b);
   float3 wo = pmc_to_local(wo_world, t, b, ns);
   const PmcLobes lobes = pmc_bsdf_prepare(bsdf, wo, hp->front);
-  uint key = pmc_path_key(frame->seed, path->pixel, frame->sample);
+  const PmcSampler sampler = pmc_path_sampler(frame, path->pixel, hp->path);
   uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
   int has_lobes = pmc_lobes_any(&lobes);
   if (frame->passes_on)
@@ -410,9 +422,11 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
   const uint light_normal = pmc_oct_encode(ns);
   const float3 pick_normal = pmc_oct_decode(light_normal);
+  float2 light_uv = make_float2(0.0f, 0.0f);
+  if (has_lobes) light_uv = pmc_rand2(sampler, bounce, PMC_DIM_LIGHT_U, PMC_DIM_LIGHT_V);
   if (has_lobes &&
-      pmc_light_sample(&scene->light_set, origin, pick_normal, pmc_rand(key, bounce, PMC_DIM_LIGHT_PICK),
-                       pmc_rand(key, bounce, PMC_DIM_LIGHT_U), pmc_rand(key, bounce, PMC_DIM_LIGHT_V), &ls) &&
+      pmc_light_sample(&scene->light_set, origin, pick_normal, pmc_rand(sampler, bounce, PMC_DIM_LIGHT_PICK),
+                       light_uv.x, light_uv.y, &ls) &&
       dot(ls.wi, ng) > 0.0f) {
     float3 wi = pmc_to_local(ls.wi, t, b, ns);
     if (wi.z > 0.0f) {
@@ -436,8 +450,8 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   if (alive) {
     float3 wi, weight;
     float pdf;
-    alive = pmc_bsdf_sample(&lobes, wo, pmc_rand(key, bounce, PMC_DIM_LOBE),
-                            pmc_rand(key, bounce, PMC_DIM_BSDF_U), pmc_rand(key, bounce, PMC_DIM_BSDF_V), &wi,
+    const float2 bsdf_uv = pmc_rand2(sampler, bounce, PMC_DIM_BSDF_U, PMC_DIM_BSDF_V);
+    alive = pmc_bsdf_sample(&lobes, wo, pmc_rand(sampler, bounce, PMC_DIM_LOBE), bsdf_uv.x, bsdf_uv.y, &wi,
                             &pdf, &weight);
     float3 wi_world = make_float3(0.0f, 0.0f, 1.0f);
     if (alive) {
@@ -449,7 +463,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       throughput *= weight;
       if (depth >= 3u) {
         float q = fmin(0.95f, pmc_max3(throughput));
-        if (pmc_rand(key, bounce, PMC_DIM_RR) >= q)
+        if (pmc_rand(sampler, bounce, PMC_DIM_RR) >= q)
           alive = 0;
         else
           throughput *= 1.0f / q;
@@ -674,9 +688,9 @@ __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global 
   p->radiance[2] += loads[i].rgb[2];
 }
 
-/* Adds one finished path's radiance and cache hits to its pixel: exact
- * fixed-point sums (pmc_film.h), so the film does not depend on the order
- * or the split of the samples. */
+/* Adds one finished path to its film pixel: its radiance as exact
+ * fixed-point sums (pmc_film.h: the film does not depend on the order or
+ * the split of the samples), or a bad sample, and its cache hits. */
 static inline void pmc_film_add_path(__global PmcFilmPixel* px, __global const PmcPathState* p) {
   px->cache_hits += p->cache_hits;
   pmc_u32 v[3][PMC_FIXED_WORDS];
@@ -693,18 +707,23 @@ static inline void pmc_film_add_path(__global PmcFilmPixel* px, __global const P
   }
 }
 
+/* One work-item per pixel of the wave: it adds that pixel's wave_samples
+ * paths (pmc_path_sample's layout), so no two work-items touch one pixel. */
 __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
                                   __global PmcFilmPixel* film, __global const PmcPathPasses* passes,
                                   __global PmcPassPixel* pass_film) {
   uint i = get_global_id(0);
-  if (i >= frame->path_count) return;
-  __global const PmcPathState* p = &paths[i];
+  if (i >= frame->wave_pixels || frame->path_count == 0u) return;
   /* the film holds the window only (crop) */
-  uint x = p->pixel % (uint)frame->width - frame->crop_x0;
-  uint y = p->pixel / (uint)frame->width - frame->crop_y0;
+  const uint pixel = paths[i].pixel;
+  uint x = pixel % (uint)frame->width - frame->crop_x0;
+  uint y = pixel / (uint)frame->width - frame->crop_y0;
   const uint at = y * frame->crop_width + x;
-  pmc_film_add_path(&film[at], p);
-  if (frame->passes_on) pmc_film_add_passes(&pass_film[at], &passes[i]);
+  for (uint s = 0u; s < frame->wave_samples; ++s) {
+    const uint path = s * frame->wave_pixels + i;
+    pmc_film_add_path(&film[at], &paths[path]);
+    if (frame->passes_on) pmc_film_add_passes(&pass_film[at], &passes[path]);
+  }
 }
 
 /* Zeroes words [0, count) of a buffer, each work-item every global_size-th

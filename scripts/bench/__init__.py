@@ -12,8 +12,10 @@ Run them from anywhere as `scripts/python -m bench.<module> [options]`
     bench.materials   how much of the render time goes into material networks
     bench.material_peers  pmc's materials against Mitsuba 3's (scripts/setup-peers installs Mitsuba)
     bench.node_costs  what one node of each costly pattern family (noises, tiled shapes) costs
+    bench.sampler     relMSE against spp: the Owen-scrambled Sobol sampler against random numbers
     bench.sweep       `pmc sweep` cache size / mip bias / equal-time convergence figures
     bench.trace       pmc against Embree's own pathtracer; pmc's query styles and streaming
+    bench.waves       small frames against large ones at equal paths (several samples per wave)
     bench.ci_compare  the cache quality gate behind scripts/ci-compare
 
 Each benchmark measures in round-robin rounds, prints its tables and rewrites
