@@ -17,7 +17,9 @@ Method (also written into the section):
              (bench.peer_cycles, bench.peer_mitsuba)
   renderers  pmc (defaults: the material cache on; its reference with the
              cache off), Cycles (bpy, CPU), Mitsuba 3 llvm_ad_rgb and
-             scalar_rgb; every one on --threads threads, max depth matched
+             scalar_rgb; every one on --threads threads, max depth matched;
+             pmc+oidn and cycles+oidn: the same with Open Image Denoise,
+             against the plain renderer's reference, the denoiser's time added
   time       seconds of N samples = (t(N) - t(1)) x N / (N - 1), where t is a
              render's own time (pmc: its render_seconds; Cycles: the render
              call; Mitsuba: mi.render and the image's evaluation, kernels
@@ -41,8 +43,9 @@ from bench import common, peer_scenes
 
 PROG = "bench.peers"
 SECTION = "## Against Cycles and Mitsuba 3 (scripts/bench-peers)"
-RENDERERS = ["pmc", "cycles", "mitsuba-llvm", "mitsuba-scalar"]
-LABELS = {"pmc": "pmc", "cycles": "Cycles 5.0.1", "mitsuba-llvm": "Mitsuba 3 llvm_ad_rgb",
+RENDERERS = ["pmc", "pmc+oidn", "cycles", "cycles+oidn", "mitsuba-llvm", "mitsuba-scalar"]
+LABELS = {"pmc": "pmc", "pmc+oidn": "pmc + OIDN", "cycles": "Cycles 5.0.1", "cycles+oidn": "Cycles 5.0.1 + OIDN",
+          "mitsuba-llvm": "Mitsuba 3 llvm_ad_rgb",
           "mitsuba-scalar": "Mitsuba 3 scalar_rgb"}
 PY = ".venv/bin/python"
 PLOT = "docs/plots/peers.png"  # relative to the repository root, beside docs/BENCHMARKS.md
@@ -96,7 +99,12 @@ def read_exr(path):
     import mitsuba as mi
     if mi.variant() is None:
         mi.set_variant("scalar_rgb")
-    bmp = mi.Bitmap(path).convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False)
+    bmp = mi.Bitmap(path)
+    names = [bmp.struct_()[i].name for i in range(bmp.channel_count())]
+    if len(names) != 3 and all(c in names for c in "RGB"):  # the image's channels among other layers
+        arr = np.array(bmp, dtype=np.float64)
+        return arr[:, :, [names.index(c) for c in "RGB"]]
+    bmp = bmp.convert(mi.Bitmap.PixelFormat.RGB, mi.Struct.Type.Float32, srgb_gamma=False)
     return np.array(bmp, dtype=np.float64)
 
 
@@ -110,62 +118,69 @@ def relmse(img, ref):
 
 
 # ---- running one renderer ------------------------------------------------------------
-def run_pmc(args, job, spps, seed, folder, cache):
-    """pmc renders; returns {spp: (render_seconds, exr)} (spp 1 included)."""
+def run_pmc(args, job, spps, seed, folder, cache, denoise=False):
+    """pmc renders; returns {spp: (render_seconds, exr, denoise seconds)}
+    (spp 1 included). With denoise, exr is the denoised image."""
     cam = job["camera"]
     out = {}
     for spp in [1] + spps:
-        exr = os.path.join(folder, f"pmc_{cache}_{spp}_s{seed}.exr")
+        exr = os.path.join(folder, f"pmc_{cache}{'_oidn' if denoise else ''}_{spp}_s{seed}.exr")
         stats = exr[:-4] + ".json"
         cmd = [args.pmc, "render", job["obj"], "--lights", job["lights_file"],
                "--camera-from", ",".join(map(str, cam["from"])), "--camera-at", ",".join(map(str, cam["at"])),
                "--fov", str(cam["vfov"]), "--max-depth", str(args.max_depth), "--seed", str(seed),
                "--threads", str(args.threads), "--cache", cache, "-o", exr, "--stats", stats,
-               *common.size_args(args.width, args.height, spp)]
+               *(["--denoise"] if denoise else []), *common.size_args(args.width, args.height, spp)]
         st, _ = common.run_pmc(cmd, stats, os.path.join(folder, "pmc.log"), f"pmc {job['scene']}", append=True)
-        out[spp] = (st["render_seconds"], exr)
+        out[spp] = (st["render_seconds"], exr, st["denoise"]["seconds"] if denoise else 0.0)
     return out
 
 
 def run_peer(args, renderer, job, spps, seed, folder):
-    """A peer renders in its own process; returns {spp: (seconds, exr)} with
-    {1: (fixed seconds, None)}."""
-    tag = renderer.replace("-", "_")
+    """A peer renders in its own process; returns {spp: (seconds, exr,
+    denoise seconds)} with {1: (fixed seconds, None, 0)}."""
+    tag = renderer.replace("-", "_").replace("+", "_")
     full = dict(job, width=args.width, height=args.height, max_depth=args.max_depth, threads=args.threads,
-                seed=seed, renders=[{"spp": s, "out": os.path.abspath(os.path.join(folder, f"{tag}_{s}_s{seed}.exr"))}
+                seed=seed, denoise=renderer.endswith("+oidn"), renders=[{"spp": s, "out": os.path.abspath(os.path.join(folder, f"{tag}_{s}_s{seed}.exr"))}
                                     for s in spps])
     job_path = os.path.join(folder, f"{tag}_s{seed}.job.json")
     result_path = os.path.join(folder, f"{tag}_s{seed}.result.json")
     with open(job_path, "w") as f:
         json.dump(full, f, indent=1)
-    if renderer == "cycles":
+    if renderer.startswith("cycles"):
         cmd = [PY, "scripts/bench/peer_cycles.py", job_path, result_path]
     else:
         variant = "llvm_ad_rgb" if renderer == "mitsuba-llvm" else "scalar_rgb"
         cmd = [PY, "scripts/bench/peer_mitsuba.py", variant, job_path, result_path]
     common.run(cmd, os.path.join(folder, f"{tag}.log"), f"{renderer} {job['scene']}", append=True)
     res = common.read_json(result_path)
-    out = {1: (res["fixed_seconds"], None)}
+    out = {1: (res["fixed_seconds"], None, 0.0)}
     for r, spec in zip(res["renders"], full["renders"]):
-        out[r["spp"]] = (r["seconds"], spec["out"])
+        out[r["spp"]] = (r["seconds"], spec["out"], res.get("denoise_seconds", 0.0))
     return out
 
 
+def base(renderer):
+    """The renderer without its denoiser: whose reference a variant is measured against."""
+    return renderer.split("+")[0]
+
+
 def render(args, renderer, job, spps, seed, folder, reference=False):
-    if renderer == "pmc":
-        return run_pmc(args, job, spps, seed, folder, "off" if reference else "on")
+    if renderer.startswith("pmc"):
+        return run_pmc(args, job, spps, seed, folder, "off" if reference else "on", renderer.endswith("+oidn"))
     return run_peer(args, renderer, job, spps, seed, folder)
 
 
 def seconds_of(runs, spp):
-    """(t(N) - t(1)) x N / (N - 1): the time of N samples without fixed costs."""
-    return max(runs[spp][0] - runs[1][0], 0.0) * spp / (spp - 1)
+    """(t(N) - t(1)) x N / (N - 1): the time of N samples without fixed
+    costs, plus the denoiser's time where there is one."""
+    return max(runs[spp][0] - runs[1][0], 0.0) * spp / (spp - 1) + runs[spp][2]
 
 
 # ---- measuring -----------------------------------------------------------------------
 def check_peers(renderers):
     """Exits with what to install when a peer is missing from .venv."""
-    probes = {"cycles": "import bpy", "mitsuba-llvm": "import mitsuba; mitsuba.set_variant('llvm_ad_rgb')",
+    probes = {"cycles": "import bpy", "cycles+oidn": "import bpy", "mitsuba-llvm": "import mitsuba; mitsuba.set_variant('llvm_ad_rgb')",
               "mitsuba-scalar": "import mitsuba; mitsuba.set_variant('scalar_rgb')",
               "images": "import mitsuba"}  # read_exr reads every image through Mitsuba's Bitmap
     for r in list(renderers) + ["images"]:
@@ -188,18 +203,19 @@ def measure(args):
         job = peer_scenes.write_scene_files(name, os.path.join(folder, "files"))
         print(f"{PROG}: {name}: {job['triangles']} triangles; references at {args.reference_spp} spp", flush=True)
         scene = {"what": peer_scenes.SCENES[name]["what"], "triangles": job["triangles"], "renderers": {}}
-        refs = {}
-        for r in args.renderer_list:
+        refs, ref_seconds = {}, {}
+        for r in dict.fromkeys(base(r) for r in args.renderer_list):  # each base renderer's reference, once
             runs = render(args, r, job, [args.reference_spp], 1000, folder, reference=True)
             refs[r] = read_exr(runs[args.reference_spp][1])
-            scene["renderers"][r] = {"reference_seconds": seconds_of(runs, args.reference_spp),
-                                     "rounds": []}
+            ref_seconds[r] = seconds_of(runs, args.reference_spp)
+        for r in args.renderer_list:
+            scene["renderers"][r] = {"reference_seconds": ref_seconds[base(r)], "rounds": []}
         for rnd in range(args.runs):
             for r in common.round_order(args.renderer_list, rnd):
                 runs = render(args, r, job, args.spp_list, 1 + rnd, folder)
                 row = {}
                 for spp in args.spp_list:
-                    err, bad = relmse(read_exr(runs[spp][1]), refs[r])
+                    err, bad = relmse(read_exr(runs[spp][1]), refs[base(r)])
                     row[str(spp)] = {"seconds": seconds_of(runs, spp), "relmse": err, "bad_values": bad}
                 scene["renderers"][r]["rounds"].append(row)
                 load.sample()
@@ -250,16 +266,19 @@ def report(data):
     for name, scene in data["scenes"].items():
         lines += [f"**{name}** ({scene['what']}; {scene['triangles']:,} triangles)", ""]
         rows = []
-        pmc = scene["renderers"].get("pmc")
-        pmc_eff = summary(pmc, top)[2] if pmc else None
-        pmc_ref = pmc["reference_seconds"] if pmc else None
-        for r, entry in scene["renderers"].items():
+        rs = scene["renderers"]
+        for r, entry in rs.items():
             t, e, eff = summary(entry, top)
+            # pmc beside the same kind: denoised rows against pmc + OIDN, the others against pmc
+            mine = "pmc+oidn" if r.endswith("+oidn") else "pmc"
+            pmc_eff = summary(rs[mine], top)[2] if mine in rs else None
             times = " / ".join(f"{summary(entry, s)[0]:.2f}" for s in data["spp"])
+            own_ref = r == base(r)
             rows.append([LABELS[r], times, f"{e:.3g}", f"{eff:.3g}",
                          f"{pmc_eff / eff:.2f}" if pmc_eff else "–",
-                         f"{entry['reference_seconds']:.1f}",
-                         f"{pmc_ref / entry['reference_seconds']:.2f}" if pmc_ref else "–"])
+                         f"{entry['reference_seconds']:.1f}" if own_ref else "–",
+                         f"{rs['pmc']['reference_seconds'] / entry['reference_seconds']:.2f}"
+                         if own_ref and "pmc" in rs else "–"])
         header = ["renderer", f"seconds at {' / '.join(map(str, data['spp']))} spp", f"relMSE at {top} spp",
                   "efficiency", "pmc's efficiency / this", f"seconds at {data['reference_spp']} spp",
                   "pmc's time / this"]
@@ -273,12 +292,17 @@ def report(data):
 
 
 METHOD = """Efficiency is 1 / (relMSE x seconds) at the largest timed sample count; a ratio above 1 in
-"pmc's efficiency / this" means pmc reaches a given error sooner. Materials are diffuse
+"pmc's efficiency / this" means pmc reaches a given error sooner (denoised rows are set
+against pmc + OIDN, the others against pmc). "+ OIDN" rows are the same renderer with
+Open Image Denoise on (pmc `--denoise`; Cycles' OpenImageDenoise denoiser with albedo and
+normal, prefiltered), measured against the renderer's own noisy reference; their time adds
+the denoiser's (pmc: its stats; Cycles: a denoised 1-sample render's time less a plain
+one's). Materials are diffuse
 stand-ins (Kd x map_Kd, Ke, map_d) in every renderer, so this measures light transport
 and sampling. Times leave out scene loading, BVH building and kernel compilation:
 (t(N) - t(1)) x N / (N - 1) of each renderer's own render time. Conversions and settings:
 the module comments of scripts/bench/peer_cycles.py and peer_mitsuba.py (Cycles: box
-filter, no adaptive sampling, denoising, clamping or glossy filter; Mitsuba: path
+filter, no adaptive sampling, clamping or glossy filter; Mitsuba: path
 integrator, box filter, independent sampler)."""
 
 
