@@ -17,6 +17,7 @@
 
 #include "core/image_backend.h"
 #include "core/image_io.h"
+#include "tests/support/exr_channels.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -28,24 +29,7 @@ std::string room_args() {
          " --width 40 --height 24 --spp 6 --max-depth 4 --quiet";
 }
 
-// Every float channel of an EXR by name (the pmc.* sums read as u32 bits).
-std::map<std::string, std::vector<float>> channels(const std::string& path) {
-  std::string why;
-  auto in = image_backend().open(path, false, why);
-  EXPECT_TRUE(in) << path << ": " << why;
-  std::map<std::string, std::vector<float>> out;
-  if (!in) return out;
-  const ImageHeader& h = in->header();
-  const size_t n = size_t(h.width) * size_t(h.height);
-  for (int c = 0; c < h.channels; ++c) {
-    std::vector<float> v(n);
-    const std::string& name = h.channel_names[size_t(c)];
-    const bool sum = name.rfind("pmc.", 0) == 0;
-    EXPECT_TRUE(in->read(c, c + 1, sum ? PixelFormat::U32 : PixelFormat::Float, v.data())) << name;
-    out[name] = v;
-  }
-  return out;
-}
+using test::exr_channels;
 
 void render(const std::string& args) {
   std::string log;
@@ -57,7 +41,7 @@ TEST(DenoiseCli, DenoiseWritesTheDenoisedAndTheNoisyImagesSideBySide) {
   render(room_args() + " --denoise -o " + d + "/out.exr");
   for (const char* f : {"/out.exr", "/out.png", "/out.noisy.exr", "/out.noisy.png"})
     EXPECT_TRUE(test::file_exists(d + f)) << f;
-  const auto clean = channels(d + "/out.exr"), noisy = channels(d + "/out.noisy.exr");
+  const auto clean = exr_channels(d + "/out.exr"), noisy = exr_channels(d + "/out.noisy.exr");
   for (const char* c : {"albedo.R", "albedo.G", "albedo.B", "N.X", "N.Y", "N.Z"})
     EXPECT_TRUE(clean.count(c)) << "no channel " << c;
   EXPECT_FALSE(clean.at("R") == noisy.at("R"));
@@ -68,14 +52,14 @@ TEST(DenoiseCli, DenoiseWritesTheDenoisedAndTheNoisyImagesSideBySide) {
   ASSERT_EQ(test::run_pmc("denoise " + d + "/out.noisy.exr -o " + d + "/again.exr", &log), 0) << log;
   for (const char* f : {"/again.exr", "/again.png", "/again.noisy.exr", "/again.noisy.png"})
     EXPECT_TRUE(test::file_exists(d + f)) << f;
-  const auto again = channels(d + "/again.exr");
+  const auto again = exr_channels(d + "/again.exr");
   double diff = 0, mag = 0;
   for (size_t i = 0; i < again.at("R").size(); ++i) {
     diff += std::abs(again.at("R")[i] - clean.at("R")[i]);
     mag += std::abs(clean.at("R")[i]);
   }
   EXPECT_LT(diff, 1e-3 * mag);  // OIDN may differ in the last bits between runs
-  EXPECT_TRUE(channels(d + "/again.noisy.exr").at("R") == noisy.at("R"));
+  EXPECT_TRUE(exr_channels(d + "/again.noisy.exr").at("R") == noisy.at("R"));
 }
 
 TEST(DenoiseCli, CompareGainsADenoisedColumnCloserToTheReference) {

@@ -14,6 +14,7 @@
 #include "core/image_backend.h"
 #include "core/image_io.h"
 #include "core/render_passes.h"
+#include "tests/support/exr_channels.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -25,24 +26,7 @@ std::string room_args() {
          " --width 40 --height 24 --spp 6 --max-depth 4 --quiet";
 }
 
-// Every float channel of an EXR by name (the pmc.* sums read as u32 bits).
-std::map<std::string, std::vector<float>> channels(const std::string& path) {
-  std::string why;
-  auto in = image_backend().open(path, false, why);
-  EXPECT_TRUE(in) << path << ": " << why;
-  std::map<std::string, std::vector<float>> out;
-  if (!in) return out;
-  const ImageHeader& h = in->header();
-  const size_t n = size_t(h.width) * size_t(h.height);
-  for (int c = 0; c < h.channels; ++c) {
-    std::vector<float> v(n);
-    const std::string& name = h.channel_names[size_t(c)];
-    const bool sum = name.rfind("pmc.", 0) == 0;
-    EXPECT_TRUE(in->read(c, c + 1, sum ? PixelFormat::U32 : PixelFormat::Float, v.data())) << name;
-    out[name] = v;
-  }
-  return out;
-}
+using test::exr_channels;
 
 void render(const std::string& args) {
   std::string log;
@@ -53,7 +37,7 @@ TEST(PassesCli, PassesAreLayersAndBitIdenticalForAnyThreadCount) {
   const std::string d = test::temp_dir();
   render(room_args() + " --aov all --threads 1 -o " + d + "/t1.exr");
   render(room_args() + " --aov all --threads 2 -o " + d + "/t2.exr");
-  const auto one = channels(d + "/t1.exr"), two = channels(d + "/t2.exr");
+  const auto one = exr_channels(d + "/t1.exr"), two = exr_channels(d + "/t2.exr");
   for (const PassName& p : pass_names())
     for (const std::string& c : p.channels) EXPECT_TRUE(one.count(c)) << "no channel " << c;
   EXPECT_EQ(one.size(), two.size());
@@ -64,7 +48,7 @@ TEST(PassesCli, PassesAreLayersAndBitIdenticalForAnyThreadCount) {
     if (name != "cache_hits.V") EXPECT_TRUE(two.at(name) == values) << name << " differs";
   // --aov chooses the layers.
   render(room_args() + " --aov depth -o " + d + "/z.exr");
-  const auto z = channels(d + "/z.exr");
+  const auto z = exr_channels(d + "/z.exr");
   EXPECT_TRUE(z.count("Z"));
   EXPECT_FALSE(z.count("albedo.R"));
   EXPECT_TRUE(z.at("Z") == one.at("Z"));
@@ -77,7 +61,7 @@ TEST(PassesCli, MergedPartsEqualTheOneProcessPassesAndRefuseAPartWithout) {
   render(room_args() + " --aov all --samples 2:6 -o " + d + "/b.exr");
   std::string log;
   ASSERT_EQ(test::run_pmc("merge " + d + "/b.exr " + d + "/a.exr -o " + d + "/m.exr", &log), 0) << log;
-  const auto full = channels(d + "/full.exr"), merged = channels(d + "/m.exr");
+  const auto full = exr_channels(d + "/full.exr"), merged = exr_channels(d + "/m.exr");
   // Every pass but the cache's hits (a part's table starts empty and finds fewer).
   for (const PassName& p : pass_names())
     for (const std::string& c : p.channels) {
