@@ -195,7 +195,7 @@ def check_peers(renderers):
 def measure(args):
     check_peers(args.renderer_list)
     load = common.LoadSampler()
-    data = {"width": args.width, "height": args.height, "spp": args.spp_list, "reference_spp": args.reference_spp,
+    data = {"command": args.command, "width": args.width, "height": args.height, "spp": args.spp_list, "reference_spp": args.reference_spp,
             "max_depth": args.max_depth, "threads": args.threads, "runs": args.runs,
             "machine": common.machine("cpu"), "rev": common.git_rev(), "date": common.utc_now(), "scenes": {}}
     for name in args.scene_list:
@@ -244,7 +244,7 @@ def plot(data, path):
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 3.6), squeeze=False)
     for ax, name in zip(axes[0], names):
         for r, entry in data["scenes"][name]["renderers"].items():
-            pts = [summary(entry, s)[:2] for s in data["spp"]]
+            pts = [p for p in (summary(entry, s)[:2] for s in data["spp"]) if p[0] > 0]  # 0 s: below timing
             ax.loglog([p[0] for p in pts], [p[1] for p in pts], "o-", label=LABELS[r])
         ax.set_title(name)
         ax.set_xlabel("render seconds")
@@ -257,9 +257,31 @@ def plot(data, path):
     plt.close(fig)
 
 
+def summary_lines(data, top):
+    """One line per comparison the issue's goals name, over every scene."""
+    out = []
+    pairs = [("pmc", "cycles", "efficiency, pmc / Cycles"),
+             ("pmc+oidn", "cycles+oidn", "efficiency with OIDN, pmc / Cycles"),
+             ("pmc", "mitsuba-llvm", f"render time at {data['reference_spp']} spp, pmc / Mitsuba llvm_ad_rgb")]
+    for a, b, what in pairs:
+        cells = []
+        for name, scene in data["scenes"].items():
+            rs = scene["renderers"]
+            if a not in rs or b not in rs:
+                continue
+            if what.startswith("render time"):
+                cells.append(f"{name} {rs[a]['reference_seconds'] / rs[b]['reference_seconds']:.2f}")
+            else:
+                cells.append(f"{name} {summary(rs[a], top)[2] / summary(rs[b], top)[2]:.2f}")
+        if cells:
+            out.append(f"- {what}: " + ", ".join(cells))
+    return out + [""] if out else []
+
+
 def report(data):
     top = max(data["spp"])
-    lines = [f"Measured {data['date']} at {data['rev']} on {data['machine']}; {data['width']}x{data['height']}, "
+    lines = [SECTION, "", f"Produced by `{data['command']}`.", "",
+             f"Measured {data['date']} at {data['rev']} on {data['machine']}; {data['width']}x{data['height']}, "
              f"max depth {data['max_depth']}, {data['threads']} threads each, "
              f"{common.rounds_text(data['runs'])}; references at {data['reference_spp']} spp; {data['load']}.", ""]
     printed = []
@@ -285,6 +307,7 @@ def report(data):
         table = common.md_table(header, rows)
         lines += [table, ""]
         printed += [name, table, ""]
+    lines += summary_lines(data, top)
     lines += ["![relMSE against render time](plots/peers.png)", ""]
     plot(data, PLOT)
     lines += [METHOD]
