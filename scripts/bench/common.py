@@ -75,6 +75,18 @@ def add_runs(p, default, flag="--runs", what="timed rounds; every configuration 
     p.add_argument(flag, type=positive_int, default=default, metavar="N", help=f"{what} (default {default})")
 
 
+def spp_list(text):
+    """An argparse type: comma-separated sample counts, each at least 1, as a
+    sorted list without repeats."""
+    try:
+        v = [int(x) for x in text.split(",") if x]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got '{text}'")
+    if not v or min(v) < 1:
+        raise argparse.ArgumentTypeError(f"sample counts must be at least 1, got '{text}'")
+    return sorted(set(v))
+
+
 def add_image_size(p, width, height, spp):
     """--width, --height and --spp of the renders a benchmark times."""
     p.add_argument("--width", type=positive_int, default=width, metavar="W", help=f"image width (default {width})")

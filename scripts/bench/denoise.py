@@ -34,23 +34,13 @@ SCENES = {
 }
 
 
-def spp_list(text):
-    try:
-        v = [int(x) for x in text.split(",") if x]
-    except ValueError:
-        raise common.argparse.ArgumentTypeError(f"expected sample counts like 4,16,64, got '{text}'")
-    if not v or min(v) < 1:
-        raise common.argparse.ArgumentTypeError(f"sample counts must be at least 1, got '{text}'")
-    return v
-
-
 def parse(argv=None):
     p = common.make_parser("denoise", __doc__)
     common.add_pmc(p)
     common.add_runs(p, 3)
     p.add_argument("--width", type=common.positive_int, default=320, metavar="W", help="image width (default 320)")
     p.add_argument("--height", type=common.positive_int, default=180, metavar="H", help="image height (default 180)")
-    p.add_argument("--spps", type=spp_list, default=[1, 2, 4, 8, 16, 32, 64], metavar="LIST",
+    p.add_argument("--spps", type=common.spp_list, default=[1, 2, 4, 8, 16, 32, 64], metavar="LIST",
                    help="sample counts measured (default 1,2,4,8,16,32,64)")
     p.add_argument("--ref-spp", type=common.positive_int, default=4096, metavar="N",
                    help="samples of the cacheless reference (default 4096)")

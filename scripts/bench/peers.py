@@ -62,7 +62,7 @@ def parse(argv=None):
     p.add_argument("--width", type=common.positive_int, default=160, metavar="W", help="image width (default 160)")
     p.add_argument("--height", type=common.positive_int, default=120, metavar="H",
                    help="image height (default 120)")
-    p.add_argument("--spp", default="4,16,64", metavar="LIST",
+    p.add_argument("--spp", type=common.spp_list, default="4,16,64", metavar="LIST",
                    help="sample counts of the timed renders (default 4,16,64)")
     p.add_argument("--reference-spp", type=common.positive_int, default=1024, metavar="N",
                    help="samples of each renderer's reference (default 1024)")
@@ -82,11 +82,8 @@ def parse(argv=None):
     for r in args.renderer_list:
         if r not in RENDERERS:
             p.error(f"unknown renderer {r!r} (known: {', '.join(RENDERERS)})")
-    try:
-        args.spp_list = sorted({int(x) for x in args.spp.split(",") if x})
-    except ValueError:
-        p.error(f"--spp takes a comma-separated list of sample counts, got {args.spp!r}")
-    if not args.spp_list or min(args.spp_list) < 2:
+    args.spp_list = args.spp
+    if min(args.spp_list) < 2:
         p.error("--spp needs sample counts of at least 2 (the time is (t(N) - t(1)) N / (N - 1))")
     return args
 

@@ -35,19 +35,9 @@ SAMPLERS = ("random", "sobol")
 TRIM = 0.01  # the trimmed display MSE drops the worst 1% of pixels (the caustics' fireflies)
 
 
-def spp_list(text):
-    try:
-        v = [int(x) for x in text.split(",") if x]
-    except ValueError:
-        raise common.argparse.ArgumentTypeError(f"expected whole numbers separated by commas, got '{text}'")
-    if not v or min(v) < 1:
-        raise common.argparse.ArgumentTypeError(f"sample counts must be at least 1, got '{text}'")
-    return sorted(set(v))
-
-
 def parse(argv=None):
     p = common.make_parser("sampler", __doc__)
-    p.add_argument("--spps", type=spp_list, default=spp_list("1,2,4,8,16,32,64,128,256"), metavar="LIST",
+    p.add_argument("--spps", type=common.spp_list, default="1,2,4,8,16,32,64,128,256", metavar="LIST",
                    help="sample counts to measure (default 1,2,4,8,16,32,64,128,256)")
     p.add_argument("--ref-spp", type=common.positive_int, default=4096, metavar="N",
                    help="samples per pixel of the reference (default 4096)")
