@@ -387,6 +387,10 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
         put3(l.rgb, s.rgb);
         l.area = float(area);
         l.flags = s.two_sided ? PMC_LIGHT_TWO_SIDED : 0u;
+        const double uu = double(u[0]) * u[0] + double(u[1]) * u[1] + double(u[2]) * u[2];
+        const double vv = double(v[0]) * v[0] + double(v[1]) * v[1] + double(v[2]) * v[2];
+        const double uv = double(u[0]) * v[0] + double(u[1]) * v[1] + double(u[2]) * v[2];
+        if (uv * uv <= 1e-10 * uu * vv) l.flags |= PMC_LIGHT_RECTANGLE;  // within 1e-5 rad of square
         quads.push_back(l);
         p_quads.push_back((s.two_sided ? 2.0 : 1.0) * kPi * area * luminance(s.rgb));
         break;

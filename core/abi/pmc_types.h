@@ -176,6 +176,7 @@ typedef struct PmcMaterialInfo {
 #define PMC_LIGHT_ENV 6u         /* the environment: constant radiance rgb, or the map */
 
 #define PMC_LIGHT_TWO_SIDED 1u /* quad: emits from both sides (triangles always do) */
+#define PMC_LIGHT_RECTANGLE 2u /* quad: its edges are perpendicular (sampled by solid angle) */
 
 /* One light of the table. Triangles and quads are parallelograms/triangles
  * spanned at `pos` by `axis` and `edge_v` with unit `normal` (quads emit

@@ -178,6 +178,96 @@ PMC_FN float pmc_area_light_pdf(float pmf, float t, float area, float cos_light)
   return c > 0.0f && area > 0.0f ? pmf * t * t / (area * c) : 0.0f;
 }
 
+/* --- rectangles by solid angle ------------------------------------------ */
+
+/* A rectangular quad seen from a point (Urena, Fajardo and King 2013, "An
+ * Area-Preserving Parametrization for Spherical Rectangles"): the local frame
+ * x, y along the edges and z toward the side the point is on (so z0 <= 0),
+ * the rectangle's extent [x0, x1] x [y0, y1] at height z0 in it, and the
+ * spherical rectangle's solid angle `solid_angle` with what sampling needs
+ * (b0, b1, k). Sampling it is uniform in solid angle: next to the light,
+ * where the 1/d^2 and cosine of area sampling vary across the quad, it has
+ * far less variance (the Cornell box's walls and ceiling). */
+typedef struct PmcSphRect {
+  float3 x, y, z;
+  float x0, x1, y0, y1, z0;
+  float b0, b1, k, solid_angle;
+} PmcSphRect;
+
+/* Below this solid angle (sr) a quad is sampled by area: the sum of four
+ * angles minus 2 pi loses its float precision there, and the variance that
+ * solid-angle sampling saves is small. The decision depends only on the
+ * point and the light, so the sampler and the MIS weight agree. */
+#define PMC_SPH_RECT_MIN_SOLID_ANGLE 1e-3f
+
+/* The spherical rectangle of rectangular quad l seen from p; returns its
+ * solid angle (0 when l is not a rectangle or p is in its plane). */
+PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRect* r) {
+  r->solid_angle = 0.0f;
+  if (!(l->flags & PMC_LIGHT_RECTANGLE)) return 0.0f;
+  float3 eu = pmc_load3(l->axis), ev = pmc_load3(l->edge_v);
+  float lu = length(eu), lv = length(ev);
+  r->x = eu * (1.0f / lu);
+  r->y = ev * (1.0f / lv);
+  r->z = cross(r->x, r->y);
+  float3 d = pmc_load3(l->pos) - p;
+  r->z0 = dot(d, r->z);
+  if (r->z0 > 0.0f) {
+    r->z = -r->z;
+    r->z0 = -r->z0;
+  }
+  if (!(r->z0 < 0.0f)) return 0.0f;
+  r->x0 = dot(d, r->x);
+  r->y0 = dot(d, r->y);
+  r->x1 = r->x0 + lu;
+  r->y1 = r->y0 + lv;
+  float z0 = r->z0, z2 = z0 * z0;
+  /* the normals of the four great circles through the edges, inward */
+  float3 n0 = make_float3(0.0f, z0, -r->y0) * (1.0f / sqrt(z2 + r->y0 * r->y0));
+  float3 n1 = make_float3(-z0, 0.0f, r->x1) * (1.0f / sqrt(z2 + r->x1 * r->x1));
+  float3 n2 = make_float3(0.0f, -z0, r->y1) * (1.0f / sqrt(z2 + r->y1 * r->y1));
+  float3 n3 = make_float3(z0, 0.0f, -r->x0) * (1.0f / sqrt(z2 + r->x0 * r->x0));
+  float g0 = acos(clamp(-dot(n0, n1), -1.0f, 1.0f));
+  float g1 = acos(clamp(-dot(n1, n2), -1.0f, 1.0f));
+  float g2 = acos(clamp(-dot(n2, n3), -1.0f, 1.0f));
+  float g3 = acos(clamp(-dot(n3, n0), -1.0f, 1.0f));
+  r->b0 = n0.z;
+  r->b1 = n2.z;
+  r->k = 2.0f * PMC_PI - g2 - g3;
+  r->solid_angle = fmax(0.0f, g0 + g1 - r->k);
+  return r->solid_angle;
+}
+
+/* The point of the rectangle in direction (u, v) of the unit square, mapped
+ * uniformly over the spherical rectangle r seen from p. */
+PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
+  float au = u * r->solid_angle + r->k;
+  float sin_au = sin(au), cos_au = cos(au);
+  float fu = (cos_au * r->b0 - r->b1) / sin_au;
+  float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + r->b0 * r->b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float xu = -(cu * r->z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
+  xu = clamp(xu, r->x0, r->x1);
+  float dd = sqrt(xu * xu + r->z0 * r->z0);
+  float h0 = r->y0 / sqrt(dd * dd + r->y0 * r->y0);
+  float h1 = r->y1 / sqrt(dd * dd + r->y1 * r->y1);
+  float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+  float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : r->y1;
+  yv = clamp(yv, r->y0, r->y1);
+  return p + r->x * xu + r->y * yv + r->z * r->z0;
+}
+
+/* Light-sampling pdf (solid angle, pick probability pmf included) of quad l
+ * seen from p at distance t under cosine cos_light from its normal: 1 over
+ * the spherical rectangle's solid angle where pmc_light_sample samples it
+ * so, else the area pdf. */
+PMC_FN float pmc_quad_light_pdf(PMC_GLOBAL const PmcLight* l, float3 p, float pmf, float t, float cos_light) {
+  PmcSphRect r;
+  float omega = pmc_sph_rect_init(l, p, &r);
+  if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) return pmf / omega;
+  return pmc_area_light_pdf(pmf, t, l->area, cos_light);
+}
+
 /* Solid-angle pdf of a sun disk's cone sampling, times the pick probability pmf. */
 PMC_FN float pmc_sun_pdf(PMC_GLOBAL const PmcLight* l, float pmf) {
   return pmf / (2.0f * PMC_PI * l->one_minus_cos);
@@ -216,7 +306,14 @@ PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float co
  * receiver (less theta_b) / squared distance to the box's centre (at least
  * its bounding sphere's radius squared). One-sided at the receiver: light
  * sampling only takes directions above n, so a box wholly below the plane
- * through p (tested corner by corner, tighter than theta_b) gets 0. */
+ * through p (tested corner by corner, tighter than theta_b) gets 0. One-sided
+ * at the emitters, likewise: where every emitter's normal is within theta_o
+ * of the axis and none emits past 90 degrees from its normal (theta_e <=
+ * pi/2), a p behind every point of the box (p - e below the plane of every
+ * such normal through e) gets 0. theta_b alone cannot say so when p is near
+ * the box: a ceiling point just above a downward quad light was given most
+ * of the picks against a point light in the room, and its light samples
+ * all carried nothing. */
 PMC_FN float pmc_tree_importance(PMC_GLOBAL const PmcLightTreeNode* node, float3 p, float3 n) {
   float3 lo = pmc_load3(node->lo), hi = pmc_load3(node->hi);
   float3 to_p = p - (lo + hi) * 0.5f;
@@ -233,8 +330,17 @@ PMC_FN float pmc_tree_importance(PMC_GLOBAL const PmcLightTreeNode* node, float3
   float3 extent = diag * 0.5f;
   float above = -dot(n, to_p) + fabs(n.x) * extent.x + fabs(n.y) * extent.y + fabs(n.z) * extent.z;
   if (above + PMC_PICK_NORMAL_SLACK * (sqrt(d2) + sqrt(r2)) <= 0.0f) return 0.0f;
+  float3 axis = pmc_load3(node->axis);
+  if (!(node->flags & PMC_TREE_TWO_SIDED) && node->cos_theta_e >= 0.0f) {
+    /* max over the box of axis . (p - e), plus |n_e - axis| <= sqrt(2 (1 - cos theta_o)) times |p - e|,
+     * bounds n_e . (p - e) from above for every emitter point e and normal n_e */
+    float ahead =
+        dot(axis, to_p) + fabs(axis.x) * extent.x + fabs(axis.y) * extent.y + fabs(axis.z) * extent.z;
+    float spread = sqrt(fmax(0.0f, 2.0f * (1.0f - node->cos_theta_o))) + 1e-5f; /* + the float axis */
+    if (ahead + spread * (sqrt(d2) + sqrt(r2)) <= 0.0f) return 0.0f;
+  }
   float3 w = d2 > 0.0f ? to_p * (1.0f / sqrt(d2)) : make_float3(0.0f, 0.0f, 1.0f);
-  float cos_w = dot(pmc_load3(node->axis), w);
+  float cos_w = dot(axis, w);
   if (node->flags & PMC_TREE_TWO_SIDED) cos_w = fabs(cos_w);
   float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
   float cos_o = node->cos_theta_o, sin_o = sqrt(fmax(0.0f, 1.0f - cos_o * cos_o));
@@ -400,11 +506,17 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
   s->dist = INFINITY;
   if (type == PMC_LIGHT_TRIANGLE || type == PMC_LIGHT_QUAD) {
     float3 q = pmc_load3(l->pos);
+    float omega = 0.0f; /* the spherical rectangle's solid angle where it is sampled so */
     if (type == PMC_LIGHT_TRIANGLE) {
       float2 bc = pmc_sample_triangle(u1, u2);
       q = q + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
     } else {
-      q = q + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+      PmcSphRect r;
+      omega = pmc_sph_rect_init(l, p, &r);
+      if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE)
+        q = pmc_sph_rect_sample(&r, p, u1, u2);
+      else
+        q = q + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
     }
     float3 d = q - p;
     float dist = length(d);
@@ -412,7 +524,8 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
     s->wi = d * (1.0f / dist);
     float cos_light = -dot(pmc_load3(l->normal), s->wi);
     if (type == PMC_LIGHT_QUAD && !(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
-    s->pdf = pmc_area_light_pdf(pmf, dist, l->area, cos_light);
+    s->pdf = omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE ? pmf / omega
+                                                   : pmc_area_light_pdf(pmf, dist, l->area, cos_light);
     if (!(s->pdf > 0.0f)) return 0;
     s->dist = dist;
     s->weight = rgb * (1.0f / s->pdf);
@@ -488,7 +601,7 @@ PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t
     float w =
         full_weight
             ? 1.0f
-            : pmc_mis_power(bsdf_pdf, pmc_area_light_pdf(pmc_light_pick_pmf(ls, o, n, i), t, l->area, denom));
+            : pmc_mis_power(bsdf_pdf, pmc_quad_light_pdf(l, o, pmc_light_pick_pmf(ls, o, n, i), t, denom));
     sum += pmc_load3(l->rgb) * w;
   }
   if (!escaped) return sum;

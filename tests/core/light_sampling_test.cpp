@@ -350,6 +350,77 @@ TEST(LightSampling, QuadMatchesLambertsFormulaAndEmitsFromOneSide) {
   EXPECT_NEAR(both.mean, exact, 4.0 * both.stderr_ + 1e-3 * exact);
 }
 
+TEST(LightSampling, QuadsNextToThePointMatchLambertsFormula) {
+  // Close to the light, where rectangles are sampled by solid angle
+  // (pmc_sph_rect_*) and a parallelogram by area: points under the quad's
+  // middle, beside it, and nearly in its plane; both kinds against Lambert.
+  const D3 corner{-0.5, 0.05, -0.4}, eu{1.0, 0.0, 0.0}, ev{0.0, 0.0, 0.8};  // 5 cm up, facing down
+  const D3 skew{0.3, 0.0, 0.8};                                             // a parallelogram
+  const D3 n{0, 1, 0};
+  for (D3 p : {D3{0.0, 0.0, 0.0}, D3{0.9, 0.0, 0.1}, D3{0.2, 0.049, -0.6}}) {
+    for (int parallelogram = 0; parallelogram < 2; ++parallelogram) {
+      const D3 ev_k = parallelogram ? skew : ev;
+      const std::vector<D3> poly = {corner, corner + eu, corner + eu + ev_k, corner + ev_k};
+      const double exact = polygon_irradiance(poly, p, n, 3.0);
+      Estimate e = mis_irradiance(table_of({quad_light(corner, eu, ev_k, 3.0f, false)}), p, n, 40000, 21);
+      EXPECT_NEAR(e.mean, exact, 4.0 * e.stderr_ + 1e-3 * exact)
+          << "p " << p.x << "," << p.y << "," << p.z << (parallelogram ? " parallelogram" : " rectangle");
+    }
+  }
+}
+
+TEST(LightSampling, SphericalRectangleHasTheExactSolidAngleAndMapsUniformly) {
+  // A w x h rectangle at height d above p, one corner straight above it:
+  // solid angle atan(w h / (d sqrt(d^2 + w^2 + h^2))).
+  const double w = 0.7, h = 0.4, d = 0.3;
+  PmcLight l{};
+  l.type = PMC_LIGHT_QUAD;
+  l.flags = PMC_LIGHT_RECTANGLE;
+  l.pos[1] = float(d);
+  l.axis[0] = float(w);
+  l.edge_v[2] = float(h);
+  const float3 p = make_float3(0.0f, 0.0f, 0.0f);
+  PmcSphRect r;
+  const float omega = pmc_sph_rect_init(&l, p, &r);
+  const double exact = std::atan(w * h / (d * std::sqrt(d * d + w * w + h * h)));
+  EXPECT_NEAR(omega, exact, 1e-5 * exact);
+  // Area-preserving: each cell of a 16 x 16 grid of the unit square maps to
+  // omega / 256 of solid angle (the cell's two spherical triangles, by Van
+  // Oosterom and Strackee), and every sample lies on the rectangle.
+  const int g = 16;
+  auto dir = [&](double u, double v) {
+    float3 q = pmc_sph_rect_sample(&r, p, float(u), float(v));
+    EXPECT_NEAR(q.y, d, 1e-5);
+    EXPECT_GE(q.x, -1e-5);
+    EXPECT_LE(q.x, w + 1e-5);
+    EXPECT_GE(q.z, -1e-5);
+    EXPECT_LE(q.z, h + 1e-5);
+    D3 a{q.x, q.y, q.z};
+    double len = std::sqrt(dot3(a, a));
+    return D3{a.x / len, a.y / len, a.z / len};
+  };
+  auto tri = [](D3 a, D3 b, D3 c) {
+    D3 bc{b.y * c.z - b.z * c.y, b.z * c.x - b.x * c.z, b.x * c.y - b.y * c.x};
+    return 2.0 * std::atan2(std::fabs(dot3(a, bc)), 1.0 + dot3(a, b) + dot3(a, c) + dot3(b, c));
+  };
+  double total = 0.0, worst = 0.0;
+  for (int i = 0; i < g; ++i)
+    for (int j = 0; j < g; ++j) {
+      D3 a = dir(double(i) / g, double(j) / g), b = dir(double(i + 1) / g, double(j) / g);
+      D3 c = dir(double(i + 1) / g, double(j + 1) / g), e = dir(double(i) / g, double(j + 1) / g);
+      const double cell = tri(a, b, c) + tri(a, c, e);
+      total += cell;
+      worst = std::max(worst, std::fabs(cell * g * g / exact - 1.0));
+    }
+  EXPECT_NEAR(total, exact, 1e-3 * exact);
+  EXPECT_LT(worst, 0.02) << "cells of the unit square map to equal solid angles";
+  // Not a rectangle, or p in its plane: no spherical rectangle.
+  l.flags = 0u;
+  EXPECT_EQ(pmc_sph_rect_init(&l, p, &r), 0.0f);
+  l.flags = PMC_LIGHT_RECTANGLE;
+  EXPECT_EQ(pmc_sph_rect_init(&l, make_float3(0.2f, float(d), 0.1f), &r), 0.0f);
+}
+
 TEST(LightSampling, EmissiveTriangleMatchesLambertsFormula) {
   Scene scene = empty_scene();
   scene.positions = {-0.5f, 1.0f, 0.0f, 0.7f, 1.2f, 0.1f, 0.0f, 0.9f, 0.8f};

@@ -221,6 +221,65 @@ TEST(LightTree, LightsBehindTheSurfaceAreNeverPicked) {
   EXPECT_EQ(pmc_light_pick_pmf(&ls, make_float3(0, 3, 0), make_float3(0, -1, 0), 0), 0.0f);
 }
 
+TEST(LightTree, PointsJustBehindAOneSidedQuadDoNotPickIt) {
+  // The Cornell box's set-up: a 1.3 x 1.05 quad light 0.8 cm under the
+  // ceiling, facing down, and a point light in the room. Ceiling points
+  // beside the quad (inside its bounding sphere, so theta_b says nothing)
+  // are behind it: every pick of the quad there carries nothing.
+  SceneLights sl;
+  LightSpec q;
+  q.type = LightSpec::Type::Quad;
+  q.corner[0] = 2.13f, q.corner[1] = 5.48f, q.corner[2] = 2.27f;
+  q.edge_u[0] = 1.3f;
+  q.edge_v[2] = 1.05f;  // u x v = -y: faces down
+  q.rgb[0] = q.rgb[1] = q.rgb[2] = 20.0f;
+  LightSpec point;
+  point.type = LightSpec::Type::Point;
+  point.position[0] = 2.13f, point.position[1] = 3.0f, point.position[2] = 2.27f;
+  point.rgb[0] = point.rgb[1] = point.rgb[2] = 4.0f;
+  sl.lights = {q, point};
+  Scene empty;
+  const LightTable t = build_light_table(empty, {}, sl);
+  const PmcLightSet ls = light_set(t);
+  const float3 down = make_float3(0, -1, 0);
+  for (float x : {0.0f, 1.0f, 2.0f, 2.7f, 3.6f, 4.5f, 5.56f}) {
+    const float3 ceiling = make_float3(x, 5.488f, x < 1.0f ? 0.0f : 1.9f);
+    EXPECT_EQ(pmc_light_pick_pmf(&ls, ceiling, down, 0), 0.0f) << "x " << x;
+    EXPECT_EQ(pmc_light_pick_pmf(&ls, ceiling, down, 1), 1.0f) << "x " << x;
+  }
+  // A hair below the quad's plane, it lights the point again.
+  EXPECT_GT(pmc_light_pick_pmf(&ls, make_float3(2.0f, 5.47f, 1.9f), make_float3(1, 0, 0), 0), 0.0f);
+}
+
+TEST(LightTree, EveryLightThatCanLightAPointMayBePicked) {
+  // At random points and normals, every quad or emissive triangle with a
+  // point e that faces p (its normal . (p - e) > 0) above p's plane has a
+  // pick probability above 0: the one-sided bounds never cut a light that
+  // gives something.
+  const LightTable t = many_lights(300, 11);
+  const PmcLightSet ls = light_set(t);
+  Rng r(5);
+  int checked = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const float3 p = make_float3(r.range(-5, 5), r.range(-5, 5), r.range(-5, 5));
+    const float3 n = random_unit(r);
+    for (int k = 0; k < ls.h.count; ++k) {
+      const PmcLight& l = ls.lights[k];
+      if (l.type != PMC_LIGHT_QUAD && l.type != PMC_LIGHT_TRIANGLE) continue;
+      const float u = r.next(), v = r.next();
+      const float a = l.type == PMC_LIGHT_TRIANGLE && u + v > 1.0f ? 1.0f - u : u;
+      const float b = l.type == PMC_LIGHT_TRIANGLE && u + v > 1.0f ? 1.0f - v : v;
+      const float3 e = pmc_load3(l.pos) + pmc_load3(l.axis) * a + pmc_load3(l.edge_v) * b;
+      const float3 ln = pmc_load3(l.normal);
+      const bool faces = (l.flags & PMC_LIGHT_TWO_SIDED) || dot(ln, p - e) > 0.0f;
+      if (!faces || !(dot(n, e - p) > 0.0f)) continue;
+      ++checked;
+      EXPECT_GT(pmc_light_pick_pmf(&ls, p, n, k), 0.0f) << "light " << k << " trial " << trial;
+    }
+  }
+  EXPECT_GT(checked, 1000);
+}
+
 TEST(LightTree, EnvironmentShareIgnoresAFarStrayObject) {
   SceneLights sl;
   LightSpec q;
