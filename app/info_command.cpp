@@ -6,6 +6,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "core/denoiser.h"
 #include "core/device/pmc_cache.h"
 #include "core/error.h"
 #include "core/obj_loader.h"
@@ -94,7 +95,7 @@ nlohmann::json settings_json() {
 }
 
 struct InfoArgs {
-  bool settings = false;
+  bool settings = false, denoiser = false;
   bool devices = false, dump_bytecode = false, dump_cache_plan = false;
   std::string scene, material;
   std::string mtlx_library;
@@ -107,9 +108,18 @@ struct InfoArgs {
 };
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
-  if (!a.devices && !a.settings && a.scene.empty()) {
+  if (!a.devices && !a.settings && !a.denoiser && a.scene.empty()) {
     std::printf("%s", app.help().c_str());
     return 2;
+  }
+  if (a.denoiser) {  // before the rest: scripts/farm asks this before a --denoise job starts
+    std::string why;
+    if (!denoiser_available(&why)) {
+      std::printf("Open Image Denoise: not available: %s\n", why.c_str());
+      return 1;
+    }
+    std::printf("Open Image Denoise: available\n");
+    if (!a.devices && !a.settings && a.scene.empty()) return 0;
   }
   if (a.settings) std::printf("%s\n", settings_json().dump(2).c_str());
   if (a.devices) {
@@ -175,13 +185,17 @@ CommandRun add_info_command(CLI::App& pmc) {
   CLI::App* app = pmc.add_subcommand(
       "info",
       "list OpenCL devices (--devices), the render settings (--settings), summarise a scene (--scene)");
-  cli::formatter(pmc).usage(app,
-                            "pmc info [--devices] [--settings] [--scene SCENE.obj [--mtlx F ...] "
-                            "[--dump-bytecode] [--dump-cache-plan]]",
-                            "Prints what pmc sees: OpenCL devices, scene contents, compiled materials.");
+  cli::formatter(pmc).usage(
+      app,
+      "pmc info [--devices] [--settings] [--denoiser] [--scene SCENE.obj [--mtlx F ...] "
+      "[--dump-bytecode] [--dump-cache-plan]]",
+      "Prints what pmc sees: OpenCL devices, scene contents, compiled materials.");
   app->option_defaults()->group("options");
   app->set_help_flag("-h,--help", "print this help and exit");
   app->add_flag("--devices", a->devices, "list OpenCL platforms and devices");
+  app->add_flag("--denoiser", a->denoiser,
+                "whether Open Image Denoise (for --denoise) can be loaded, and if not why; exit code 1 "
+                "when it cannot");
   app->add_flag("--settings", a->settings,
                 "the render settings' table as JSON: name, flag, type, default, range, help, whether the "
                 "part hash covers it");

@@ -45,6 +45,10 @@ def parse(argv):
                                                              "beyond the chunk timeouts and retries)")
     p.add_argument("--baseline", action="store_true",
                    help="also render the frame in one process and report the measured speedup")
+    p.add_argument("--denoise", action="store_true",
+                   help="render the albedo and normal passes too (added to any --aov) and denoise the merged "
+                        "frame with Open Image Denoise (pmc denoise): OUT.exr/png denoised, OUT.noisy.exr/png "
+                        "as merged")
     p.add_argument("--stats", metavar="OUT.json", help="pmc merge's merged statistics")
     p.add_argument("--summary", metavar="FILE.json", help="the farm summary as JSON")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -58,6 +62,7 @@ def parse(argv):
                        split=args.split, scheduler=args.scheduler, workers=args.workers, pmc=args.pmc,
                        parts_dir=args.parts_dir, keep_parts=args.keep_parts, retries=args.retries,
                        chunk_timeout=args.chunk_timeout, timeout=args.timeout, baseline=args.baseline,
+                       denoise=args.denoise,
                        summary=args.summary, stats=args.stats, quiet=args.quiet,
                        started_dir=args.chunk_log)
 

@@ -11,6 +11,10 @@ chunks are rescheduled by the scheduler (up to its allowed-failures). Every
 wait is bounded: the client connection, each pmc process (--chunk-timeout)
 and the whole job (--timeout). The parts go to a folder every worker can
 write (on a cluster: a shared path); `pmc merge` adds them at the end.
+With --denoise every chunk also renders the albedo and normal passes, and
+`pmc denoise` runs on the merged frame: OUT.exr/png denoised beside
+OUT.noisy.exr/png (parts cannot be denoised one by one: the denoiser needs
+the whole frame's samples and neighbours).
 """
 import dataclasses
 import json
@@ -56,6 +60,7 @@ class FarmOptions:
     timeout: float = None
     connect_timeout: float = 30.0
     baseline: bool = False
+    denoise: bool = False
     summary: str = None
     stats: str = None
     quiet: bool = False
@@ -79,6 +84,44 @@ def pmc_defaults(pmc):
         return {s["flag"]: s["default"] for s in json.loads(listed)}
     except (OSError, subprocess.SubprocessError, ValueError, KeyError, TypeError) as e:
         raise FarmError(f"--pmc: '{pmc}' did not list its settings ('pmc info --settings': {e})")
+
+
+DENOISE_PASSES = ("albedo", "normal")
+
+
+def with_denoise_passes(args):
+    """pmc render arguments whose --aov lists the passes the denoiser reads
+    (added to the user's list, or a new --aov albedo,normal)."""
+    out, found = [], False
+    i = 0
+    while i < len(args):
+        a = args[i]
+        value = None
+        if a == "--aov" and i + 1 < len(args):
+            value, i = args[i + 1], i + 1
+        elif a.startswith("--aov="):
+            value = a.split("=", 1)[1]
+        if value is None:
+            out.append(a)
+        else:
+            found = True
+            names = [v for v in value.split(",") if v]
+            if "all" not in names:
+                names += [p for p in DENOISE_PASSES if p not in names]
+            out += ["--aov", ",".join(names)]
+        i += 1
+    return out if found else out + ["--aov", ",".join(DENOISE_PASSES)]
+
+
+def check_denoiser(pmc):
+    """FarmError (bad input) unless pmc can load Open Image Denoise, before any chunk renders."""
+    try:
+        proc = subprocess.run([pmc, "info", "--denoiser"], capture_output=True, text=True, timeout=60)
+    except (OSError, subprocess.SubprocessError) as e:
+        raise FarmError(f"--denoise: could not ask pmc whether Open Image Denoise loads: {e}")
+    if proc.returncode != 0:
+        said = (proc.stdout.strip() or proc.stderr.strip()).replace("Open Image Denoise: ", "")
+        raise FarmError(f"--denoise: Open Image Denoise {said}")
 
 
 def render_setting(args, flag, defaults):
@@ -168,6 +211,8 @@ def run_farm(o):
 
     o.pmc = os.path.abspath(o.pmc or default_pmc())
     check_options(o)
+    if o.denoise:
+        check_denoiser(o.pmc)
     o.scene = os.path.abspath(o.scene)
     output = os.path.abspath(o.output)
     defaults = pmc_defaults(o.pmc)
@@ -178,7 +223,7 @@ def run_farm(o):
         chunks = make_chunks(o.split, o.chunks, spp, width, height)
     except ValueError as e:
         raise FarmError(str(e))
-    render_args = list(o.render_args)
+    render_args = with_denoise_passes(o.render_args) if o.denoise else list(o.render_args)
     local = o.scheduler is None and o.cluster is None
     if local and "--threads" not in render_args:  # the local workers share this machine's cores
         render_args += ["--threads", str(max(1, (os.cpu_count() or 1) // o.workers))]
@@ -227,7 +272,8 @@ def run_farm(o):
         wall = time.monotonic() - t0
 
     t_merge = time.monotonic()
-    merge = [o.pmc, "merge", *[c["part"] for c in chunks], "-o", output]
+    merged = os.path.join(parts_dir, "merged.exr") if o.denoise else output
+    merge = [o.pmc, "merge", *[c["part"] for c in chunks], "-o", merged]
     if o.stats:
         merge += ["--stats", o.stats]
     proc = subprocess.run(merge, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
@@ -235,6 +281,14 @@ def run_farm(o):
     if proc.returncode != 0:
         raise FarmError(f"farm: pmc merge failed: {proc.stderr.strip()}", 1)
     merge_seconds = time.monotonic() - t_merge
+    denoise_seconds = None
+    if o.denoise:  # OUT.exr/png denoised, OUT.noisy.exr/png the merged frame
+        t_denoise = time.monotonic()
+        proc = subprocess.run([o.pmc, "denoise", merged, "-o", output], stdout=subprocess.PIPE,
+                              stderr=subprocess.PIPE, text=True, timeout=o.chunk_timeout)
+        if proc.returncode != 0:
+            raise FarmError(f"farm: pmc denoise failed: {proc.stderr.strip()}", 1)
+        denoise_seconds = time.monotonic() - t_denoise
 
     baseline = None
     if o.baseline:  # one process for the whole frame, for a measured speedup
@@ -248,6 +302,7 @@ def run_farm(o):
 
     results.sort(key=lambda r: r["index"])
     summary = summarise(chunks, results, wall, workers, cluster_seconds, merge_seconds, baseline, o)
+    summary["denoise_seconds"] = denoise_seconds
     if not o.keep_parts:
         shutil.rmtree(parts_dir, ignore_errors=True)
     if o.summary:
@@ -292,4 +347,9 @@ def print_summary(s, out=sys.stderr):
           f"(one process ~ {s['one_process_seconds_estimate']:.1f} s = one chunk's setup + all chunks' render time)"
           + (f", {s['speedup_measured']:.2f}x measured ({s['one_process_seconds_measured']:.1f} s)"
              if s["speedup_measured"] else ""), file=out)
-    print(f"farm: merged in {s['merge_seconds']:.2f} s -> {s['output']}", file=out)
+    if s.get("denoise_seconds") is None:
+        print(f"farm: merged in {s['merge_seconds']:.2f} s -> {s['output']}", file=out)
+    else:
+        noisy = os.path.splitext(s["output"])[0] + ".noisy.exr"
+        print(f"farm: merged in {s['merge_seconds']:.2f} s -> {noisy}; denoised in {s['denoise_seconds']:.2f} s "
+              f"-> {s['output']}", file=out)

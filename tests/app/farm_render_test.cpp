@@ -4,6 +4,7 @@
 // merged R, G, B must equal it bit for bit, tests/app/merge_cli_test.cpp says
 // why that holds).
 //  * 4 sample-range chunks, and 4 tiles.
+//  * --denoise: the merged frame with its passes, denoised by pmc denoise.
 //  * A worker killed (SIGKILL) while it runs a chunk: the nanny starts a new
 //    worker, the scheduler reschedules the chunk, the job completes and the
 //    image is the same; the chunk log shows that chunk started twice.
@@ -20,6 +21,7 @@
 #include <thread>
 
 #include "core/image_io.h"
+#include "tests/support/exr_channels.h"
 #include "tests/support/test_support.h"
 
 namespace pmc {
@@ -109,6 +111,33 @@ TEST(FarmRender, AWorkerKilledDuringTheJobIsReplacedAndTheImageIsTheSame) {
   EXPECT_GT(second, 0) << "the killed worker's chunk was not run again";
   EXPECT_NE(second, victim);
   EXPECT_TRUE(one_process(d) == rgb(d + "/farm.exr"));
+}
+
+TEST(FarmRender, DenoiseRendersThePassesAndDenoisesTheMergedFrame) {
+  // Two sample chunks with --denoise: OUT.noisy.exr is the merged frame,
+  // equal to the one-process render with the denoiser's passes bit for bit,
+  // and OUT.exr is that frame denoised by pmc render --denoise.
+  const std::string d = test::temp_dir();
+  std::string log;
+  ASSERT_EQ(run(farm(d + "/farm.exr", "--chunks 2 --denoise --aov depth"), &log), 0) << log;
+  for (const char* f : {"/farm.exr", "/farm.png", "/farm.noisy.exr", "/farm.noisy.png"})
+    EXPECT_TRUE(std::filesystem::exists(d + f)) << f;
+  EXPECT_NE(log.find("denoised in"), std::string::npos) << log;
+  ASSERT_EQ(test::run_pmc("render " + room() + kArgs + " --aov albedo,normal,depth --denoise --quiet -o " +
+                              d + "/one.exr",
+                          &log),
+            0)
+      << log;
+  EXPECT_TRUE(rgb(d + "/one.noisy.exr") == rgb(d + "/farm.noisy.exr"));
+  const auto layers = test::exr_channels(d + "/farm.noisy.exr");
+  for (const char* c : {"albedo.R", "N.X", "Z"}) EXPECT_TRUE(layers.count(c)) << "no channel " << c;
+  const std::vector<float> farm_clean = rgb(d + "/farm.exr"), one_clean = rgb(d + "/one.exr");
+  ASSERT_EQ(farm_clean.size(), one_clean.size());
+  double diff = 0, mag = 0;
+  for (size_t i = 0; i < farm_clean.size(); ++i)
+    diff += std::abs(farm_clean[i] - one_clean[i]), mag += one_clean[i];
+  EXPECT_LT(diff, 1e-3 * mag);  // OIDN may differ in the last bits between runs
+  EXPECT_FALSE(farm_clean == rgb(d + "/farm.noisy.exr"));
 }
 
 }  // namespace

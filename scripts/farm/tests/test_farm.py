@@ -88,6 +88,32 @@ class CommandLine(unittest.TestCase):
             self.assertEqual(os.listdir(d), [])
 
 
+class Denoise(unittest.TestCase):
+    def test_the_denoisers_passes_join_the_users_list(self):
+        self.assertEqual(run.with_denoise_passes(["--spp", "4"]), ["--spp", "4", "--aov", "albedo,normal"])
+        self.assertEqual(run.with_denoise_passes(["--aov", "depth", "--spp", "4"]),
+                         ["--aov", "depth,albedo,normal", "--spp", "4"])
+        self.assertEqual(run.with_denoise_passes(["--aov=normal,hits"]), ["--aov", "normal,hits,albedo"])
+        self.assertEqual(run.with_denoise_passes(["--aov", "all"]), ["--aov", "all"])
+
+    def test_a_missing_denoiser_is_refused_before_any_chunk_renders(self):
+        scene = os.path.join(ROOT, "data", "default", "room.obj")
+        with tempfile.TemporaryDirectory() as d:
+            saved = os.environ.get("PMC_OIDN_LIBRARY")
+            os.environ["PMC_OIDN_LIBRARY"] = os.path.join(d, "no", "libOpenImageDenoise.so.2")
+            try:
+                err = _stderr_of(lambda: cli.main([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--denoise",
+                                                   "--quiet"]), expect=2)
+            finally:
+                if saved is None:
+                    del os.environ["PMC_OIDN_LIBRARY"]
+                else:
+                    os.environ["PMC_OIDN_LIBRARY"] = saved
+            self.assertIn("--denoise: Open Image Denoise not available", err)
+            self.assertIn("pyoidn", err)
+            self.assertEqual(os.listdir(d), [])
+
+
 def _stderr_of(fn, expect):
     import io
     buf = io.StringIO()
