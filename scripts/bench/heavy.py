@@ -14,9 +14,11 @@ Method:
      (they fill PoCL's kernel cache and the OS file cache; kernel compiles
      are never in render_seconds);
   2. RUNS rounds of `pmc render --cache off` and `--cache on` at WIDTHxHEIGHT
-     and SPP with --stats, the order reversed every other round; the median
-     render_seconds of each, off / on over the medians and the range of the
-     per-round ratios. Hit rates (all lookups, uv keys, position keys) and the
+     and SPP with --stats, and of the room with room.mtl's constant
+     materials instead of the networks (--cache off: a free material, the
+     ceiling of any cache), the order rotated every round; the median
+     render_seconds of each, off / on and off / free over the medians and the
+     range of the per-round ratios. Hit rates (all lookups, uv keys, position keys) and the
      table's memory come from the cached renders' stats (the same every round:
      centre mode is deterministic);
   3. one `pmc compare` (cache on against off, same seed and samples) at
@@ -40,6 +42,9 @@ from bench import common
 PROG = "bench.heavy"
 SECTION = "## Heavy procedural scene: the cache's own benchmark (scripts/bench-heavy)"
 SCENE = ["data/heavy/room.obj", "--mtlx", "data/heavy/materials.mtlx"]
+# Timed configurations: name, scene, cache. "free": the same room with room.mtl's
+# constant materials instead of the networks, cacheless: what any cache could reach.
+CONFIGS = [("off", SCENE, "off"), ("on", SCENE, "on"), ("free", SCENE[:1], "off")]
 GOAL_SPEEDUP = 2.0
 GOAL_WORST_TILE = 40.0
 GOAL_SIZE = (640, 360, 16)  # the speedup goal's width, height and samples
@@ -98,9 +103,9 @@ class Measure:
         self.log = os.path.join(self.out, "log.txt")
         open(self.log, "w").close()
 
-    def render(self, name, cache, spp):
+    def render(self, name, cache, spp, scene=SCENE):
         exr, js = f"{self.out}/{name}.exr", f"{self.out}/{name}.json"
-        cmd = [self.a.pmc, "render", *SCENE, "-o", exr, "--stats", js, "--cache", cache,
+        cmd = [self.a.pmc, "render", *scene, "-o", exr, "--stats", js, "--cache", cache,
                *common.size_args(self.a.width, self.a.height, spp)]
         return common.run_pmc(cmd, js, self.log, f"render {name}", append=True)[0]
 
@@ -108,17 +113,17 @@ class Measure:
         t0 = time.time()
         load = common.LoadSampler()
         progress("warm-up renders (untimed)")
-        for cache in ("off", "on"):
-            self.render(f"warm_{cache}", cache, 1)
-        times, cached = {"off": [], "on": []}, None
+        for name, scene, cache in CONFIGS:
+            self.render(f"warm_{name}", cache, 1, scene)
+        times, cached = {name: [] for name, _, _ in CONFIGS}, None
         for r in range(self.a.runs):
-            for cache in common.round_order(("off", "on"), r, "reverse"):
-                st = self.render(f"r{r}_{cache}", cache, self.a.spp)
-                times[cache].append(st["render_seconds"])
-                if cache == "on":
+            for name, scene, cache in common.round_order(CONFIGS, r):
+                st = self.render(f"r{r}_{name}", cache, self.a.spp, scene)
+                times[name].append(st["render_seconds"])
+                if name == "on":
                     cached = st
                 load.sample()
-            progress(f"round {r + 1}/{self.a.runs}: off {times['off'][-1]:.2f} s, on {times['on'][-1]:.2f} s")
+            progress(f"round {r + 1}/{self.a.runs}: " + ", ".join(f"{n} {times[n][-1]:.2f} s" for n in times))
         c = cached["cache"]
         progress(f"pmc compare at {self.a.psnr_width}x{self.a.psnr_height}, {self.a.psnr_spp} spp")
         d = f"{self.out}/compare"
@@ -133,7 +138,8 @@ class Measure:
                     width=self.a.width, height=self.a.height, spp=self.a.spp, runs=self.a.runs,
                     psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height, psnr_spp=self.a.psnr_spp,
                     times=times, t_off=common.median(times["off"]), t_on=common.median(times["on"]),
-                    ratios=common.round_ratios(times["off"], times["on"]),
+                    ratios=common.round_ratios(times["off"], times["on"]), t_free=common.median(times["free"]),
+                    ratios_free=common.round_ratios(times["off"], times["free"]),
                     hits={k: c.get(k) for k in ("hit_rate", "uv_hit_rate", "position_hit_rate", "lookups",
                                                 "position_lookups")},
                     memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
@@ -157,6 +163,24 @@ def plan_rows(plan):
     return rows
 
 
+def free_row(d):
+    """The free-material row (none in results of runs before it was measured)."""
+    if d.get("t_free") is None:
+        return []
+    lo, hi = min(d["ratios_free"]), max(d["ratios_free"])
+    return [["materials free (room.mtl's constants, cache off)", f"{d['t_free']:.2f}",
+             f"{d['t_off'] / d['t_free']:.2f}x ({lo:.2f}-{hi:.2f})", "-", "-", "-", "-"]]
+
+
+def ceiling_text(d, speed):
+    if d.get("t_free") is None:
+        return ""
+    ceiling = d["t_off"] / d["t_free"]
+    return (f"\nThe free-material row is the ceiling of any cache on this scene: the cache reaches "
+            f"{speed:.2f}x of {ceiling:.2f}x, {100 * (speed - 1) / (ceiling - 1):.0f}% of the time a free "
+            f"material would save.\n")
+
+
 def report(d):
     speed = d["t_off"] / d["t_on"]
     lo, hi = min(d["ratios"]), max(d["ratios"])
@@ -171,7 +195,8 @@ def report(d):
           f"{pct(h['hit_rate'])} ({pct(h['uv_hit_rate'])} / {pct(h['position_hit_rate'])})",
           f"{d['memory'] / 2**20:.1f} MiB", f"{d['psnr']:.1f} dB",
           f"{d['worst_tile_psnr']:.1f} dB at {tuple(d['worst_tile'])}"
-          + (f" ({d['worst_trimmed_tile_psnr']:.1f} dB)" if d.get("worst_trimmed_tile_psnr") else "")]])
+          + (f" ({d['worst_trimmed_tile_psnr']:.1f} dB)" if d.get("worst_trimmed_tile_psnr") else "")],
+         *free_row(d)])
     plan = common.md_table(["material", "nodes after pmc's passes", "cache points: sub-graph nodes (key)",
                             "nodes reading uv and position (not cacheable)"], plan_rows(d["plan"]))
     speed_goal = (goal(speed >= GOAL_SPEEDUP) + f" ({speed:.2f}x)" if (d["width"], d["height"], d["spp"]) == GOAL_SIZE
@@ -194,14 +219,14 @@ and a low sun (`room.lights.json`). Every surface is a procedural MaterialX netw
 pmc's passes, built from stdlib nodes the way artists build them: structured patterns (planks, bricks,
 threads, bands) from the uv, weathering and solid stone and rust from the position, with domain-warped
 fBm, Worley cells and cell borders. No textures. Method: `scripts/bench/heavy.py`; {common.rounds_text(d['runs'])}
-of off and on at {size}, the order reversed every other round; off / on over the medians, the per-round
-ratios in brackets. PSNR: `pmc compare` (same seed and samples) at {psnr_size}.
+of off, on and free materials at {size}, the order rotated every round; ratios over the medians, the
+per-round ratios in brackets. PSNR: `pmc compare` (same seed and samples) at {psnr_size}.
 
     {render_cmd}
     {compare_cmd}
 
 {table}
-
+{ceiling_text(d, speed)}
 Size: {d['size_reason']}.
 
 Cache plan (`pmc info --scene data/heavy/room.obj --mtlx data/heavy/materials.mtlx --dump-cache-plan`):
