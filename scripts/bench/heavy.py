@@ -10,22 +10,24 @@ docs/BENCHMARKS.md.
     scripts/python -m bench.heavy --report-only       the table and section from --out-dir's results.json
 
 Method:
-  1. one 1-spp render with the cache off and one with it on, not timed
-     (they fill PoCL's kernel cache and the OS file cache; kernel compiles
-     are never in render_seconds);
-  2. RUNS rounds of `pmc render --cache off` and `--cache on` at WIDTHxHEIGHT
-     and SPP with --stats, and of the room with room.mtl's constant
-     materials instead of the networks (--cache off: a free material, the
-     ceiling of any cache), the order rotated every round; the median
-     render_seconds of each, off / on and off / free over the medians and the
-     range of the per-round ratios. Hit rates (all lookups, uv keys, position keys) and the
-     table's memory come from the cached renders' stats (the same every round:
-     centre mode is deterministic);
-  3. one `pmc compare` (cache on against off, same seed and samples) at
-     PSNR_WIDTHxPSNR_HEIGHT and PSNR_SPP: PSNR over the image and in its worst
-     16x16 tile (pmc compare's metrics.json, as bench.cache and
-     bench.cache_position read them), and the worst tile with each tile's
-     2 largest pixel errors left out;
+  1. one 1-spp render of every configuration, not timed (they fill PoCL's
+     kernel cache and the OS file cache; kernel compiles are never in
+     render_seconds);
+  2. RUNS rounds of `pmc render --cache off`, `--cache on` and `--cache on
+     --cache-bandwidth on` (texels no coarser than the patterns: the answer
+     to patterns finer than a pixel) at WIDTHxHEIGHT and SPP with --stats,
+     and of the room with room.mtl's constant materials instead of the
+     networks (--cache off: a free material, the ceiling of any cache), the
+     order rotated every round; the median render_seconds of each, off / each
+     over the medians and the range of the per-round ratios. Hit rates (all
+     lookups, uv keys, position keys) and the table's memory come from the
+     cached renders' stats (the same every round: centre mode is
+     deterministic);
+  3. per cached configuration one `pmc compare` (against off, same seed and
+     samples) at PSNR_WIDTHxPSNR_HEIGHT and PSNR_SPP: PSNR over the image and
+     in its worst 16x16 tile (pmc compare's metrics.json, as bench.cache and
+     bench.cache_position read them), and the worst tile with each tile's 2
+     largest pixel errors left out;
   4. `pmc info --dump-cache-plan`: per material its nodes after pmc's passes,
      its cache points (node, sub-graph size, key) and the nodes that read uv
      and position together (not cacheable: the few nodes where the two
@@ -42,9 +44,13 @@ from bench import common
 PROG = "bench.heavy"
 SECTION = "## Heavy procedural scene: the cache's own benchmark (scripts/bench-heavy)"
 SCENE = ["data/heavy/room.obj", "--mtlx", "data/heavy/materials.mtlx"]
-# Timed configurations: name, scene, cache. "free": the same room with room.mtl's
+# Timed configurations: name, scene, pmc options. "free": the same room with room.mtl's
 # constant materials instead of the networks, cacheless: what any cache could reach.
-CONFIGS = [("off", SCENE, "off"), ("on", SCENE, "on"), ("free", SCENE[:1], "off")]
+# The cached ones (CACHED) are also compared with the cacheless render for their bias.
+CONFIGS = [("off", SCENE, ["--cache", "off"]), ("on", SCENE, ["--cache", "on"]),
+           ("bandwidth", SCENE, ["--cache", "on", "--cache-bandwidth", "on"]),
+           ("free", SCENE[:1], ["--cache", "off"])]
+CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`"}
 GOAL_SPEEDUP = 2.0
 GOAL_WORST_TILE = 40.0
 GOAL_SIZE = (640, 360, 16)  # the speedup goal's width, height and samples
@@ -103,48 +109,55 @@ class Measure:
         self.log = os.path.join(self.out, "log.txt")
         open(self.log, "w").close()
 
-    def render(self, name, cache, spp, scene=SCENE):
+    def render(self, name, scene, extra, spp):
         exr, js = f"{self.out}/{name}.exr", f"{self.out}/{name}.json"
-        cmd = [self.a.pmc, "render", *scene, "-o", exr, "--stats", js, "--cache", cache,
+        cmd = [self.a.pmc, "render", *scene, "-o", exr, "--stats", js, *extra,
                *common.size_args(self.a.width, self.a.height, spp)]
         return common.run_pmc(cmd, js, self.log, f"render {name}", append=True)[0]
+
+    def compare(self, name, extra):
+        progress(f"pmc compare {' '.join(extra)} at {self.a.psnr_width}x{self.a.psnr_height}, {self.a.psnr_spp} spp")
+        d = f"{self.out}/compare_{name}"
+        common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d, *extra[2:],
+                    *common.size_args(self.a.psnr_width, self.a.psnr_height, self.a.psnr_spp)],
+                   self.log, f"compare {name}", append=True)
+        m = common.read_json(f"{d}/metrics.json")["cached_vs_cacheless"]
+        return dict(psnr=m["psnr"], worst_tile_psnr=m["worst_tile_psnr"], worst_tile=m["worst_tile"],
+                    worst_trimmed_tile_psnr=m.get("worst_trimmed_tile_psnr"))
 
     def all(self):
         t0 = time.time()
         load = common.LoadSampler()
         progress("warm-up renders (untimed)")
-        for name, scene, cache in CONFIGS:
-            self.render(f"warm_{name}", cache, 1, scene)
-        times, cached = {name: [] for name, _, _ in CONFIGS}, None
+        for name, scene, extra in CONFIGS:
+            self.render(f"warm_{name}", scene, extra, 1)
+        times, stats = {name: [] for name, _, _ in CONFIGS}, {}
         for r in range(self.a.runs):
-            for name, scene, cache in common.round_order(CONFIGS, r):
-                st = self.render(f"r{r}_{name}", cache, self.a.spp, scene)
+            for name, scene, extra in common.round_order(CONFIGS, r):
+                st = self.render(f"r{r}_{name}", scene, extra, self.a.spp)
                 times[name].append(st["render_seconds"])
-                if name == "on":
-                    cached = st
+                stats[name] = st
                 load.sample()
             progress(f"round {r + 1}/{self.a.runs}: " + ", ".join(f"{n} {times[n][-1]:.2f} s" for n in times))
-        c = cached["cache"]
-        progress(f"pmc compare at {self.a.psnr_width}x{self.a.psnr_height}, {self.a.psnr_spp} spp")
-        d = f"{self.out}/compare"
-        common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d,
-                    *common.size_args(self.a.psnr_width, self.a.psnr_height, self.a.psnr_spp)],
-                   self.log, "compare", append=True)
-        m = common.read_json(f"{d}/metrics.json")["cached_vs_cacheless"]
+        cached = {}
+        for name, _, extra in CONFIGS:
+            if name not in CACHED:
+                continue
+            c = stats[name]["cache"]
+            cached[name] = dict(t=common.median(times[name]), ratios=common.round_ratios(times["off"], times[name]),
+                                hits={k: c.get(k) for k in ("hit_rate", "uv_hit_rate", "position_hit_rate",
+                                                            "lookups", "position_lookups", "bypassed")},
+                                memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
+                                **self.compare(name, extra))
         plan = common.run([self.a.pmc, "info", "--scene", *SCENE, "--dump-cache-plan"], self.log, "cache plan",
                           append=True).output
         return dict(command=self.a.command, now=common.utc_now(), rev=common.git_rev(ignore=["docs/BENCHMARKS.md"]),
-                    machine=common.machine(cached.get("device", "")), load=load.note(), elapsed=time.time() - t0,
-                    width=self.a.width, height=self.a.height, spp=self.a.spp, runs=self.a.runs,
-                    psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height, psnr_spp=self.a.psnr_spp,
-                    times=times, t_off=common.median(times["off"]), t_on=common.median(times["on"]),
-                    ratios=common.round_ratios(times["off"], times["on"]), t_free=common.median(times["free"]),
-                    ratios_free=common.round_ratios(times["off"], times["free"]),
-                    hits={k: c.get(k) for k in ("hit_rate", "uv_hit_rate", "position_hit_rate", "lookups",
-                                                "position_lookups")},
-                    memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
-                    psnr=m["psnr"], worst_tile_psnr=m["worst_tile_psnr"], worst_tile=m["worst_tile"],
-                    worst_trimmed_tile_psnr=m.get("worst_trimmed_tile_psnr"), plan=parse_plan(plan))
+                    machine=common.machine(stats["on"].get("device", "")), load=load.note(),
+                    elapsed=time.time() - t0, width=self.a.width, height=self.a.height, spp=self.a.spp,
+                    runs=self.a.runs, psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height,
+                    psnr_spp=self.a.psnr_spp, times=times, t_off=common.median(times["off"]),
+                    t_free=common.median(times["free"]), ratios_free=common.round_ratios(times["off"], times["free"]),
+                    cached=cached, plan=parse_plan(plan))
 
 
 def pct(x):
@@ -181,31 +194,59 @@ def ceiling_text(d, speed):
             f"material would save.\n")
 
 
+def cached_results(d):
+    """{name: result} of the cached configurations; results.json of runs
+    before --cache-bandwidth was measured kept "on" at the top level."""
+    if "cached" in d:
+        return d["cached"]
+    keys = ("hits", "memory", "size_reason", "psnr", "worst_tile_psnr", "worst_tile", "worst_trimmed_tile_psnr")
+    return {"on": dict(t=d["t_on"], ratios=d["ratios"], **{k: d.get(k) for k in keys})}
+
+
+def cached_row(d, name, r):
+    h = r["hits"]
+    lo, hi = min(r["ratios"]), max(r["ratios"])
+    bypassed = f", {h['bypassed']:,} bypassed" if h.get("bypassed") else ""
+    tile = f"{r['worst_tile_psnr']:.1f} dB at {tuple(r['worst_tile'])}"
+    if r.get("worst_trimmed_tile_psnr"):
+        tile += f" ({r['worst_trimmed_tile_psnr']:.1f} dB)"
+    return [CACHED[name], f"{r['t']:.2f}", f"**{d['t_off'] / r['t']:.2f}x** ({lo:.2f}-{hi:.2f})",
+            f"{pct(h['hit_rate'])} ({pct(h['uv_hit_rate'])} / {pct(h['position_hit_rate'])}){bypassed}",
+            f"{r['memory'] / 2**20:.1f} MiB", f"{r['psnr']:.1f} dB", tile]
+
+
+def goals_text(d, cached, size, psnr_size):
+    """The issue's goals for the default cache ("on"), and whether this run measured them."""
+    on = cached["on"]
+    speed = d["t_off"] / on["t"]
+    if (d["width"], d["height"], d["spp"]) == GOAL_SIZE:
+        speed_goal = goal(speed >= GOAL_SPEEDUP) + f" ({speed:.2f}x)"
+    else:
+        speed_goal = f"not measured here ({speed:.2f}x at {size})"
+    tile = f"{on['worst_tile_psnr']:.1f} dB at {psnr_size}"
+    if d["psnr_spp"] == GOAL_PSNR_SPP:
+        tile_goal = goal(on["worst_tile_psnr"] >= GOAL_WORST_TILE) + f" ({tile})"
+    else:
+        tile_goal = f"not measured here ({tile})"
+    return (f"Goals (issue 39), for the default cache: cache on at least {GOAL_SPEEDUP:.1f}x at 640x360, 16 spp: "
+            f"{speed_goal}; the worst 16x16 tile at least {GOAL_WORST_TILE:.0f} dB at 256 spp: {tile_goal}.")
+
+
 def report(d):
-    speed = d["t_off"] / d["t_on"]
-    lo, hi = min(d["ratios"]), max(d["ratios"])
-    h = d["hits"]
+    cached = cached_results(d)
+    speed = d["t_off"] / cached["on"]["t"]
     size = f"{d['width']}x{d['height']}, {d['spp']} spp"
     psnr_size = f"{d['psnr_width']}x{d['psnr_height']}, {d['psnr_spp']} spp"
     table = common.md_table(
-        ["render", f"time (s), {size}", "off / on", "hit rate (uv / position)", "cache memory",
+        ["render", f"time (s), {size}", "off / this", "hit rate (uv / position)", "cache memory",
          f"PSNR vs off, {psnr_size}", "worst 16x16 tile (trimmed)"],
         [["cache off", f"{d['t_off']:.2f}", "1.00x", "-", "-", "-", "-"],
-         ["cache on", f"{d['t_on']:.2f}", f"**{speed:.2f}x** ({lo:.2f}-{hi:.2f})",
-          f"{pct(h['hit_rate'])} ({pct(h['uv_hit_rate'])} / {pct(h['position_hit_rate'])})",
-          f"{d['memory'] / 2**20:.1f} MiB", f"{d['psnr']:.1f} dB",
-          f"{d['worst_tile_psnr']:.1f} dB at {tuple(d['worst_tile'])}"
-          + (f" ({d['worst_trimmed_tile_psnr']:.1f} dB)" if d.get("worst_trimmed_tile_psnr") else "")],
-         *free_row(d)])
+         *[cached_row(d, name, r) for name, r in cached.items()], *free_row(d)])
     plan = common.md_table(["material", "nodes after pmc's passes", "cache points: sub-graph nodes (key)",
                             "nodes reading uv and position (not cacheable)"], plan_rows(d["plan"]))
-    speed_goal = (goal(speed >= GOAL_SPEEDUP) + f" ({speed:.2f}x)" if (d["width"], d["height"], d["spp"]) == GOAL_SIZE
-                  else f"not measured here ({speed:.2f}x at {size})")
-    tile_goal = (goal(d["worst_tile_psnr"] >= GOAL_WORST_TILE) + f" ({d['worst_tile_psnr']:.1f} dB at {psnr_size})"
-                 if d["psnr_spp"] == GOAL_PSNR_SPP else f"not measured here ({d['worst_tile_psnr']:.1f} dB at {psnr_size})")
     render_cmd = " ".join(["build/pmc", "render", *SCENE, "-o", "OUT.exr", "--stats", "OUT.json", "--cache",
-                           "off|on", *common.size_args(d["width"], d["height"], d["spp"])])
-    compare_cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR",
+                           "off|on", "[--cache-bandwidth on]", *common.size_args(d["width"], d["height"], d["spp"])])
+    compare_cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR", "[--cache-bandwidth on]",
                             *common.size_args(d["psnr_width"], d["psnr_height"], d["psnr_spp"])])
     section = f"""{SECTION}
 
@@ -219,25 +260,25 @@ and a low sun (`room.lights.json`). Every surface is a procedural MaterialX netw
 pmc's passes, built from stdlib nodes the way artists build them: structured patterns (planks, bricks,
 threads, bands) from the uv, weathering and solid stone and rust from the position, with domain-warped
 fBm, Worley cells and cell borders. No textures. Method: `scripts/bench/heavy.py`; {common.rounds_text(d['runs'])}
-of off, on and free materials at {size}, the order rotated every round; ratios over the medians, the
-per-round ratios in brackets. PSNR: `pmc compare` (same seed and samples) at {psnr_size}.
+of every row at {size}, the order rotated every round; ratios over the medians, the per-round ratios in
+brackets. PSNR: `pmc compare` (same seed and samples, cached against cacheless) at {psnr_size}.
 
     {render_cmd}
     {compare_cmd}
 
 {table}
 {ceiling_text(d, speed)}
-Size: {d['size_reason']}.
+Size: {cached['on']['size_reason']}.
 
 Cache plan (`pmc info --scene data/heavy/room.obj --mtlx data/heavy/materials.mtlx --dump-cache-plan`):
 
 {plan}
 
-Goals (issue 39): cache on at least {GOAL_SPEEDUP:.1f}x at 640x360, 16 spp: {speed_goal}; the worst
-16x16 tile at least {GOAL_WORST_TILE:.0f} dB at 256 spp: {tile_goal}.
+{goals_text(d, cached, size, psnr_size)}
 """
-    printed = (f"{PROG}: off {d['t_off']:.2f} s, on {d['t_on']:.2f} s: {speed:.2f}x ({lo:.2f}-{hi:.2f}); "
-               f"hit rate {pct(h['hit_rate'])}; PSNR {d['psnr']:.1f} dB, worst tile {d['worst_tile_psnr']:.1f} dB")
+    on = cached["on"]
+    printed = (f"{PROG}: off {d['t_off']:.2f} s, on {on['t']:.2f} s: {speed:.2f}x; hit rate "
+               f"{pct(on['hits']['hit_rate'])}; PSNR {on['psnr']:.1f} dB, worst tile {on['worst_tile_psnr']:.1f} dB")
     return section, printed
 
 
