@@ -232,6 +232,34 @@ def goals_text(d, cached, size, psnr_size):
             f"{speed_goal}; the worst 16x16 tile at least {GOAL_WORST_TILE:.0f} dB at 256 spp: {tile_goal}.")
 
 
+def notes_text(d, cached):
+    """What the table shows about the plan and the bias (facts of the scene; numbers of this run)."""
+    on = cached["on"]
+    lines = [
+        "Notes:",
+        "- Every material but the marble looks up 4-5 points per evaluation: its uv layers and its position",
+        "  weathering (or the drum's rust) are separate points, and the 2-5 nodes where they meet (the",
+        "  right-hand column) run at every hit. A miss of any point evaluates that point's sub-graph; the",
+        "  position-only weathering (`weather_k`: a domain-warped 7-octave `fractal3d`, two `worleynoise3d`, a",
+        "  5-octave `fractal3d`) has 29 nodes but by bench.node_costs costs about 350 average nodes, more",
+        "  than the 100-odd-node uv layers (their 2D noises are cheap): node counts say little of cost here.",
+        "- The drum's `rust_rough` (6 nodes, one of them a 3-octave `fractal3d` that the `rust` point also",
+        "  reads) is below `--cache-min-nodes 8` and so runs at every hit of the drum, although by",
+        "  bench.node_costs it costs about 30 average nodes: a cost model weighing nodes would cache it.",
+        f"- Bias: at {d['psnr_width']}x{d['psnr_height']} the ottoman's threads (1.25 cm), the wood's pores, the",
+        "  brick's specks and pebbles and the plaster's fine craquelure are finer than a pixel, and a",
+        "  footprint texel holds one value of them where the cacheless render averages the pattern over",
+        f"  the pixel's samples: the default cache's worst tile reads {on['worst_tile_psnr']:.1f} dB.",
+    ]
+    bw = cached.get("bandwidth")
+    if bw:
+        lines += ["  `--cache-bandwidth on` (texels no coarser than half the finest feature, or no cache where that",
+                  f"  is more than 2 levels finer than the footprint) reads {bw['worst_tile_psnr']:.1f} dB in the worst "
+                  f"tile and {bw['psnr']:.1f} dB",
+                  f"  over the image, at {d['t_off'] / bw['t']:.2f}x instead of {d['t_off'] / on['t']:.2f}x."]
+    return "\n".join(lines) + "\n"
+
+
 def report(d):
     cached = cached_results(d)
     speed = d["t_off"] / cached["on"]["t"]
@@ -274,6 +302,7 @@ Cache plan (`pmc info --scene data/heavy/room.obj --mtlx data/heavy/materials.mt
 
 {plan}
 
+{notes_text(d, cached)}
 {goals_text(d, cached, size, psnr_size)}
 """
     on = cached["on"]
