@@ -53,6 +53,7 @@ CONFIGS = [("off", SCENE, ["--cache", "off"]), ("on", SCENE, ["--cache", "on"]),
 CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`"}
 GOAL_SPEEDUP = 2.0
 GOAL_WORST_TILE = 40.0
+IDENTICAL_DB = 999.0        # pmc compare's PSNR of identical images
 GOAL_SIZE = (640, 360, 16)  # the speedup goal's width, height and samples
 GOAL_PSNR_SPP = 256         # the worst-tile goal's samples
 
@@ -210,9 +211,12 @@ def cached_row(d, name, r):
     tile = f"{r['worst_tile_psnr']:.1f} dB at {tuple(r['worst_tile'])}"
     if r.get("worst_trimmed_tile_psnr"):
         tile += f" ({r['worst_trimmed_tile_psnr']:.1f} dB)"
+    psnr = f"{r['psnr']:.1f} dB"
+    if r["psnr"] >= IDENTICAL_DB:
+        psnr, tile = "identical", "identical"
     return [CACHED[name], f"{r['t']:.2f}", f"**{d['t_off'] / r['t']:.2f}x** ({lo:.2f}-{hi:.2f})",
             f"{pct(h['hit_rate'])} ({pct(h['uv_hit_rate'])} / {pct(h['position_hit_rate'])}){bypassed}",
-            f"{r['memory'] / 2**20:.1f} MiB", f"{r['psnr']:.1f} dB", tile]
+            f"{r['memory'] / 2**20:.1f} MiB", psnr, tile]
 
 
 def goals_text(d, cached, size, psnr_size):
@@ -252,7 +256,15 @@ def notes_text(d, cached):
         f"  the pixel's samples: the default cache's worst tile reads {on['worst_tile_psnr']:.1f} dB.",
     ]
     bw = cached.get("bandwidth")
-    if bw:
+    if bw and bw["hits"]["hit_rate"] == 0 and bw["hits"].get("bypassed"):
+        lines += ["  `--cache-bandwidth on` is no answer here: every point's level floor (texels no coarser than half",
+                  "  its finest feature, 0.2-11 mm by `pmc info --dump-cache-plan --cache-bandwidth on`: the last",
+                  "  octaves of 4-8-octave fBms, pores, specks, threads) is more than 2 levels finer than the",
+                  "  footprint, so every point is evaluated without the cache (`bypassed`):",
+                  f"  the cacheless image at the cacheless speed ({d['t_off'] / bw['t']:.2f}x). What would help is",
+                  "  a point cached at the footprint with its finest features filtered, or split so that the",
+                  "  sub-pixel layers stay uncached and the coarse ones are cached."]
+    elif bw:
         lines += ["  `--cache-bandwidth on` (texels no coarser than half the finest feature, or no cache where that",
                   f"  is more than 2 levels finer than the footprint) reads {bw['worst_tile_psnr']:.1f} dB in the worst "
                   f"tile and {bw['psnr']:.1f} dB",
