@@ -11,6 +11,7 @@
 #include "core/error.h"
 #include "materials/closure_flatten.h"
 #include "materials/emit.h"
+#include "materials/geom_default.h"
 #include "materials/mtlx_include.h"
 #include "materials/mtlx_library.h"
 #include "materials/mtlx_matrix.h"
@@ -18,21 +19,6 @@
 
 namespace pmc {
 namespace {
-
-std::string dirname_of(const std::string& path) {
-  size_t slash = path.find_last_of('/');
-  return slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-}
-
-bool structural_tag(const std::string& tag) {
-  return tag == "input" || tag == "output" || tag == "nodegraph" || tag == "nodedef" || tag == "look" ||
-         tag == "materialassign" || tag == "collection" || tag == "geominfo" || tag == "typedef" ||
-         tag == "implementation" || tag == "backdrop" || tag == "variantset" || tag == "propertyset" ||
-         tag == "token" || tag == "unit" || tag == "unittypedef" || tag == "xi:include" ||
-         tag == "attributedef" || tag == "targetdef" || tag == "geompropdef" || tag == "propertysetassign" ||
-         tag == "variantassign" || tag == "visibility" || tag == "lookgroup" || tag == "comment" ||
-         tag == "typedef";
-}
 
 bool is_closure(const std::string& type) {
   return type == "BSDF" || type == "EDF" || type == "VDF" || type == "surfaceshader" ||
@@ -61,13 +47,21 @@ GeomDefault geom_default(const std::string& name) {
 
 bool mtlx_is_surface_shader(const std::string& category) { return !surface_params(category).empty(); }
 
-bool mtlx_is_structural(const std::string& tag) { return structural_tag(tag); }
+bool mtlx_is_structural(const std::string& tag) {
+  return tag == "input" || tag == "output" || tag == "nodegraph" || tag == "nodedef" || tag == "look" ||
+         tag == "materialassign" || tag == "collection" || tag == "geominfo" || tag == "typedef" ||
+         tag == "implementation" || tag == "backdrop" || tag == "variantset" || tag == "propertyset" ||
+         tag == "token" || tag == "unit" || tag == "unittypedef" || tag == "xi:include" ||
+         tag == "attributedef" || tag == "targetdef" || tag == "geompropdef" || tag == "propertysetassign" ||
+         tag == "variantassign" || tag == "visibility" || tag == "lookgroup" || tag == "comment" ||
+         tag == "typedef";
+}
 
 struct MtlxInstantiator::Impl {
   Impl(const std::string& path, const MtlxReadOptions& options, pugi::xml_node root,
        MtlxSurfaceBuilder build_surface)
       : path_(path),
-        dir_(dirname_of(path)),
+        dir_(path.substr(0, path.find_last_of('/') + 1)),
         options_(options),
         search_(mtlx_search_paths(options)),
         root_(root),
@@ -206,40 +200,7 @@ struct MtlxInstantiator::Impl {
   }
 
   int geom_node(GeomDefault g) {
-    auto it = geom_nodes_.find(int(g));
-    if (it != geom_nodes_.end()) return it->second;
-    Node n;
-    n.origin = path_ + ": implicit geometric default";
-    switch (g) {
-      case GeomDefault::UV0:
-        n.category = "texcoord", n.type = ValueType::Vector2;
-        break;
-      case GeomDefault::Pobject:
-      case GeomDefault::Pworld:
-        n.category = "position", n.type = ValueType::Vector3;
-        break;
-      case GeomDefault::Nworld:
-      case GeomDefault::Nobject:
-        n.category = "normal", n.type = ValueType::Vector3;
-        break;
-      case GeomDefault::Tworld:
-      case GeomDefault::Tobject:
-        n.category = "tangent", n.type = ValueType::Vector3;
-        break;
-      case GeomDefault::Bworld:
-        n.category = "bitangent", n.type = ValueType::Vector3;
-        break;
-      case GeomDefault::Vworld:  // lowered like a viewdirection node (-N, with a warning)
-        n.category = "viewdirection", n.type = ValueType::Vector3;
-        n.inputs = {Input::constant("space", ValueType::String, 0)};
-        n.inputs[0].value.text = "world";
-        break;
-      default:
-        PMC_CHECK(false, "geometric default");
-    }
-    int id = graph_.add(n);
-    geom_nodes_[int(g)] = id;
-    return id;
+    return geom_default_in(graph_, geom_nodes_, g, path_ + ": implicit geometric default");
   }
 
   // The nearest `attr` on `el` or its ancestors ("" if none).
