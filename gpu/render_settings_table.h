@@ -280,8 +280,8 @@ enum class FrameConversion {
 #define PMC_FRAME_CONVERSION_IF_CACHE FrameConversion::IfCache
 
 // Copies every K(...) line's RenderSettings value into the kernels' frame:
-// settings is a RenderSettings, frame a PmcFrame (templates: this header
-// sees neither).
+// `s` is a RenderSettings, `frame` a PmcFrame (template parameters: this
+// header sees neither type).
 template <typename Settings, typename Frame>
 void fill_frame_settings(const Settings& s, Frame& frame) {
   auto fill = [&](auto host_field, auto frame_field, FrameConversion conversion) {
