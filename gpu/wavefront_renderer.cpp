@@ -195,31 +195,26 @@ class WaveLoop {
 // the caches, smaller ones pay per-wave costs more often.
 constexpr size_t kWaveTargetPaths = size_t(1) << 16;
 
+// The kernels' frame: the table's settings (fill_frame_settings,
+// gpu/render_settings_table.h), then what combines several values.
 PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   PmcFrame frame{};
-  frame.width = s.width;
-  frame.height = s.height;
-  frame.seed = s.seed;
-  frame.max_depth = s.max_depth;
+  fill_frame_settings(s, frame);
   frame.lights = scene.lights.header;
   frame.lights.env_uniform = s.env_importance ? 0u : 1u;
   frame.texture_count = scene.texture_count;
   fill_frame_camera(s.camera, frame);
   const CacheSettings& cs = s.cache;
-  frame.cache_on = cs.on ? 1u : 0u;
-  frame.cache_center = cs.center ? 1u : 0u;
   frame.cache_ways = cs.ways;
   frame.cache_cells_lo = uint32_t(cs.cells & 0xffffffffu);
   frame.cache_cells_hi = uint32_t(cs.cells >> 32);
   frame.mip_bias = cs.mip_bias - cs.fit_levels;
   frame.cache_bilinear = cs.on && cs.bilinear ? 1u : 0u;
-  frame.cache_policy = cs.priority ? PMC_CACHE_PRIORITY : PMC_CACHE_KEEP_FIRST;
-  frame.cache_max_refine = cs.max_refine;
-  frame.cache_lobe_spread = cs.on ? cs.lobe_spread : 0.0f;
   frame.passes_on = s.passes != 0 ? 1u : 0u;
+  // The table copies these as their index (AS_IS).
   static_assert(uint32_t(Sampler::Sobol) == PMC_SAMPLER_SOBOL &&
                 uint32_t(Sampler::Random) == PMC_SAMPLER_RANDOM);
-  frame.sampler = s.sampler;
+  static_assert(uint32_t(false) == PMC_CACHE_KEEP_FIRST && uint32_t(true) == PMC_CACHE_PRIORITY);
   frame.wave_pixels = 1u;  // set per wave
   frame.wave_samples = 1u;
   return frame;

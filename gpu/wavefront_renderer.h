@@ -28,6 +28,7 @@
 #include "core/scene.h"
 #include "gpu/cl_context.h"
 #include "gpu/host_link.h"
+#include "gpu/render_settings_table.h"
 #include "materials/material_set.h"
 
 namespace pmc {
@@ -48,14 +49,16 @@ struct CacheSettings {
   bool priority = false;        // cache_policy priority: camera inserts may replace deeper entries
   bool bandwidth = false;       // cache_bandwidth on: materials carry level floors (bandwidth.h)
   float feature_texels = 2.0f;  // cache_feature_texels: texels across a pattern's smallest feature
-  int max_refine = 2;           // cache_max_refine: floor levels above the footprint's before bypass
-  float lobe_spread = 0.0f;     // cache_lobe_spread: position cells' widening per bounce (pmc_raycone.h)
   std::string reason;           // why this size (printed, and written to stats)
   // Count the occupied entries by reading the table back after the render
   // (tests check that this equals `inserts`). Otherwise occupied = inserts:
   // entries start empty and only an insert's CAS from 0 fills one, and the
   // table (256 MiB at 1080p) is not copied back.
   bool audit = false;
+  // The settings the table declares here (its CACHE(member) lines: max_refine,
+  // floor levels above the footprint's before bypass; lobe_spread, position
+  // cells' widening per bounce), each with the table's type and default.
+  PMC_CACHE_TABLE_MEMBERS
 };
 
 // The counters of core/device/pmc_cache.h, one field each, named by its

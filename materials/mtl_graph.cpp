@@ -8,6 +8,7 @@
 
 #include "core/error.h"
 #include "core/image_backend.h"
+#include "materials/geom_default.h"
 #include "materials/node_table.h"
 
 namespace pmc {
@@ -87,32 +88,7 @@ class Builder {
   }
 
  private:
-  int geom(GeomDefault d) {
-    auto it = geom_.find(int(d));
-    if (it != geom_.end()) return it->second;
-    Node n;
-    n.origin = origin_ + " (geometric default)";
-    n.type = ValueType::Vector3;
-    switch (d) {
-      case GeomDefault::UV0:
-        n.category = "texcoord", n.type = ValueType::Vector2;
-        break;
-      case GeomDefault::Nworld:
-        n.category = "normal";
-        break;
-      case GeomDefault::Tworld:
-        n.category = "tangent";
-        break;
-      case GeomDefault::Bworld:
-        n.category = "bitangent";
-        break;
-      default:
-        PMC_CHECK(false, "MTL network geometric default");
-    }
-    int id = g_.add(n);
-    geom_[int(d)] = id;
-    return id;
-  }
+  int geom(GeomDefault d) { return geom_default_in(g_, geom_, d, origin_ + " (geometric default)"); }
 
   Graph& g_;
   std::string origin_;

@@ -20,6 +20,11 @@
 // is shown as base colour, a surfaceshader output is a material.
 // Filenames resolve against `fileprefix`, then the document's folder, then
 // MATERIALX_SEARCH_PATH, then the options' search paths.
+// The work is split in steps, one file each: mtlx_reader.cpp loads the
+// document (MtlxDocument); mtlx_surface_mapper.cpp finds its materials and
+// maps their surface shaders, over mtlx_instantiator.h, which turns elements
+// into graph nodes (scopes, library expansion, tokens, connections);
+// mtlx_looks.cpp reads the looks.
 // A material that cannot be built (an unsupported node, a BSDF graph ...)
 // keeps its error in Graph::error and fails only when it is used; a document
 // none of whose materials can be built throws it. Errors name the file, the
@@ -38,6 +43,9 @@ struct MtlxReadOptions {
   std::string library_dir;                // mtlx_library; "" = find_mtlx_library's default
   std::vector<std::string> search_paths;  // mtlx_search_paths, after MATERIALX_SEARCH_PATH
 };
+// Where filenames and includes are looked up last: MATERIALX_SEARCH_PATH's
+// folders (':' or ';' separated), then the options' search paths.
+std::vector<std::string> mtlx_search_paths(const MtlxReadOptions& options);
 
 // One MaterialX document, loaded once: parsed, upgraded to 1.39 syntax
 // (mtlx_upgrade.h) and its root-level includes expanded (mtlx_include.h).

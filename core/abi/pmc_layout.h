@@ -3,7 +3,8 @@
  * PMC_LAYOUT_STRUCTS(X) names every struct of pmc_types.h; PMC_LAYOUT_FIELDS(X)
  * every field. tests/gpu/abi_layout_test.cpp expands both lists on the host
  * (sizeof/offsetof) and in a kernel, and compares the two tables. Adding a
- * field to pmc_types.h means adding it here.
+ * field to pmc_types.h means adding it here, except PmcFrame's scalars, which
+ * come from their own list (PMC_FRAME_SCALARS, pmc_types.h).
  */
 #ifndef PMC_LAYOUT_H
 #define PMC_LAYOUT_H
@@ -25,6 +26,8 @@
   X(PmcLightTreeNode)         \
   X(PmcFrame)                 \
   X(PmcCounters)
+
+#define PMC_LAYOUT_FRAME_SCALAR_(X, type, member) X(PmcFrame, member)
 
 // clang-format off
 #define PMC_LAYOUT_FIELDS(X)       \
@@ -131,28 +134,7 @@
   X(PmcLightHeader, sampler)       \
   X(PmcLightHeader, tree_nodes)    \
   X(PmcFrame, lights)              \
-  X(PmcFrame, width)               \
-  X(PmcFrame, height)              \
-  X(PmcFrame, seed)                \
-  X(PmcFrame, sample)              \
-  X(PmcFrame, pixel_offset)        \
-  X(PmcFrame, path_count)          \
-  X(PmcFrame, max_depth)           \
-  X(PmcFrame, texture_count)       \
-  X(PmcFrame, cache_on)            \
-  X(PmcFrame, cache_center)        \
-  X(PmcFrame, cache_ways)          \
-  X(PmcFrame, cache_cells_lo)      \
-  X(PmcFrame, cache_cells_hi)      \
-  X(PmcFrame, mip_bias)            \
-  X(PmcFrame, cache_bilinear)      \
-  X(PmcFrame, cache_policy)        \
-  X(PmcFrame, cache_max_refine)    \
-  X(PmcFrame, cache_lobe_spread)   \
-  X(PmcFrame, passes_on)           \
-  X(PmcFrame, wave_pixels)         \
-  X(PmcFrame, wave_samples)        \
-  X(PmcFrame, sampler)             \
+  PMC_FRAME_SCALARS(PMC_LAYOUT_FRAME_SCALAR_, X) \
   X(PmcCounters, next_rays)
 // clang-format on
 

@@ -250,6 +250,38 @@ typedef struct PmcLightHeader {
   pmc_u32 pad[3];
 } PmcLightHeader;
 
+/* The frame's scalars after its light header, in their order in PmcFrame:
+ * M(A, type, member) for each (A passes through). PmcFrame declares them from
+ * this list and pmc_layout.h lists them for the layout check from it, so a
+ * new one (a render setting's kernel copy, gpu/render_settings_table.h) is
+ * one line here. path_count = wave_pixels x wave_samples. */
+/* clang-format off */
+#define PMC_FRAME_SCALARS(M, A)                                                                   \
+  M(A, pmc_i32, width)                                                                            \
+  M(A, pmc_i32, height)                                                                           \
+  M(A, pmc_u32, seed)                                                                             \
+  M(A, pmc_u32, sample)                                                                           \
+  M(A, pmc_u32, pixel_offset)                                                                     \
+  M(A, pmc_u32, path_count)                                                                       \
+  M(A, pmc_i32, max_depth)                                                                        \
+  M(A, pmc_u32, texture_count)                                                                    \
+  M(A, pmc_u32, cache_on)          /* the programs contain cache instructions */                  \
+  M(A, pmc_u32, cache_center)      /* cache_eval center */                                        \
+  M(A, pmc_u32, cache_ways)        /* entries per cell */                                         \
+  M(A, pmc_u32, cache_cells_lo)                                                                   \
+  M(A, pmc_u32, cache_cells_hi)                                                                   \
+  M(A, float, mip_bias)                                                                           \
+  M(A, pmc_u32, cache_bilinear)    /* cache_filter bilinear: jittered texel selection */          \
+  M(A, pmc_u32, cache_policy)      /* PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */ \
+  M(A, pmc_i32, cache_max_refine)  /* level floors above the footprint's before bypass */         \
+  M(A, float, cache_lobe_spread)   /* position cells widen per bounce (pmc_lobe_spread) */        \
+  M(A, pmc_u32, passes_on)         /* render passes: fill PmcPathPasses and the pass film */      \
+  M(A, pmc_u32, wave_pixels)       /* path i of the wave: pixel pixel_offset + i % wave_pixels */ \
+  M(A, pmc_u32, wave_samples)      /* of the window, sample `sample` + i / wave_pixels */         \
+  M(A, pmc_u32, sampler)           /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */
+/* clang-format on */
+#define PMC_FRAME_MEMBER_(unused, type, member) type member;
+
 /* Everything a wave's kernels need to know about the frame. */
 typedef struct PmcFrame {
   float cam_eye[3];
@@ -261,24 +293,7 @@ typedef struct PmcFrame {
   float cam_up[3];    /* scaled by tan(fov/2) */
   pmc_u32 crop_width; /* of the full frame; the film holds the window only */
   PmcLightHeader lights;
-  pmc_i32 width, height;
-  pmc_u32 seed, sample;
-  pmc_u32 pixel_offset, path_count;
-  pmc_i32 max_depth;
-  pmc_u32 texture_count;
-  pmc_u32 cache_on;     /* the programs contain cache instructions */
-  pmc_u32 cache_center; /* cache_eval center */
-  pmc_u32 cache_ways;   /* entries per cell */
-  pmc_u32 cache_cells_lo, cache_cells_hi;
-  float mip_bias;
-  pmc_u32 cache_bilinear;   /* cache_filter bilinear: jittered texel selection */
-  pmc_u32 cache_policy;     /* cache_policy: PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */
-  pmc_i32 cache_max_refine; /* cache_max_refine: level floors above the footprint's before bypass */
-  float cache_lobe_spread;  /* cache_lobe_spread: position cells widen per bounce (pmc_lobe_spread) */
-  pmc_u32 passes_on;        /* render passes: fill PmcPathPasses and the pass film */
-  pmc_u32 wave_pixels;      /* path i of the wave: pixel pixel_offset + i % wave_pixels of the window, */
-  pmc_u32 wave_samples;     /* sample `sample` + i / wave_pixels; path_count = wave_pixels x wave_samples */
-  pmc_u32 sampler;          /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */
+  PMC_FRAME_SCALARS(PMC_FRAME_MEMBER_, ~)
 } PmcFrame;
 
 /* Queue counters written by the shade kernel with atomics. */

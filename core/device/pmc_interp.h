@@ -423,7 +423,16 @@ PMC_FN void pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, c
 /* The parameters of the opcode groups: the instruction (op, width, imm at
  * pc), the stack, the active lanes, the shading inputs and textures, and the
  * operand and result arrays [component][lane]. Each returns 0 for an opcode
- * not its own. */
+ * not its own.
+ *
+ * The three groups repeat their frame on purpose (the signature, `nn`,
+ * PMC_OP_UNUSED, `switch (op)`, `default: return 0`, `return 1`: seven
+ * lines each). OpenCL C has no function pointers, so one shared frame could
+ * only be a pair of macros that open and close the function's switch; the
+ * kernel would compile to the same code, but a reader (and clang-format,
+ * and scripts/check-function-length's brace count) would no longer see
+ * where each group's switch begins and ends, which is what makes a group
+ * readable as a list of cases. */
 #define PMC_OP_PARAMS                                                                                 \
   pmc_u32 op, PMC_GLOBAL const pmc_u32 *code, pmc_u32 pc, pmc_u32 width, pmc_u32 nargs, pmc_u32 imm,  \
       const float *stack, const PmcLanes *lanes, const PmcShadingInputs *in, const PmcTextureSet *ts, \
