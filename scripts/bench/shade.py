@@ -18,6 +18,8 @@ ns per hit" section of docs/BENCHMARKS.md.
 
     scripts/python -m bench.shade --baseline-pmc PATH     a pmc from before the change
     scripts/python -m bench.shade --runs 1 --doc -         this tree only, a quick look
+    scripts/python -m bench.shade --perf --variant no-nee=DIR  what a part costs: DIR holds a copy of
+                                                           the kernel sources with that part disabled
 """
 import os
 import re
@@ -45,10 +47,16 @@ def parse(argv=None):
                    help="pmc's --threads (default 1: one core's time per hit)")
     p.add_argument("--scenes", type=scene_list, default=SCENES, metavar="LIST",
                    help=f"comma-separated, of {', '.join(SCENES)} (default all)")
+    p.add_argument("--variant", action="append", default=[], type=variant, metavar="NAME=DIR",
+                   help="also this tree's pmc with the kernel sources under DIR (PMC_KERNEL_DIR: its core/abi, "
+                        "core/device and gpu/kernels), e.g. a copy with one part of the shade kernel disabled; "
+                        "repeatable")
     p.add_argument("--perf", action="store_true",
                    help="also measure the shade kernel's CPU time per hit with Linux perf (default off)")
     p.add_argument("--extra", default="", metavar="ARGS",
                    help="render options added to every render, space-separated (default none)")
+    p.add_argument("--note", default="", metavar="TEXT",
+                   help="a paragraph added to the section: what the baseline and variants are (default none)")
     common.add_out_dir(p, "out/bench-shade")
     common.add_doc(p)
     return common.parse_args(p, "shade", None, argv)
@@ -61,6 +69,14 @@ def scene_list(text):
         import argparse
         raise argparse.ArgumentTypeError(f"expected scenes of {', '.join(SCENES)}, got '{text}'")
     return names
+
+
+def variant(text):
+    name, sep, folder = text.partition("=")
+    if not sep or not name or not folder or name in ("current", "baseline"):
+        import argparse
+        raise argparse.ArgumentTypeError(f"expected NAME=DIR (NAME not current or baseline), got '{text}'")
+    return name, folder
 
 
 def scene_args(job):
@@ -95,11 +111,16 @@ def main(argv=None):
     common.chdir_root()
     out = a.out_dir
     os.makedirs(out, exist_ok=True)
-    binaries = {"current": common.find_pmc(a.pmc, PROG)}
+    pmc = common.find_pmc(a.pmc, PROG)
+    binaries = {"current": [pmc]}  # the command that runs each configuration's pmc
     if a.baseline_pmc:
         if not os.access(a.baseline_pmc, os.X_OK):
             sys.exit(f"{PROG}: {a.baseline_pmc} is not an executable")
-        binaries = {"baseline": a.baseline_pmc, **binaries}
+        binaries = {"baseline": [a.baseline_pmc], **binaries}
+    for name, folder in a.variant:
+        if not os.path.isfile(os.path.join(folder, "gpu", "kernels", "pmc_kernels.cl")):
+            sys.exit(f"{PROG}: --variant {name}={folder}: no gpu/kernels/pmc_kernels.cl there")
+        binaries[name] = ["env", f"PMC_KERNEL_DIR={os.path.abspath(folder)}", pmc]
     if a.perf and not shutil.which("perf"):
         sys.exit(f"{PROG}: --perf needs Linux perf on the PATH")
     jobs = {s: peer_scenes.write_scene_files(s, os.path.join(out, "scenes", s)) for s in a.scenes}
@@ -108,7 +129,7 @@ def main(argv=None):
 
     def render(which, scene, name, spp=None):
         js = f"{out}/{name}.json"
-        cmd = [binaries[which], "render", *scene_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
+        cmd = [*binaries[which], "render", *scene_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
                "-o", f"{out}/{name}.exr", "--stats", js, *common.size_args(a.width, a.height, spp or a.spp), *extra]
         data = f"{out}/{name}.perf"
         if a.perf:
@@ -141,15 +162,22 @@ def main(argv=None):
     def cpu_ns(which, scene, fn=""):
         return [x["cpu"].get(fn, 0.0) for x in res[(which, scene)]]
 
+    def reference(which):
+        """What a configuration is compared with: the baseline for current, current for a variant."""
+        if which == "current":
+            return "baseline" if "baseline" in binaries else None
+        return None if which == "baseline" else "current"
+
+    def ratio_text(xs, ys):
+        r = common.median_range(common.round_ratios(xs, ys))
+        return f"**{r[0]:.3f}** ({r[1]:.2f}-{r[2]:.2f})"
+
     rows = []
     cpu_rows = []
     for scene in a.scenes:
         for which in binaries:
-            ratio = ""
-            if which == "current" and "baseline" in binaries:
-                r = common.median_range(common.round_ratios(values("current", scene, "ns"),
-                                                            values("baseline", scene, "ns")))
-                ratio = f"**{r[0]:.3f}** ({r[1]:.2f}-{r[2]:.2f})"
+            ref = reference(which)
+            ratio = ratio_text(values(which, scene, "ns"), values(ref, scene, "ns")) if ref else ""
             ns = values(which, scene, "ns")
             rows.append([scene, which, f"**{common.median(ns):.0f}** ({min(ns):.0f}-{max(ns):.0f})",
                          f"{common.median(values(which, scene, 'shade')):.2f}",
@@ -157,19 +185,17 @@ def main(argv=None):
                          f"{res[(which, scene)][0]['hits']}", ratio])
             if a.perf:
                 cpu = cpu_ns(which, scene)
-                cpu_ratio = ""
-                if which == "current" and "baseline" in binaries:
-                    r = common.median_range(common.round_ratios(cpu, cpu_ns("baseline", scene)))
-                    cpu_ratio = f"**{r[0]:.3f}** ({r[1]:.2f}-{r[2]:.2f})"
+                cpu_ratio = ratio_text(cpu, cpu_ns(ref, scene)) if ref else ""
                 names = {fn for x in res[(which, scene)] for fn in x["cpu"] if fn}
                 top = sorted(names, key=lambda fn: -common.median(cpu_ns(which, scene, fn)))[:5]
                 cpu_rows.append([scene, which, f"**{common.median(cpu):.0f}** ({min(cpu):.0f}-{max(cpu):.0f})",
                                  cpu_ratio, "; ".join(f"`{fn}` {common.median(cpu_ns(which, scene, fn)):.0f}"
                                                       for fn in top)])
     table = common.md_table(["scene", "pmc", "shade ns per hit per core (range)", "shade (s)", "render (s)",
-                             "hits", "current / baseline ns (range of rounds)"], rows)
+                             "hits", "ns against current's (variants) or baseline's (current), range of rounds"], rows)
     device = res[configs[-1]][0]["device"]
     base_line = f"Baseline: `{a.baseline_pmc}`. " if a.baseline_pmc else ""
+    base_line += "".join(f"Variant {n}: this pmc with PMC_KERNEL_DIR={f}. " for n, f in a.variant)
     size = " ".join(common.size_args(a.width, a.height, a.spp))
     section = f"""{SECTION}
 
@@ -187,16 +213,26 @@ continuation ray being one hit the shade kernel handles:
 """
     if a.perf:
         cpu_table = common.md_table(["scene", "pmc", "shade CPU ns per hit (range)",
-                                     "current / baseline (range of rounds)",
+                                     "against current's or baseline's (range of rounds)",
                                      "of which in functions not inlined (ns per hit)"], cpu_rows)
         section += f"""
 CPU time in the shade kernel's code per hit (`perf record -e task-clock -c {PERF_PERIOD_NS}`, the samples
-in PoCL's {SHADE_DSO}; the rest of that time is in the kernel's work-group function and the functions
-inlined into it): what the wall-clock figure would be on an idle core.
+in PoCL's {SHADE_DSO}): what the wall-clock figure would be on an idle core. The last column splits it
+by function where PoCL did not inline one (the work-group function holds everything it inlined).
 
 {cpu_table}
 """
         table += "\n\n" + cpu_table
+    if a.note:
+        section += "\n" + a.note.strip() + "\n"
+    if a.variant:
+        key = cpu_ns if a.perf else (lambda w, sc: values(w, sc, "ns"))
+        parts = [f"{name} on {scene}: {common.median(key('current', scene)) - common.median(key(name, scene)):.0f} ns"
+                 for scene in a.scenes for name, _ in a.variant]
+        section += f"""
+What the part each variant leaves out costs per hit ({'CPU' if a.perf else 'wall-clock'} ns, current's median less the
+variant's): {'; '.join(parts)}.
+"""
     print()
     print(table)
     common.write_section(a.doc, SECTION, section, PROG)
