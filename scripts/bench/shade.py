@@ -23,6 +23,7 @@ ns per hit" section of docs/BENCHMARKS.md.
 """
 import os
 import re
+import shlex
 import shutil
 import subprocess
 import sys
@@ -197,9 +198,11 @@ def main(argv=None):
     base_line = f"Baseline: `{a.baseline_pmc}`. " if a.baseline_pmc else ""
     base_line += "".join(f"Variant {n}: this pmc with PMC_KERNEL_DIR={f}. " for n, f in a.variant)
     size = " ".join(common.size_args(a.width, a.height, a.spp))
+    # the note is a paragraph of the section: the recorded command points to it
+    command = a.command.replace(shlex.quote(a.note), "'(the paragraphs after the tables)'") if a.note else a.command
     section = f"""{SECTION}
 
-Produced by `{a.command}` on {common.utc_now()} ({elapsed / 60:.1f} minutes of timed runs).
+Produced by `{command}` on {common.utc_now()} ({elapsed / 60:.1f} minutes of timed runs).
 Machine: {common.machine(device)}; {loads.note()}.
 {base_line}Current: {common.git_rev(ignore=["docs"])}. Median of {a.runs} interleaved rounds, each scene
 bench.peers writes (scripts/bench/peer_scenes.py) rendered as
