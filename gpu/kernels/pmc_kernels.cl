@@ -642,10 +642,13 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
  *      at random addresses; this short loop has the batch's misses in
  *      flight at once instead of waiting for each in turn;
  *   2. geometry and the cache texel of every hit (pmc_hit_point);
- *   3. the same prefetch for the cache cells its material will look up;
- *   4. the material for the whole batch (one interpreter pass over all its
+ *   3. the same prefetch for the cache cells its material will look up
+ *      (and, on CPU devices, the next batches' records: pmc_prefetch_ahead);
+ *   4. every hit's random numbers for the work after the material, in one
+ *      vectorisable loop over the lanes (pmc_draw_hit_numbers);
+ *   5. the material for the whole batch (one interpreter pass over all its
  *      lanes), then lights and the next bounce per hit (pmc_shade_batch);
- *   5. queue compaction: each work-item takes a range in local memory for
+ *   6. queue compaction: each work-item takes a range in local memory for
  *      its rays, one work-item reserves the group's range with one global
  *      atomic, then everyone writes its rays. The cache's event counts are
  *      summed the same way.
