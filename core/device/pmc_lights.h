@@ -99,18 +99,22 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
 }
 
 /* Solid-angle density of the map's importance sampling at map direction m
- * (without the pick probability): p(texel) w h / (2 pi^2 sin(theta)). */
-PMC_FN float pmc_env_map_pdf(const PmcLightSet* ls, float3 m) {
+ * in texel i (pmc_env_texel_index(m), passed in where the caller has it),
+ * without the pick probability: p(texel) w h / (2 pi^2 sin(theta)). */
+PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i) {
   const PmcLightHeader* h = &ls->h;
   if (h->env_uniform) return 0.25f * PMC_INV_PI;
   float sin_theta = sqrt(fmax(0.0f, 1.0f - m.y * m.y));
   if (!(sin_theta > 0.0f)) return 0.0f;
-  int i = pmc_env_texel_index(h, m);
   int row = i / h->env_width;
   float row_sin = sin(((float)row + 0.5f) * PMC_PI / (float)h->env_height);
   float f = pmc_luminance(pmc_env_texel(ls, i)) * row_sin;
   float texels = (float)h->env_width * (float)h->env_height;
   return f * h->env_inv_integral * texels / (2.0f * PMC_PI * PMC_PI * sin_theta);
+}
+
+PMC_FN float pmc_env_map_pdf(const PmcLightSet* ls, float3 m) {
+  return ls->h.env_uniform ? 0.25f * PMC_INV_PI : pmc_env_map_pdf_in(ls, m, pmc_env_texel_index(&ls->h, m));
 }
 
 /* First index in cdf[0, n) whose value exceeds u (the last one if none). */
@@ -609,11 +613,14 @@ PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t
     PMC_GLOBAL const PmcLight* l = &ls->lights[i];
     float3 le;
     float light_pdf;
-    if (l->type == PMC_LIGHT_ENV) {
-      if (ls->h.env == PMC_ENV_MAP)
-        le = pmc_env_texel(ls, pmc_env_texel_index(&ls->h, pmc_env_to_map(&ls->h, d)));
-      else
-        le = pmc_load3(l->rgb);
+    if (l->type == PMC_LIGHT_ENV && ls->h.env == PMC_ENV_MAP) {
+      /* pmc_env_light_pdf, with the texel found once */
+      const float3 m = pmc_env_to_map(&ls->h, d);
+      const int texel = pmc_env_texel_index(&ls->h, m);
+      le = pmc_env_texel(ls, texel);
+      light_pdf = full_weight ? 0.0f : pmc_light_pick_pmf(ls, o, n, 0) * pmc_env_map_pdf_in(ls, m, texel);
+    } else if (l->type == PMC_LIGHT_ENV) {
+      le = pmc_load3(l->rgb);
       light_pdf = full_weight ? 0.0f : pmc_env_light_pdf(ls, o, n, d);
     } else if (pmc_sun_contains(l, d)) {
       le = pmc_load3(l->rgb);

@@ -30,7 +30,7 @@
 #define PMC_SAMPLER_SOBOL 0u
 #define PMC_SAMPLER_RANDOM 1u
 
-PMC_FN pmc_u32 pmc_hash_u32(pmc_u32 x) {
+PMC_FN_INLINE pmc_u32 pmc_hash_u32(pmc_u32 x) {
   x ^= x >> 16;
   x *= 0x7feb352du;
   x ^= x >> 15;
@@ -72,12 +72,12 @@ PMC_FN pmc_u32 pmc_hash_u32(pmc_u32 x) {
 #define PMC_SETS_1D ((1u << PMC_SET_LIGHT_PICK) | (1u << PMC_SET_LOBE) | (1u << PMC_SET_RR))
 
 /* The random sampler's key of one path (seed, pixel and sample index). */
-PMC_FN pmc_u32 pmc_path_key(pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
+PMC_FN_INLINE pmc_u32 pmc_path_key(pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
   return pmc_hash_u32(seed ^ pmc_hash_u32(pixel ^ pmc_hash_u32(sample + 0x9e3779b9u)));
 }
 
 /* The random sampler: a uniform float in [0, 1) per (path key, bounce, dimension number). */
-PMC_FN float pmc_rand_hashed(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 number) {
+PMC_FN_INLINE float pmc_rand_hashed(pmc_u32 path_key, pmc_u32 bounce, pmc_u32 number) {
   pmc_u32 h = pmc_hash_u32(path_key ^ pmc_hash_u32(bounce * 32u + number));
   return (float)(h >> 8) * (1.0f / 16777216.0f);
 }
@@ -91,7 +91,7 @@ typedef struct PmcSampler {
   pmc_u32 sample;
 } PmcSampler;
 
-PMC_FN PmcSampler pmc_sampler(pmc_u32 kind, pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
+PMC_FN_INLINE PmcSampler pmc_sampler(pmc_u32 kind, pmc_u32 seed, pmc_u32 pixel, pmc_u32 sample) {
   PmcSampler s;
   s.kind = kind;
   s.key = kind == PMC_SAMPLER_RANDOM ? pmc_path_key(seed, pixel, sample)
@@ -125,6 +125,63 @@ PMC_FN float pmc_rand(PmcSampler s, pmc_u32 bounce, pmc_u32 dim) {
   if ((PMC_SETS_1D >> set) & 1u) return pmc_sobol1(s.sample, seed, pmc_hash_u32(seed + 1u));
   const float2 p = pmc_sobol2(s.sample, seed, pmc_hash_u32(seed + 1u), pmc_hash_u32(seed + 2u));
   return PMC_DIM_AXIS(dim) == 0u ? p.x : p.y;
+}
+
+/* The numbers a surface hit draws after its material: the light pick and
+ * the point on the light, the lobe, the direction in it and Russian
+ * roulette, all of bounce `bounce`. Each equals its own pmc_rand or
+ * pmc_rand2 call (tests/core/sobol_sampler_test.cpp); drawn together, each
+ * set's seeds are hashed once, and the shade kernel draws a whole batch's
+ * in one loop over its lanes with one sampler kind, straight-line integer
+ * code that a CPU compiler vectorises (pmc_draw_hit_numbers in
+ * gpu/kernels/pmc_kernels.cl). */
+typedef struct PmcHitNumbers {
+  float light_pick, light_u, light_v, lobe, bsdf_u, bsdf_v, rr;
+} PmcHitNumbers;
+
+/* Both axes of a 2D Sobol set of bounce `bounce` (key: PmcSampler.key). */
+PMC_FN_INLINE float2 pmc_sobol_set2(pmc_u32 key, pmc_u32 sample, pmc_u32 bounce, pmc_u32 set) {
+  const pmc_u32 seed = pmc_hash_u32(key ^ pmc_hash_u32(bounce * PMC_SET_COUNT + set));
+  return pmc_sobol2(sample, seed, pmc_hash_u32(seed + 1u), pmc_hash_u32(seed + 2u));
+}
+
+/* The number of a 1D Sobol set of bounce `bounce`. */
+PMC_FN_INLINE float pmc_sobol_set1(pmc_u32 key, pmc_u32 sample, pmc_u32 bounce, pmc_u32 set) {
+  const pmc_u32 seed = pmc_hash_u32(key ^ pmc_hash_u32(bounce * PMC_SET_COUNT + set));
+  return pmc_sobol1(sample, seed, pmc_hash_u32(seed + 1u));
+}
+
+/* PmcHitNumbers of the Sobol sampler (key: PmcSampler.key). */
+PMC_FN_INLINE PmcHitNumbers pmc_hit_numbers_sobol(pmc_u32 key, pmc_u32 sample, pmc_u32 bounce) {
+  PmcHitNumbers h;
+  const float2 light = pmc_sobol_set2(key, sample, bounce, PMC_SET_LIGHT_UV);
+  const float2 bsdf = pmc_sobol_set2(key, sample, bounce, PMC_SET_BSDF_UV);
+  h.light_pick = pmc_sobol_set1(key, sample, bounce, PMC_SET_LIGHT_PICK);
+  h.light_u = light.x;
+  h.light_v = light.y;
+  h.lobe = pmc_sobol_set1(key, sample, bounce, PMC_SET_LOBE);
+  h.bsdf_u = bsdf.x;
+  h.bsdf_v = bsdf.y;
+  h.rr = pmc_sobol_set1(key, sample, bounce, PMC_SET_RR);
+  return h;
+}
+
+/* PmcHitNumbers of the random sampler (key: PmcSampler.key). */
+PMC_FN_INLINE PmcHitNumbers pmc_hit_numbers_random(pmc_u32 key, pmc_u32 bounce) {
+  PmcHitNumbers h;
+  h.light_pick = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_LIGHT_PICK));
+  h.light_u = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_LIGHT_U));
+  h.light_v = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_LIGHT_V));
+  h.lobe = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_LOBE));
+  h.bsdf_u = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_BSDF_U));
+  h.bsdf_v = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_BSDF_V));
+  h.rr = pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_RR));
+  return h;
+}
+
+PMC_FN PmcHitNumbers pmc_hit_numbers(PmcSampler s, pmc_u32 bounce) {
+  return s.kind == PMC_SAMPLER_RANDOM ? pmc_hit_numbers_random(s.key, bounce)
+                                      : pmc_hit_numbers_sobol(s.key, s.sample, bounce);
 }
 
 #endif /* PMC_RNG_H */

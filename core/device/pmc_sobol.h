@@ -26,8 +26,17 @@
 
 #include "../abi/pmc_vec.h"
 
+/* A function that the shade kernel's loops over a batch's lanes call:
+ * always inlined, as a call in a loop's body keeps the compiler from
+ * vectorising the loop (gpu/kernels/pmc_kernels.cl, pmc_draw_hit_numbers). */
+#ifdef __OPENCL_VERSION__
+#define PMC_FN_INLINE static inline __attribute__((always_inline))
+#else
+#define PMC_FN_INLINE static inline
+#endif
+
 /* Bit i <-> bit 31 - i. */
-PMC_FN pmc_u32 pmc_reverse_bits(pmc_u32 x) {
+PMC_FN_INLINE pmc_u32 pmc_reverse_bits(pmc_u32 x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
   x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
   x = ((x >> 4) & 0x0f0f0f0fu) | ((x & 0x0f0f0f0fu) << 4);
@@ -37,7 +46,7 @@ PMC_FN pmc_u32 pmc_reverse_bits(pmc_u32 x) {
 
 /* A seeded bijection of 32-bit words whose output bit b depends only on input
  * bits 0..b: applied to reversed digits, an Owen scramble. */
-PMC_FN pmc_u32 pmc_lk_hash(pmc_u32 x, pmc_u32 seed) {
+PMC_FN_INLINE pmc_u32 pmc_lk_hash(pmc_u32 x, pmc_u32 seed) {
   x ^= x * 0x3d20adeau;
   x += seed;
   x *= (seed >> 16) | 1u;
@@ -50,12 +59,12 @@ PMC_FN pmc_u32 pmc_lk_hash(pmc_u32 x, pmc_u32 seed) {
  * by a function of the bits above it): used on sample indices, it keeps each
  * aligned block of 2^k indices together and shuffles the blocks' order and
  * the order within them. */
-PMC_FN pmc_u32 pmc_nested_uniform_scramble(pmc_u32 x, pmc_u32 seed) {
+PMC_FN_INLINE pmc_u32 pmc_nested_uniform_scramble(pmc_u32 x, pmc_u32 seed) {
   return pmc_reverse_bits(pmc_lk_hash(pmc_reverse_bits(x), seed));
 }
 
 /* Sobol's second dimension of `index`, digits reversed (bit 0 the first). */
-PMC_FN pmc_u32 pmc_sobol_dim1_reversed(pmc_u32 index) {
+PMC_FN_INLINE pmc_u32 pmc_sobol_dim1_reversed(pmc_u32 index) {
   pmc_u32 x = index;
   x ^= (x >> 1) & 0x55555555u;
   x ^= (x >> 2) & 0x33333333u;
@@ -66,11 +75,11 @@ PMC_FN pmc_u32 pmc_sobol_dim1_reversed(pmc_u32 index) {
 }
 
 /* The top 24 bits of a fraction's digits as a float in [0, 1). */
-PMC_FN float pmc_unit_float(pmc_u32 fraction) { return (float)(fraction >> 8) * (1.0f / 16777216.0f); }
+PMC_FN_INLINE float pmc_unit_float(pmc_u32 fraction) { return (float)(fraction >> 8) * (1.0f / 16777216.0f); }
 
 /* Point `index` of the 2D Owen-scrambled Sobol (0,2)-sequence with shuffle
  * seed `shuffle` and per-axis scramble seeds `seed_x`, `seed_y`. */
-PMC_FN float2 pmc_sobol2(pmc_u32 index, pmc_u32 shuffle, pmc_u32 seed_x, pmc_u32 seed_y) {
+PMC_FN_INLINE float2 pmc_sobol2(pmc_u32 index, pmc_u32 shuffle, pmc_u32 seed_x, pmc_u32 seed_y) {
   const pmc_u32 i = pmc_nested_uniform_scramble(index, shuffle);
   const pmc_u32 x = pmc_reverse_bits(pmc_lk_hash(i, seed_x));
   const pmc_u32 y = pmc_reverse_bits(pmc_lk_hash(pmc_sobol_dim1_reversed(i), seed_y));
@@ -82,7 +91,7 @@ PMC_FN float2 pmc_sobol2(pmc_u32 index, pmc_u32 shuffle, pmc_u32 seed_x, pmc_u32
  * falls one in each interval [j/2^k, (j+1)/2^k). The shuffle matters: without
  * it, every 1D sequence's first digit would be the index's lowest bit
  * flipped by a constant, the same for all sequences up to sign. */
-PMC_FN float pmc_sobol1(pmc_u32 index, pmc_u32 shuffle, pmc_u32 seed) {
+PMC_FN_INLINE float pmc_sobol1(pmc_u32 index, pmc_u32 shuffle, pmc_u32 seed) {
   return pmc_unit_float(pmc_reverse_bits(pmc_lk_hash(pmc_nested_uniform_scramble(index, shuffle), seed)));
 }
 

@@ -127,9 +127,7 @@ typedef struct PmcHitPoint {
   uint cache_points;        /* how many (the cells to prefetch) */
   uint cache_position_mask; /* bit p: the p-th point is keyed on position */
   uint depth;               /* surface hits of the path before this one (0: camera ray) */
-#if PMC_CACHE_TRACE_RECORDS
-  uint pixel; /* the path's pixel, for the lookup trace */
-#endif
+  uint pixel;               /* the path's pixel (its numbers' key, the lookup trace's) */
 } PmcHitPoint;
 
 /* The material cache's table as this frame sized it. */
@@ -162,9 +160,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->path = ray.id;
   __global PmcPathState* path = &paths[ray.id];
   hp->depth = path->depth;
-#if PMC_CACHE_TRACE_RECORDS
   hp->pixel = path->pixel;
-#endif
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->org = make_float3(ray.org_x, ray.org_y, ray.org_z);
   hp->surface = hit.prim >= 0;
@@ -270,7 +266,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     }
     hp->cache_position_mask = info->cache_position_mask;
     if (frame->cache_bilinear && hp->cache_points > 0u) {
-      const float2 j = pmc_rand2(pmc_path_sampler(frame, path->pixel, hp->path), path->depth + 1u,
+      const float2 j = pmc_rand2(pmc_path_sampler(frame, hp->pixel, hp->path), hp->depth + 1u,
                                  PMC_DIM_CACHE_U, PMC_DIM_CACHE_V);
       hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
     }
@@ -375,8 +371,8 @@ static inline void pmc_shading_frame(float3 ns, float3 tangent, const PmcBsdf* b
  * with absorption) has its throughput multiplied by exp(-absorption t). */
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
-                                     __global PmcPathState* paths, __global PmcPathPasses* passes,
-                                     PmcShadeOut* out) {
+                                     const PmcHitNumbers* u, __global PmcPathState* paths,
+                                     __global PmcPathPasses* passes, PmcShadeOut* out) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
   float3 radiance = pmc_load3(path->radiance);
@@ -408,8 +404,6 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   pmc_shading_frame(ns, hp->tangent, bsdf, &t, &b);
   float3 wo = pmc_to_local(wo_world, t, b, ns);
   const PmcLobes lobes = pmc_bsdf_prepare(bsdf, wo, hp->front);
-  const PmcSampler sampler = pmc_path_sampler(frame, path->pixel, hp->path);
-  uint bounce = depth; /* bounce 0 is the camera ray's dimensions */
   int has_lobes = pmc_lobes_any(&lobes);
   if (frame->passes_on)
     pmc_passes_record(&passes[hp->path], depth - 1u, pos, hp->t, hp->material, &lobes, wo, ns,
@@ -422,11 +416,8 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
   const uint light_normal = pmc_oct_encode(ns);
   const float3 pick_normal = pmc_oct_decode(light_normal);
-  float2 light_uv = make_float2(0.0f, 0.0f);
-  if (has_lobes) light_uv = pmc_rand2(sampler, bounce, PMC_DIM_LIGHT_U, PMC_DIM_LIGHT_V);
   if (has_lobes &&
-      pmc_light_sample(&scene->light_set, origin, pick_normal, pmc_rand(sampler, bounce, PMC_DIM_LIGHT_PICK),
-                       light_uv.x, light_uv.y, &ls) &&
+      pmc_light_sample(&scene->light_set, origin, pick_normal, u->light_pick, u->light_u, u->light_v, &ls) &&
       dot(ls.wi, ng) > 0.0f) {
     float3 wi = pmc_to_local(ls.wi, t, b, ns);
     if (wi.z > 0.0f) {
@@ -450,9 +441,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   if (alive) {
     float3 wi, weight;
     float pdf;
-    const float2 bsdf_uv = pmc_rand2(sampler, bounce, PMC_DIM_BSDF_U, PMC_DIM_BSDF_V);
-    alive = pmc_bsdf_sample(&lobes, wo, pmc_rand(sampler, bounce, PMC_DIM_LOBE), bsdf_uv.x, bsdf_uv.y, &wi,
-                            &pdf, &weight);
+    alive = pmc_bsdf_sample(&lobes, wo, u->lobe, u->bsdf_u, u->bsdf_v, &wi, &pdf, &weight);
     float3 wi_world = make_float3(0.0f, 0.0f, 1.0f);
     if (alive) {
       wi_world = pmc_to_world(wi, t, b, ns);
@@ -463,7 +452,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       throughput *= weight;
       if (depth >= 3u) {
         float q = fmin(0.95f, pmc_max3(throughput));
-        if (pmc_rand(sampler, bounce, PMC_DIM_RR) >= q)
+        if (u->rr >= q)
           alive = 0;
         else
           throughput *= 1.0f / q;
@@ -526,11 +515,92 @@ static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const 
   PMC_TOUCH(&path->light_normal);
 }
 
+/* The numbers of a batch's hits (PmcHitNumbers), one array per dimension. */
+typedef struct PmcBatchNumbers {
+  float light_pick[PMC_LANES], light_u[PMC_LANES], light_v[PMC_LANES], lobe[PMC_LANES];
+  float bsdf_u[PMC_LANES], bsdf_v[PMC_LANES], rr[PMC_LANES];
+} PmcBatchNumbers;
+
+static inline void pmc_store_hit_numbers(PmcBatchNumbers* u, int k, PmcHitNumbers h) {
+  u->light_pick[k] = h.light_pick;
+  u->light_u[k] = h.light_u;
+  u->light_v[k] = h.light_v;
+  u->lobe[k] = h.lobe;
+  u->bsdf_u[k] = h.bsdf_u;
+  u->bsdf_v[k] = h.bsdf_v;
+  u->rr[k] = h.rr;
+}
+
+static inline PmcHitNumbers pmc_load_hit_numbers(const PmcBatchNumbers* u, int k) {
+  PmcHitNumbers h;
+  h.light_pick = u->light_pick[k];
+  h.light_u = u->light_u[k];
+  h.light_v = u->light_v[k];
+  h.lobe = u->lobe[k];
+  h.bsdf_u = u->bsdf_u[k];
+  h.bsdf_v = u->bsdf_v[k];
+  h.rr = u->rr[k];
+  return h;
+}
+
+/* Every hit's numbers of its bounce (pmc_rng.h's PmcHitNumbers; escaped
+ * rays' lanes draw too, unread), in one loop over the lanes for the frame's
+ * sampler: the loops are straight-line integer hashing over arrays, which
+ * PoCL's compiler vectorises across the lanes, where drawing each number
+ * in the per-hit code ran it one lane at a time. */
+static inline void pmc_draw_hit_numbers(__constant PmcFrame* frame, const PmcHitPoint* hp, int n,
+                                        PmcBatchNumbers* u) {
+  uint pixel[PMC_LANES], sample[PMC_LANES], bounce[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    pixel[k] = hp[k].pixel;
+    sample[k] = pmc_path_sample(frame, hp[k].path);
+    bounce[k] = hp[k].depth + 1u; /* bounce 0 is the camera ray's dimensions */
+  }
+  const uint seed = frame->seed;
+  if (frame->sampler == PMC_SAMPLER_RANDOM) {
+    for (int k = 0; k < n; ++k)
+      pmc_store_hit_numbers(u, k, pmc_hit_numbers_random(pmc_path_key(seed, pixel[k], sample[k]), bounce[k]));
+  } else {
+    for (int k = 0; k < n; ++k) {
+      const uint key = pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel[k], sample[k]).key;
+      pmc_store_hit_numbers(u, k, pmc_hit_numbers_sobol(key, sample[k], bounce[k]));
+    }
+  }
+}
+
+#if PMC_CPU_PREFETCH
+/* On CPU devices a thread runs consecutive work-groups, so batch b's
+ * work-item starts the loads of the batches after it, in two steps a batch
+ * apart: the hit and ray records of batch b + 2, and the triangle records
+ * and path states of batch b + 1, whose hits and rays it can read without
+ * waiting since batch b - 1 prefetched them. The loads a batch's own
+ * prefetch starts (pmc_shade) arrive too late for its first hits: their
+ * path states cost about a sixth of the kernel's own time in waits. */
+static inline void pmc_prefetch_ahead(const PmcSceneData* scene, __global const PmcRay* rays,
+                                      __global const PmcHit* hits, __global PmcPathState* paths,
+                                      __global const uint* order, uint order_first, uint b,
+                                      uint batch_count) {
+  if (b + 2u < batch_count)
+    for (uint k = 0u; k < (uint)PMC_LANES; ++k) {
+      const uint i = order[order_first + (b + 2u) * PMC_LANES + k];
+      if (i == PMC_NO_RAY) continue;
+      PMC_TOUCH(&hits[i]);
+      PMC_TOUCH(&rays[i].org_x);
+      PMC_TOUCH(&rays[i].flags);
+    }
+  if (b + 1u < batch_count)
+    for (uint k = 0u; k < (uint)PMC_LANES; ++k) {
+      const uint i = order[order_first + (b + 1u) * PMC_LANES + k];
+      if (i != PMC_NO_RAY) pmc_touch_triangle(scene, hits, rays, paths, i);
+    }
+}
+#endif
+
 /* The materials of one batch of hits, then the rest of their shading. The
  * host sorts hits by material, so a batch normally holds one material; any
  * mix still works: each run of one material is evaluated together. */
 static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneData* scene, PmcHitPoint* hp,
-                                   int n, __global PmcPathState* paths,
+                                   const PmcBatchNumbers* numbers, int n, __global PmcPathState* paths,
                                    __global volatile ulong* cache_entries, __global PmcPathPasses* passes,
                                    PmcShadeOut* out, uint* cache_counts) {
   PmcMaterialData md = pmc_material_data(scene);
@@ -558,7 +628,8 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
         paths[hp[k].path].cache_hits += cache[j].hits;
         for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache_counts[c] += cache[j].counts[c];
       }
-      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, paths, passes, &out[k]);
+      const PmcHitNumbers u = pmc_load_hit_numbers(numbers, k);
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, paths, passes, &out[k]);
     }
   }
 }
@@ -571,10 +642,13 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
  *      at random addresses; this short loop has the batch's misses in
  *      flight at once instead of waiting for each in turn;
  *   2. geometry and the cache texel of every hit (pmc_hit_point);
- *   3. the same prefetch for the cache cells its material will look up;
- *   4. the material for the whole batch (one interpreter pass over all its
+ *   3. the same prefetch for the cache cells its material will look up
+ *      (and, on CPU devices, the next batches' records: pmc_prefetch_ahead);
+ *   4. every hit's random numbers for the work after the material, in one
+ *      vectorisable loop over the lanes (pmc_draw_hit_numbers);
+ *   5. the material for the whole batch (one interpreter pass over all its
  *      lanes), then lights and the next bounce per hit (pmc_shade_batch);
- *   5. queue compaction: each work-item takes a range in local memory for
+ *   6. queue compaction: each work-item takes a range in local memory for
  *      its rays, one work-item reserves the group's range with one global
  *      atomic, then everyone writes its rays. The cache's event counts are
  *      summed the same way.
@@ -618,6 +692,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
     PMC_TOUCH(&rays[idx[k]].org_x); /* a ray's first and last word (48 bytes) */
     PMC_TOUCH(&rays[idx[k]].flags);
   }
+  pmc_prefetch_ahead(scene, rays, hits, paths, order, order_first, b, batch_count);
 #endif
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
   PmcHitPoint hp[PMC_LANES];
@@ -639,7 +714,9 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   for (int k = 0; k < n; ++k) out[k].next = out[k].shadow = 0;
   uint counts[PMC_CSTAT_COUNT];
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
-  pmc_shade_batch(frame, scene, hp, n, paths, cache_entries, passes, out, counts);
+  PmcBatchNumbers numbers;
+  pmc_draw_hit_numbers(frame, hp, n, &numbers);
+  pmc_shade_batch(frame, scene, hp, &numbers, n, paths, cache_entries, passes, out, counts);
 
   uint n_next = 0u, n_shadow = 0u;
   for (int k = 0; k < n; ++k) {

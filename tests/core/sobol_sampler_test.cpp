@@ -150,6 +150,30 @@ TEST(SobolSampler, ValuesLieInTheUnitInterval) {
     }
 }
 
+// The shade kernel draws a hit's numbers together (pmc_hit_numbers, one
+// loop over a batch's lanes); each must be the number its own pmc_rand or
+// pmc_rand2 call draws, so that images do not change.
+TEST(SobolSampler, HitNumbersDrawnTogetherAreTheSingleDraws) {
+  uint32_t state = 11;
+  for (uint32_t kind : {PMC_SAMPLER_SOBOL, PMC_SAMPLER_RANDOM})
+    for (int n = 0; n < 20000; ++n) {
+      state = pmc_hash_u32(state);
+      const uint32_t sample = n % 3 == 0 ? 0xffffffffu - uint32_t(n) : state % 4096u;
+      const PmcSampler s = pmc_sampler(kind, state >> 7, state % 100003u, sample);
+      const uint32_t bounce = 1u + uint32_t(n % 9);
+      const PmcHitNumbers h = pmc_hit_numbers(s, bounce);
+      const float2 light = pmc_rand2(s, bounce, PMC_DIM_LIGHT_U, PMC_DIM_LIGHT_V);
+      const float2 bsdf = pmc_rand2(s, bounce, PMC_DIM_BSDF_U, PMC_DIM_BSDF_V);
+      ASSERT_EQ(h.light_pick, pmc_rand(s, bounce, PMC_DIM_LIGHT_PICK));
+      ASSERT_EQ(h.light_u, light.x);
+      ASSERT_EQ(h.light_v, light.y);
+      ASSERT_EQ(h.lobe, pmc_rand(s, bounce, PMC_DIM_LOBE));
+      ASSERT_EQ(h.bsdf_u, bsdf.x);
+      ASSERT_EQ(h.bsdf_v, bsdf.y);
+      ASSERT_EQ(h.rr, pmc_rand(s, bounce, PMC_DIM_RR));
+    }
+}
+
 double correlation(const std::vector<double>& a, const std::vector<double>& b) {
   double ma = 0, mb = 0;
   for (size_t i = 0; i < a.size(); ++i) ma += a[i], mb += b[i];
@@ -171,7 +195,8 @@ TEST(SobolSampler, PixelsSetsAndBouncesAreDecorrelated) {
   const double bound = 5.0 / std::sqrt(double(n));
   auto stream = [&](uint32_t seed, uint32_t pixel, uint32_t bounce, uint32_t dim) {
     std::vector<double> v(n);
-    for (uint32_t i = 0; i < n; ++i) v[i] = pmc_rand(pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel, i), bounce, dim);
+    for (uint32_t i = 0; i < n; ++i)
+      v[i] = pmc_rand(pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel, i), bounce, dim);
     return v;
   };
   const uint32_t dims[] = {PMC_DIM_PIXEL_X, PMC_DIM_PIXEL_Y, PMC_DIM_LIGHT_PICK, PMC_DIM_LIGHT_U,

@@ -11,7 +11,7 @@ from unittest import mock
 
 from bench import cache, cache_bandwidth, cache_policy, cache_position, common, denoise, mtlx_conformance
 
-MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "denoise", "gpu", "heavy", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "sampler", "speed", "sweep", "trace", "waves"]
+MODULES = ["cache", "cache_bandwidth", "cache_policy", "cache_position", "cache_replay", "cacheless", "denoise", "gpu", "heavy", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "sampler", "shade", "speed", "sweep", "trace", "waves"]
 
 
 def parse(module, argv, env=None):
@@ -290,3 +290,26 @@ class CacheBandwidthReport(unittest.TestCase):
         self.assertIn("goal 40 dB **not met** (without each tile's 2 largest pixel errors: 15.5 dB, "
                       "linepattern.mtlx test_grid).", section)
         self.assertIn("41.0 dB (linepattern.mtlx test_grid): goal 40 dB **met**.", section)
+
+
+class ShadeFigures(unittest.TestCase):
+    """bench.shade's two per-hit figures from a render's stats and a perf report."""
+
+    def test_ns_per_hit_counts_every_path_ray_once_per_core(self):
+        from bench import shade
+        stats = {"rays": 3000, "shadow_rays": 1000, "stage_seconds": {"shade": 0.001}}
+        self.assertAlmostEqual(shade.ns_per_hit(stats, 2), 0.001 * 2 * 1e9 / 2000)
+
+    def test_perf_report_sums_the_shade_kernel_only(self):
+        from bench import shade
+        report = ("# Samples: 30\n"
+                  "    50.00%  15  pmc_shade.so  [.] _pocl_kernel_pmc_shade_workgroup\n"
+                  "    20.00%   6  pmc_shade.so  [.] pmc_tree_importance\n"
+                  "    30.00%   9  pmc_camera_rays.so  [.] _pocl_kernel_pmc_camera_rays_workgroup\n")
+        done = mock.Mock(stdout=report)
+        with mock.patch("subprocess.run", return_value=done):
+            ns = shade.perf_shade_ns("unused.perf", hits=1000)
+        per_sample = shade.PERF_PERIOD_NS / 1000
+        self.assertAlmostEqual(ns[""], 21 * per_sample)
+        self.assertAlmostEqual(ns["pmc_tree_importance"], 6 * per_sample)
+        self.assertNotIn("_pocl_kernel_pmc_camera_rays_workgroup", ns)
