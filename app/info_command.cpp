@@ -173,8 +173,15 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
     mo.compile.cache_position_keys = a.cache_position_keys;
     mo.compile.cache_feature_texels = a.cache_bandwidth ? a.cache_feature_texels : 0.0;
     if (a.cache_cost_model) {
-      ClContext cl(a.frame.device);
-      mo.compile.cache_model = CacheCostModel{device_cache_costs(cl), cache_frame(a.frame)};
+      CacheCosts costs;
+      try {
+        ClContext cl(a.frame.device);
+        costs = device_cache_costs(cl);
+      } catch (const Error& e) {  // a plan without a device: the table's costs, said so
+        warn(std::string("no OpenCL device for the cache's costs (") + e.what() + "): the table's costs");
+        costs = default_cache_costs(false);
+      }
+      mo.compile.cache_model = CacheCostModel{costs, cache_frame(a.frame)};
       print_cost_model(*mo.compile.cache_model);
     }
     MaterialSet set = build_material_set(scene, mo);
