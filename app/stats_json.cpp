@@ -67,13 +67,19 @@ nlohmann::json cache_model_json(const RenderSession& session, const RenderStats&
   const CacheCosts& c = model->costs;
   const double measured[2] = {uv_hit_rate(st.cache), position_hit_rate(st.cache)};
   double predicted = 0.0, at_measured = 0.0;
-  const auto& mats = session.materials().program.materials;
-  for (size_t m = 0; m < mats.size() && m < st.material_hits.size(); ++m)
-    for (const CachePoint& p : mats[m].cache_plan.points) {
-      const PointEconomics& e = p.economics;
-      const double h = measured[p.key == CacheKey::Position ? 1 : 0];
-      predicted += double(st.material_hits[m]) * e.gain;
-      at_measured += double(st.material_hits[m]) * (h * e.cost - e.lookup - (1.0 - h) * e.miss);
+  // Shaded hits are counted per scene material (MaterialSet::infos); each
+  // runs the compiled program at its entry, several may share one.
+  const MaterialSet& set = session.materials();
+  for (size_t m = 0; m < set.infos.size() && m < st.material_hits.size(); ++m)
+    for (const CompiledMaterial& cm : set.program.materials) {
+      if (cm.entry != set.infos[m].entry) continue;
+      for (const CachePoint& p : cm.cache_plan.points) {
+        const PointEconomics& e = p.economics;
+        const double h = measured[p.key == CacheKey::Position ? 1 : 0];
+        predicted += double(st.material_hits[m]) * e.gain;
+        at_measured += double(st.material_hits[m]) * (h * e.cost - e.lookup - (1.0 - h) * e.miss);
+      }
+      break;
     }
   nlohmann::json j;
   j["costs"] = c.source;

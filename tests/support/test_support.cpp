@@ -128,6 +128,10 @@ RenderConfig default_scene_config(int width, int height, int spp) {
   c.height = height;
   c.spp = spp;
   c.max_depth = 4;
+  // The node count plans: at these small frames and sample counts the cost
+  // model would drop most points (or all), and the tests using this config
+  // are about the renderer and the cache's mechanics, not the plan.
+  c.cache_model = CacheModel::Nodes;
   return c;
 }
 
