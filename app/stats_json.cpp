@@ -67,20 +67,18 @@ nlohmann::json cache_model_json(const RenderSession& session, const RenderStats&
   const CacheCosts& c = model->costs;
   const double measured[2] = {uv_hit_rate(st.cache), position_hit_rate(st.cache)};
   double predicted = 0.0, at_measured = 0.0;
-  // Shaded hits are counted per scene material (MaterialSet::infos); each
-  // runs the compiled program at its entry, several may share one.
+  // Shaded hits are counted per scene material; each runs its compiled
+  // program (MaterialSet::compiled, -1 for an unused one).
   const MaterialSet& set = session.materials();
-  for (size_t m = 0; m < set.infos.size() && m < st.material_hits.size(); ++m)
-    for (const CompiledMaterial& cm : set.program.materials) {
-      if (cm.entry != set.infos[m].entry) continue;
-      for (const CachePoint& p : cm.cache_plan.points) {
-        const PointEconomics& e = p.economics;
-        const double h = measured[p.key == CacheKey::Position ? 1 : 0];
-        predicted += double(st.material_hits[m]) * e.gain;
-        at_measured += double(st.material_hits[m]) * (h * e.cost - e.lookup - (1.0 - h) * e.miss);
-      }
-      break;
+  for (size_t m = 0; m < set.compiled.size() && m < st.material_hits.size(); ++m) {
+    if (set.compiled[m] < 0) continue;
+    for (const CachePoint& p : set.program.materials[size_t(set.compiled[m])].cache_plan.points) {
+      const PointEconomics& e = p.economics;
+      const double h = measured[p.key == CacheKey::Position ? 1 : 0];
+      predicted += double(st.material_hits[m]) * e.gain;
+      at_measured += double(st.material_hits[m]) * (h * e.cost - e.lookup - (1.0 - h) * e.miss);
     }
+  }
   nlohmann::json j;
   j["costs"] = c.source;
   j["unit_ns"] = c.unit_ns;
@@ -89,6 +87,7 @@ nlohmann::json cache_model_json(const RenderSession& session, const RenderStats&
   j["miss_per_cost"] = c.miss_per_cost;
   j["expected_uv_hit_rate"] = expected_hit_rate(model->frame, false);
   j["expected_position_hit_rate"] = expected_hit_rate(model->frame, true);
+  j["shaded_hits"] = st.material_hits;
   j["predicted_saving_seconds"] = predicted * c.unit_ns * 1e-9;
   j["saving_at_measured_hit_rates_seconds"] = at_measured * c.unit_ns * 1e-9;
   return j;

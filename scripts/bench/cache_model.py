@@ -17,9 +17,10 @@ renders with every material constant (bench.materials' trivial.mtlx): the
 ceiling a free cache could reach. The prediction: `pmc render --stats`
 reports cache.model.predicted_saving_seconds (each point's gain per lookup,
 h C - L - (1 - h) M in unit nodes, times the lookups its material's shaded
-hits made, times the unit node's nanoseconds); the predicted speedup is
-off / (off - saving) with the measured median off time. In brackets, the
-same with the measured hit rates in place of the expected ones.
+hits made, in unit nodes); one time per unit node, fitted over the rows
+(median of measured saving / predicted units), turns them into seconds,
+and the predicted speedup is off / (off - saving) with the measured median
+off time. In brackets, the same with the measured hit rates.
 """
 import os
 import time
@@ -122,8 +123,34 @@ def plan_text(cache):
     return f"{cache['hit_rate'] * 100:.1f}% hits"
 
 
+def predicted_units(data, base):
+    """The model's predicted saving of a cached render, in unit nodes (and with
+    the measured hit rates), or None without a model or points."""
+    model = data["stats"][f"{base}_cost"]["cache"].get("model")
+    if not model or model["predicted_saving_seconds"] == 0:
+        return None
+    return model["predicted_saving_seconds"] / model["unit_ns"], \
+        model["saving_at_measured_hit_rates_seconds"] / model["unit_ns"]
+
+
+def fitted_unit_ns(data):
+    """One time per unit node for the whole run: the median over the rows of
+    measured saving / predicted units (the load changes every render's speed
+    alike; the model predicts savings relative to each other)."""
+    implied = []
+    for key in data["scenes"]:
+        for w, h in data["sizes"]:
+            base = f"{key}_{w}x{h}"
+            units = predicted_units(data, base)
+            if units and units[0] > 0:
+                saving = common.median(data["seconds"][f"{base}_off"]) - common.median(data["seconds"][f"{base}_cost"])
+                implied.append(1e9 * saving / units[0])
+    return common.median(implied) if implied else float("nan")
+
+
 def report(data):
     names = {k: n for k, n, _ in SCENES}
+    unit = fitted_unit_ns(data)
     rows, printed, ratios_all = [], [], []
     costs = ""
     for key in data["scenes"]:
@@ -143,15 +170,18 @@ def report(data):
                     ratios_all.append((names[key], f"{w}x{h}", r))
             cache = data["stats"][f"{base}_cost"]["cache"]
             model = cache.get("model")
+            units = predicted_units(data, base)
             if model:
-                costs = costs or (f"{model['costs']}: unit node {model['unit_ns']:.3g} ns, lookup {model['lookup']:.1f}, "
-                                  f"miss {model['miss']:.1f} + {model['miss_per_cost']:.2f} x C unit nodes")
-                pred = off_med / max(1e-9, off_med - model["predicted_saving_seconds"])
-                pred_h = off_med / max(1e-9, off_med - model["saving_at_measured_hit_rates_seconds"])
-                cells += [f"{pred:.2f}x ({pred_h:.2f}x)",
+                costs = costs or f"{model['costs']}: lookup L {model['lookup']:.1f}, miss M {model['miss']:.1f} + " \
+                                 f"{model['miss_per_cost']:.2f} x C unit nodes"
+            if units:
+                saving = off_med - common.median(data["seconds"][f"{base}_cost"])
+                pred = off_med / max(1e-9, off_med - units[0] * unit * 1e-9)
+                pred_h = off_med / max(1e-9, off_med - units[1] * unit * 1e-9)
+                cells += [f"{pred:.2f}x ({pred_h:.2f}x)", f"{1e9 * saving / units[0]:.1f}",
                           f"{model['expected_uv_hit_rate'] * 100:.0f}% / {cache['uv_hit_rate'] * 100:.0f}%"]
             else:
-                cells += ["1.00x (no cache point pays)" if cache.get("enabled") is False else "-", "-"]
+                cells += ["1.00x (no point pays: the cacheless program)", "-", "-"]
             ceiling = data["seconds"].get(f"{base}_ceiling")
             if ceiling:
                 c = common.median(common.round_ratios(off, ceiling))
@@ -162,7 +192,8 @@ def report(data):
             rows.append(cells)
             printed.append(f"{key:14s} {w}x{h}: " + " | ".join(cells[2:]))
     table = common.md_table(["scene", "size", "off (s)", "on, cost model (s)", "off / on (range of rounds)",
-                             "on, node count (s)", "off / on (range)", "predicted off / on (at measured hit rates)",
+                             "on, node count (s)", "off / on (range)",
+                             "predicted off / on (at the measured hit rates)", "measured ns per predicted unit node",
                              "uv hit rate expected / measured", "ceiling: constant materials"], rows)
     slow = [f"{n} {s} {r:.2f}x" for n, s, r in ratios_all if r < 0.98]
     head = (f"Produced by `{data['command']}` on {data['now']} ({data['elapsed'] / 60:.1f} minutes).\n"
@@ -171,20 +202,23 @@ def report(data):
 
 {head}
 Method (`scripts/bench/cache_model.py`): per scene and size, `--cache off`, `--cache on` (the cost
-model, `--cache-model cost`, the default) and `--cache on --cache-model nodes` (the node count alone,
-the plan before the model); {common.rounds_text(data['runs'])}, every render once per round, the order
-rotated, {data['spp']} spp; medians of `render_seconds` and of the rounds' off / on ratios. The
-prediction is the model's: `pmc render --stats` reports `cache.model.predicted_saving_seconds`, each
-point's gain per lookup (h C - L - (1 - h) M) times the lookups its material's shaded hits made, and
-the predicted ratio is off / (off - saving) with the measured off time; in brackets the same with the
-measured hit rates. Costs: {costs or 'none reported'}. The ceiling renders the default scene with every
-material constant (no network runs), what a cache that always hit for free could reach.
+model, `--cache-model cost`, the default) and, where the table has the column, `--cache on
+--cache-model nodes` (the node count alone, the plan before the model); {common.rounds_text(data['runs'])},
+every render once per round, the order rotated, {data['spp']} spp; medians of `render_seconds` and of
+the rounds' off / on ratios. The prediction is the model's: `pmc render --stats` reports
+`cache.model.predicted_saving_seconds`, each point's gain per lookup (h C - L - (1 - h) M, unit
+nodes) times the lookups its material's shaded hits made. The model predicts savings in unit nodes;
+one time per unit node converts them for the whole run, fitted as the median over the rows of
+measured saving / predicted unit nodes ({unit:.1f} ns here; the column before last shows each row's),
+and the predicted ratio is off / (off - saving) with the measured off time; in brackets the same with
+the measured hit rates. Costs: {costs or 'none reported'}. The ceiling renders the default scene with
+every material constant (no network runs), what a cache that always hit for free could reach.
 
     build/pmc render SCENE --cache off|on [--cache-model nodes] -o OUT.exr --stats OUT.json --width W --height H --spp {data['spp']} --quiet
 
 {table}
 
-Cache on with the cost model slower than 0.98x of off: {', '.join(slow) if slow else 'none'}.
+Cache on with the cost model below 0.98x of off (median of the rounds): {', '.join(slow) if slow else 'none'}.
 """
     return section, "\n".join(printed)
 

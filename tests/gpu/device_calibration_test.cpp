@@ -111,14 +111,14 @@ TEST(DeviceCalibration, FirstWriterWins) {
 
 TEST(DeviceCalibration, TableScalesByTheDevicesRatios) {
   const CacheCosts table = default_cache_costs(false);
-  // The reference machine's own ratios (lookup 1.5 and miss 2.2 unit noises,
-  // 80 ns a noise) give the table back.
-  const CacheCosts same = calibrated_costs(timings(80, 120, 176), false, "test");
+  // The reference machine's own figures (lookup 1.5 and miss 2.2 noises,
+  // 16.4 ns a noise) give the table back.
+  const CacheCosts same = calibrated_costs(timings(16.4, 24.6, 36.08), false, "test");
   EXPECT_NEAR(same.lookup, table.lookup, 1e-9);
   EXPECT_NEAR(same.miss, table.miss, 1e-9);
   EXPECT_NEAR(same.unit_ns, table.unit_ns, 1e-9);
   // Lookups twice as dear against the unit node, and a device twice as fast.
-  const CacheCosts dear = calibrated_costs(timings(40, 120, 88), false, "test");
+  const CacheCosts dear = calibrated_costs(timings(8.2, 24.6, 18.04), false, "test");
   EXPECT_NEAR(dear.lookup, 2.0 * table.lookup, 1e-9);
   EXPECT_NEAR(dear.miss, table.miss, 1e-9);
   EXPECT_NEAR(dear.unit_ns, table.unit_ns / 2.0, 1e-9);
