@@ -24,7 +24,8 @@ nlohmann::json cache_json(const RenderSettings& settings, const CacheStats& stat
 // expected hit rates, and predicted_saving_seconds: the points' gains per
 // lookup (materials/node_costs.h) times the lookups this render made (each
 // material's shaded hits, all its points), in seconds; with the measured hit
-// rates instead of the expected ones: saving_at_measured_hit_rates_seconds.
+// rates instead of the expected ones: saving_at_measured_hit_rates_seconds;
+// shaded_hits: the hits each scene material ran for.
 nlohmann::json cache_model_json(const RenderSession& session, const RenderStats& stats);
 // Where a session's setup went (gpu/render_session.h): opencl_device (the
 // wait for the device), scene, materials, lights, bvh, renderer, total (their

@@ -17,10 +17,10 @@ renders with every material constant (bench.materials' trivial.mtlx): the
 ceiling a free cache could reach. The prediction: `pmc render --stats`
 reports cache.model.predicted_saving_seconds (each point's gain per lookup,
 h C - L - (1 - h) M in unit nodes, times the lookups its material's shaded
-hits made, in unit nodes); one time per unit node, fitted over the rows
-(median of measured saving / predicted units), turns them into seconds,
-and the predicted speedup is off / (off - saving) with the measured median
-off time. In brackets, the same with the measured hit rates.
+hits made, times the calibrated unit node's time); the predicted speedup
+is off / (off - saving) with the measured median off time. In brackets,
+the same with the measured hit rates. Each row also shows the measured
+saving per predicted unit node, which a right model keeps constant.
 """
 import os
 import time
@@ -129,14 +129,14 @@ def predicted_units(data, base):
     model = data["stats"][f"{base}_cost"]["cache"].get("model")
     if not model or model["predicted_saving_seconds"] == 0:
         return None
-    return model["predicted_saving_seconds"] / model["unit_ns"], \
-        model["saving_at_measured_hit_rates_seconds"] / model["unit_ns"]
+    return 1e9 * model["predicted_saving_seconds"] / model["unit_ns"], \
+        1e9 * model["saving_at_measured_hit_rates_seconds"] / model["unit_ns"]
 
 
 def fitted_unit_ns(data):
-    """One time per unit node for the whole run: the median over the rows of
-    measured saving / predicted units (the load changes every render's speed
-    alike; the model predicts savings relative to each other)."""
+    """The median over the rows of measured saving / predicted unit nodes:
+    the time a unit node would need for the model to be right on the median
+    row (it predicts savings relative to each other)."""
     implied = []
     for key in data["scenes"]:
         for w, h in data["sizes"]:
@@ -151,6 +151,11 @@ def fitted_unit_ns(data):
 def report(data):
     names = {k: n for k, n, _ in SCENES}
     unit = fitted_unit_ns(data)
+    model_unit = "none reported"
+    for st in data["stats"].values():
+        if st["cache"].get("model"):
+            model_unit = f"{st['cache']['model']['unit_ns']:.2f} ns"
+            break
     rows, printed, ratios_all = [], [], []
     costs = ""
     for key in data["scenes"]:
@@ -176,9 +181,12 @@ def report(data):
                                  f"{model['miss_per_cost']:.2f} x C unit nodes"
             if units:
                 saving = off_med - common.median(data["seconds"][f"{base}_cost"])
-                pred = off_med / max(1e-9, off_med - units[0] * unit * 1e-9)
-                pred_h = off_med / max(1e-9, off_med - units[1] * unit * 1e-9)
-                cells += [f"{pred:.2f}x ({pred_h:.2f}x)", f"{1e9 * saving / units[0]:.1f}",
+                def ratio(seconds):
+                    return f"{off_med / (off_med - seconds):.2f}x" if seconds < off_med else "more than off"
+
+                pred = ratio(model["predicted_saving_seconds"])
+                pred_h = ratio(model["saving_at_measured_hit_rates_seconds"])
+                cells += [f"{pred} ({pred_h})", f"{1e9 * saving / units[0]:.1f}",
                           f"{model['expected_uv_hit_rate'] * 100:.0f}% / {cache['uv_hit_rate'] * 100:.0f}%"]
             else:
                 cells += ["1.00x (no point pays: the cacheless program)", "-", "-"]
@@ -207,11 +215,11 @@ model, `--cache-model cost`, the default) and, where the table has the column, `
 every render once per round, the order rotated, {data['spp']} spp; medians of `render_seconds` and of
 the rounds' off / on ratios. The prediction is the model's: `pmc render --stats` reports
 `cache.model.predicted_saving_seconds`, each point's gain per lookup (h C - L - (1 - h) M, unit
-nodes) times the lookups its material's shaded hits made. The model predicts savings in unit nodes;
-one time per unit node converts them for the whole run, fitted as the median over the rows of
-measured saving / predicted unit nodes ({unit:.1f} ns here; the column before last shows each row's),
-and the predicted ratio is off / (off - saving) with the measured off time; in brackets the same with
-the measured hit rates. Costs: {costs or 'none reported'}. The ceiling renders the default scene with
+nodes) times the lookups its material's shaded hits made, times the calibrated time of a unit node
+({model_unit}); the predicted ratio is off / (off - saving) with the measured off time, in brackets the
+same with the measured hit rates. "Measured ns per predicted unit node" divides the measured saving
+(off - on) by the predicted unit nodes: were the model right up to its time scale, it would be the
+same on every row (the median here: {unit:.1f} ns). Costs: {costs or 'none reported'}. The ceiling renders the default scene with
 every material constant (no network runs), what a cache that always hit for free could reach.
 
     build/pmc render SCENE --cache off|on [--cache-model nodes] -o OUT.exr --stats OUT.json --width W --height H --spp {data['spp']} --quiet
