@@ -11,7 +11,9 @@
 #include "core/error.h"
 #include "core/obj_loader.h"
 #include "gpu/cl_context.h"
+#include "gpu/device_calibration.h"
 #include "gpu/render_config.h"
+#include "gpu/render_session.h"
 #include "materials/material_set.h"
 
 namespace pmc {
@@ -34,6 +36,14 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m, bool ba
     std::printf("    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s\n",
                 node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key),
                 enc[cp.encoding % 3]);
+    if (cp.modelled) {
+      const PointEconomics& e = cp.economics;
+      std::printf(
+          "      pays: cost C %.1f unit nodes, expected hit rate h %.1f%%, h C %.1f > lookup L %.1f + (1 - "
+          "h) x "
+          "miss M %.1f; gain %.1f unit nodes per lookup, %.3f s per frame\n",
+          e.cost, 100.0 * e.hit_rate, e.hit_rate * e.cost, e.lookup, e.miss, e.gain, e.frame_seconds);
+    }
     if (!bandwidth) continue;  // no floors computed: --cache-bandwidth on shows them
     const char* unit = cp.key == CacheKey::Position ? "scene units" : "uv";
     if (cp.level_floor > PMC_LEVEL_NO_FLOOR)
@@ -105,7 +115,33 @@ struct InfoArgs {
   bool cache_position_keys = RenderConfig{}.cache_position_keys;
   bool cache_bandwidth = RenderConfig{}.cache_bandwidth;
   double cache_feature_texels = RenderConfig{}.cache_feature_texels;
+  // The cost model's frame and device (pmc render's defaults).
+  bool cache_cost_model = RenderConfig{}.cache_model == CacheModel::Cost;
+  RenderConfig frame;
 };
+
+// The cost model's figures for the frame, and what its points save.
+void print_cost_model(const CacheCostModel& model) {
+  const CacheCosts& c = model.costs;
+  const CacheFrame& f = model.frame;
+  std::printf("cache cost model: %s\n  unit node %.3g ns; lookup L %.1f unit nodes; miss M %.1f + %.2f x C\n",
+              c.source.c_str(), c.unit_ns, c.lookup, c.miss, c.miss_per_cost);
+  std::printf("  frame %dx%d, %d spp, max depth %d: expected hit rate %.1f%% (uv), %.1f%% (position)\n",
+              f.width, f.height, f.spp, f.max_depth, 100.0 * expected_hit_rate(f, false),
+              100.0 * expected_hit_rate(f, true));
+}
+
+void print_predicted_savings(const MaterialSet& set, double unit_ns) {
+  double saved = 0.0;
+  size_t points = 0;
+  for (const CompiledMaterial& m : set.program.materials)
+    for (const CachePoint& p : m.cache_plan.points) {
+      saved += p.economics.frame_seconds;
+      ++points;
+    }
+  std::printf("\npredicted: %zu cache points save %.3f s per frame (%.3g ns a unit node)\n", points, saved,
+              unit_ns);
+}
 
 int run_info(const InfoArgs& a, const CLI::App& app) {
   if (!a.devices && !a.settings && !a.denoiser && a.scene.empty()) {
@@ -146,6 +182,18 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
     mo.compile.cache_min_nodes = a.cache_min_nodes;
     mo.compile.cache_position_keys = a.cache_position_keys;
     mo.compile.cache_feature_texels = a.cache_bandwidth ? a.cache_feature_texels : 0.0;
+    if (a.cache_cost_model) {
+      CacheCosts costs;
+      try {
+        ClContext cl(a.frame.device);
+        costs = device_cache_costs(cl);
+      } catch (const Error& e) {  // a plan without a device: the table's costs, said so
+        warn(std::string("no OpenCL device for the cache's costs (") + e.what() + "): the table's costs");
+        costs = default_cache_costs(false);
+      }
+      mo.compile.cache_model = CacheCostModel{costs, cache_frame(a.frame)};
+      print_cost_model(*mo.compile.cache_model);
+    }
     MaterialSet set = build_material_set(scene, mo);
     std::printf("bytecode: %zu words for %zu materials\n", set.program.code.size(),
                 set.program.materials.size());
@@ -161,6 +209,8 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
       if (a.dump_cache_plan) print_cache_plan(set, m, a.cache_bandwidth);
       if (a.dump_bytecode) std::printf("%s", disassemble(set.program, m).c_str());
     }
+    if (a.dump_cache_plan && mo.compile.cache_model)
+      print_predicted_savings(set, mo.compile.cache_model->costs.unit_ns);
     return 0;
   }
   if (!a.scene.empty()) {
@@ -225,6 +275,32 @@ CommandRun add_info_command(CLI::App& pmc) {
       ->type_name("N")
       ->check(cli::at_least(1))
       ->capture_default_str();
+  app->add_option_function<std::string>(
+         "--cache-model", [a](const std::string& v) { a->cache_cost_model = v == "cost"; },
+         "cost: cache points must also pay on the device for the frame below (the figures are shown); "
+         "nodes: the node count alone (see pmc render --help)")
+      ->type_name("cost|nodes")
+      ->check(cli::one_of({"cost", "nodes"}))
+      ->default_str("cost");
+  app->add_option("--width", a->frame.width, "the frame the cost model plans for (as pmc render)")
+      ->type_name("W")
+      ->check(cli::at_least(1))
+      ->capture_default_str();
+  app->add_option("--height", a->frame.height, "(as pmc render)")
+      ->type_name("H")
+      ->check(cli::at_least(1))
+      ->capture_default_str();
+  app->add_option("--spp", a->frame.spp, "(as pmc render)")
+      ->type_name("N")
+      ->check(cli::at_least(1))
+      ->capture_default_str();
+  app->add_option("--max-depth", a->frame.max_depth, "(as pmc render)")
+      ->type_name("D")
+      ->check(cli::at_least(1))
+      ->capture_default_str();
+  app->add_option("--device", a->frame.device,
+                  "the OpenCL device whose costs the cost model uses (as pmc render)")
+      ->type_name("NAME");
   app->add_option_function<std::string>(
          "--cache-keys", [a](const std::string& v) { a->cache_position_keys = v != "uv"; },
          "what cache points are keyed on: uv texels only, or also 3D position cells")

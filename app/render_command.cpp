@@ -146,6 +146,7 @@ int run_render(const RenderArgs& args) {
     guard.track(a.stats);
     nlohmann::json j = render_json(settings, out.stats, obj);
     j["setup_seconds"] = setup_json(session.setup_seconds());
+    j["cache"]["model"] = cache_model_json(session, out.stats);
     j["texture_cache"] = texture_cache_json(TextureCache::instance());
     j["passes"] = pass_list_text(config.passes);
     if (a.denoise)

@@ -61,6 +61,38 @@ nlohmann::json setup_json(const SetupSeconds& setup) {
        {{"opencl_device", setup.background_opencl_device}, {"kernel_build", setup.background_kernel_build}}}};
 }
 
+nlohmann::json cache_model_json(const RenderSession& session, const RenderStats& st) {
+  const std::optional<CacheCostModel>& model = session.cache_model();
+  if (!model || !st.cache.lookups) return nullptr;
+  const CacheCosts& c = model->costs;
+  const double measured[2] = {uv_hit_rate(st.cache), position_hit_rate(st.cache)};
+  double predicted = 0.0, at_measured = 0.0;
+  // Shaded hits are counted per scene material; each runs its compiled
+  // program (MaterialSet::compiled, -1 for an unused one).
+  const MaterialSet& set = session.materials();
+  for (size_t m = 0; m < set.compiled.size() && m < st.material_hits.size(); ++m) {
+    if (set.compiled[m] < 0) continue;
+    for (const CachePoint& p : set.program.materials[size_t(set.compiled[m])].cache_plan.points) {
+      const PointEconomics& e = p.economics;
+      const double h = measured[p.key == CacheKey::Position ? 1 : 0];
+      predicted += double(st.material_hits[m]) * e.gain;
+      at_measured += double(st.material_hits[m]) * (h * e.cost - e.lookup - (1.0 - h) * e.miss);
+    }
+  }
+  nlohmann::json j;
+  j["costs"] = c.source;
+  j["unit_ns"] = c.unit_ns;
+  j["lookup"] = c.lookup;
+  j["miss"] = c.miss;
+  j["miss_per_cost"] = c.miss_per_cost;
+  j["expected_uv_hit_rate"] = expected_hit_rate(model->frame, false);
+  j["expected_position_hit_rate"] = expected_hit_rate(model->frame, true);
+  j["shaded_hits"] = st.material_hits;
+  j["predicted_saving_seconds"] = predicted * c.unit_ns * 1e-9;
+  j["saving_at_measured_hit_rates_seconds"] = at_measured * c.unit_ns * 1e-9;
+  return j;
+}
+
 nlohmann::json texture_cache_json(const TextureCache& cache) {
   const TextureCacheStats st = cache.stats();
   return {{"folder", cache.enabled() ? cache.folder() : "off"},

@@ -19,6 +19,14 @@ namespace pmc {
 // misses, inserts, ...), hit_rate, camera_hit_rate, position_hit_rate,
 // uv_hit_rate, occupancy.
 nlohmann::json cache_json(const RenderSettings& settings, const CacheStats& stats);
+// The cost model behind the cache plan (--cache-model cost; null otherwise):
+// its costs' source, unit_ns, lookup, miss, miss_per_cost (unit nodes), the
+// expected hit rates, and predicted_saving_seconds: the points' gains per
+// lookup (materials/node_costs.h) times the lookups this render made (each
+// material's shaded hits, all its points), in seconds; with the measured hit
+// rates instead of the expected ones: saving_at_measured_hit_rates_seconds;
+// shaded_hits: the hits each scene material ran for.
+nlohmann::json cache_model_json(const RenderSession& session, const RenderStats& stats);
 // Where a session's setup went (gpu/render_session.h): opencl_device (the
 // wait for the device), scene, materials, lights, bvh, renderer, total (their
 // sum: wall seconds), and background: {opencl_device: seconds opening it

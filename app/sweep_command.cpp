@@ -254,6 +254,18 @@ CommandRun add_sweep_command(CLI::App& pmc) {
       ->type_name("nearest|bilinear")
       ->check(cli::one_of({"nearest", "bilinear"}))
       ->default_str("as --cache-evals names it");
+  cli::name_setting("cache_model", "--cache-model");
+  app->add_option_function<std::string>(
+         "--cache-model",
+         [a](const std::string& v) {
+           a->config.cache_model = v == "nodes" ? CacheModel::Nodes : CacheModel::Cost;
+         },
+         "which sub-graphs become cache points, for every cached row: cost: those that pay on this device "
+         "for "
+         "this frame; nodes: the node count alone (see pmc render --help)")
+      ->type_name("cost|nodes")
+      ->check(cli::one_of({"cost", "nodes"}))
+      ->default_str("cost");
   cli::name_setting("cache_min_nodes", "--cache-min-nodes");
   app->add_option("--cache-min-nodes", a->config.cache_min_nodes,
                   "smallest sub-graph (in nodes) worth a cache point, for every cached row")

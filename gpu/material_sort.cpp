@@ -13,6 +13,7 @@ MaterialSorter::MaterialSorter(std::vector<int32_t> triangle_material, int mater
   for (int32_t& m : material_)
     if (m < 0 || m >= material_count) m = material_count;  // never: a triangle without a valid material
   start_.assign(size_t(buckets_) + 1, 0);
+  hits_.assign(size_t(material_count), 0);
 }
 
 size_t MaterialSorter::capacity(size_t count) const { return count + size_t(buckets_) * size_t(lanes_ - 1); }
@@ -30,6 +31,7 @@ size_t MaterialSorter::sort(const PmcHit* hits, size_t count, uint32_t first_ray
   for (int b = 0; b < buckets_; ++b) {
     const uint32_t n = start_[size_t(b) + 1];
     const uint32_t padded = (n + lanes - 1) / lanes * lanes;
+    if (b < buckets_ - 1) hits_[size_t(b)] += n;
     start_[size_t(b)] = at;
     std::fill(order + at + n, order + at + padded, PMC_NO_RAY);
     at += padded;

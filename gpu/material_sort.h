@@ -10,6 +10,7 @@
 // keeps a SIMT unit on one instruction stream.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -30,12 +31,17 @@ class MaterialSorter {
   size_t sort(const PmcHit* hits, size_t count, uint32_t first_ray, uint32_t* order);
 
   int lanes() const { return lanes_; }
+  // Hits sorted per material since reset_counts() (escaped rays not counted):
+  // how often each material ran, for the cache's predicted savings.
+  const std::vector<uint64_t>& material_hits() const { return hits_; }
+  void reset_counts() { std::fill(hits_.begin(), hits_.end(), 0); }
 
  private:
   std::vector<int32_t> material_;
   int buckets_;  // materials + 1 (escaped rays)
   int lanes_;
   std::vector<uint32_t> start_;  // per bucket: count, then write position
+  std::vector<uint64_t> hits_;   // per material
 };
 
 }  // namespace pmc

@@ -17,6 +17,7 @@
 #include "core/error.h"
 #include "core/obj_loader.h"
 #include "core/texture_cache.h"
+#include "gpu/device_calibration.h"
 #include "gpu/wave_kernels.h"
 
 namespace pmc {
@@ -159,17 +160,22 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : 
   // The kernel build, from the end of material compiling: beside the texture
   // decoding and the BVH build (declared after `opening`, so it is waited for first).
   std::optional<Background<std::unique_ptr<WaveKernels>>> building;
-  auto start_kernel_build = [&](MaterialSet& set) {
-    for (CompiledMaterial& m : set.program.materials)
-      m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
-    if (opening) {  // waited for here, inside the materials step
+  // Waited for inside the materials step: before compiling when the cache's
+  // cost model needs the device, else once the materials are compiled.
+  auto device = [&]() -> const ClContext& {
+    if (opening && !cl_) {
       const Clock::time_point wait = Clock::now();
       own_cl_ = opening->get();
       cl_ = own_cl_.get();
       setup_.background_opencl_device = opening->seconds();
       setup_.opencl_device = std::chrono::duration<double>(Clock::now() - wait).count();
     }
-    const ClContext& cl = *cl_;
+    return *cl_;
+  };
+  auto start_kernel_build = [&](MaterialSet& set) {
+    for (CompiledMaterial& m : set.program.materials)
+      m.peak_stack = std::max(m.peak_stack, config_.min_kernel_stack);
+    const ClContext& cl = device();
     const int lanes = config_.shade_lanes > 0 ? config_.shade_lanes : default_shade_lanes(cl, set);
     // By value: the device (owned by the caller or own_cl_) outlives `building`.
     building.emplace([device = cl_, lanes, options = wave_program_options(set, lanes, cl.info().is_gpu)] {
@@ -177,7 +183,7 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : 
     });
   };
   try {
-    prepare_scene(lap, start_kernel_build);
+    prepare_scene(lap, device, start_kernel_build);
   } catch (...) {
     if (opening && !cl_) opening->get();  // the device's error first, as when it was opened first
     throw;
@@ -190,6 +196,7 @@ RenderSession::RenderSession(const RenderConfig& config, const ClContext* cl) : 
 }
 
 void RenderSession::prepare_scene(const std::function<void(double&)>& lap,
+                                  const std::function<const ClContext&()>& device,
                                   const std::function<void(MaterialSet&)>& compiled) {
   ObjLoadOptions load;
   load.load_textures = false;  // the material compiler loads what live nodes read
@@ -204,6 +211,9 @@ void RenderSession::prepare_scene(const std::function<void(double&)>& lap,
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   mo.compile.cache_position_keys = config_.cache_position_keys;
   mo.compile.cache_feature_texels = config_.cache_bandwidth ? config_.cache_feature_texels : 0.0;
+  if (config_.cache && config_.cache_model == CacheModel::Cost)
+    mo.compile.cache_model = cache_model_ =
+        CacheCostModel{device_cache_costs(device()), cache_frame(config_)};
   mo.compiled = compiled;
   materials_ = build_material_set(scene_, mo);
   lap(setup_.materials);
@@ -230,6 +240,8 @@ size_t RenderSession::cache_points() const {
 RenderOutput RenderSession::render(const RenderSettings& settings, const ProgressFn& progress) {
   return renderer_->render(settings, progress);
 }
+
+CacheFrame cache_frame(const RenderConfig& c) { return CacheFrame{c.width, c.height, c.spp, c.max_depth}; }
 
 std::unique_ptr<ClContext> open_device(const RenderConfig& config) {
   limit_threads(config);

@@ -30,6 +30,7 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include "core/embree_tracer.h"
 #include "core/scene.h"
@@ -50,7 +51,9 @@ struct SetupSeconds {
   double opencl_device = 0;  // a session that opens its device: the wait for it, once the materials are
                              // compiled (0 when given one)
   double scene = 0;          // OBJ + MTL parsing
-  double materials = 0;      // binding, MaterialX reading, compiling, texture decoding and mip chains
+  double materials = 0;      // binding, MaterialX reading, compiling, texture decoding and mip chains (and
+                             // with cache_model cost on a device measured for the first time, its
+                             // calibration, gpu/device_calibration.h)
   double lights = 0;         // camera, lights file and environment map, cache sizing
   double bvh = 0;            // cut-out tester and Embree's BVH build
   double renderer = 0;       // the wait for the OpenCL program build, and scene buffer uploads
@@ -80,6 +83,8 @@ class RenderSession {
   // Cache points over all compiled materials.
   size_t cache_points() const;
   const SetupSeconds& setup_seconds() const { return setup_; }
+  // The cost model the cache plan was made with (cache_model cost), else none.
+  const std::optional<CacheCostModel>& cache_model() const { return cache_model_; }
 
   RenderOutput render(const ProgressFn& progress = {}) { return render(settings_, progress); }
   // `settings` must keep settings().cache.on (the program was compiled for it).
@@ -89,7 +94,9 @@ class RenderSession {
   RenderSession(const RenderConfig& config, const ClContext* cl);
   // Scene, materials, lights and BVH: the steps before the renderer; `lap` ends each.
   // `compiled` runs once the materials are compiled, before their textures decode.
-  void prepare_scene(const std::function<void(double&)>& lap,
+  // `device` returns the device (waiting for it to open) when the cache's
+  // cost model needs it before compiling.
+  void prepare_scene(const std::function<void(double&)>& lap, const std::function<const ClContext&()>& device,
                      const std::function<void(MaterialSet&)>& compiled);
   RenderConfig config_;
   std::unique_ptr<ClContext> own_cl_;  // before everything that uses it, so destroyed after them
@@ -97,6 +104,7 @@ class RenderSession {
   Scene scene_;
   MaterialSet materials_;
   RenderSettings settings_;
+  std::optional<CacheCostModel> cache_model_;
   std::unique_ptr<CutoutTester> cutout_;
   std::unique_ptr<EmbreeTracer> tracer_;
   std::unique_ptr<WavefrontRenderer> renderer_;
@@ -107,6 +115,9 @@ class RenderSession {
 // then opens the OpenCL device config.device names (ClContext's default
 // choice when empty). The thread limit must precede any OpenCL use, so
 // programs open their device through this (or a session opens it).
+// The frame the cache's cost model plans for (materials/node_costs.h): the
+// whole frame's samples (a farm part plans as the frame does, so parts merge).
+CacheFrame cache_frame(const RenderConfig& config);
 std::unique_ptr<ClContext> open_device(const RenderConfig& config);
 // The thread limit alone (open_device's first half).
 void limit_threads(const RenderConfig& config);

@@ -97,6 +97,9 @@ enum class CachePolicy { KeepFirst, Priority };
 // Where a path's numbers come from (core/device/pmc_rng.h): Owen-scrambled
 // Sobol points, or independent hashed numbers (the sampler before Sobol).
 enum class Sampler { Sobol, Random };
+// Which nodes become cache points: the node count alone (cache_min_nodes),
+// or also whether each pays on the device for the frame (materials/node_costs.h).
+enum class CacheModel { Nodes, Cost };
 
 // --cache-lobe-spread's default: how much position cells widen per bounce, C
 // of core/device/pmc_raycone.h's pmc_lobe_spread. 0 (the paper's cone): 1/32
@@ -160,7 +163,12 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     "sub-graphs that read the position alone (noise3d, fractal3d, ...)")                                    \
   X(cache_min_nodes, "cache_min_nodes", "--cache-min-nodes", int, kDefaultCacheMinNodes, 1,                 \
     settings_table::kNone, "must be at least 1", Cache, PROGRAM, NONE, NONE, "", "N",                       \
-    "smallest sub-graph (in nodes) worth a cache point")                                                    \
+    "smallest sub-graph (in nodes) worth a cache point (with --cache-model cost: the floor under the model)") \
+  X(cache_model, "cache_model", "--cache-model", CacheModel, CacheModel::Cost, 0, 0, "", Cache, PROGRAM, NONE, \
+    NONE, "", "nodes|cost",                                                                                 \
+    "which sub-graphs become cache points: cost: those of at least --cache-min-nodes nodes that also pay "  \
+    "on this device for this frame (sub-graph cost x expected hit rate against lookup and miss costs; "   \
+    "'pmc info --dump-cache-plan' shows the figures); nodes: the node count alone")                         \
   X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", bool, false, 0, 0, "", Cache, FIXED,           \
     S(cache.bandwidth), NONE, "bandwidth", "off|on",                                                        \
     "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "       \

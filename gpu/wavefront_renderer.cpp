@@ -306,6 +306,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   const CacheTraceConfig trace = cache_trace_config();
   const size_t cache_words = table_words + (cs.on ? trace.words() : 0);
 
+  m.sorter.reset_counts();
   HostLink link(m.cl, s.transfer);
   st.transfer = link.zero_copy() ? "zero-copy" : "copy";
   st.shade_lanes = m.kernels.lanes();
@@ -360,6 +361,7 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   if (!pass_film.empty()) m.cl.read(wave.pass_film, 0, pixels * sizeof(PmcPassPixel), pass_film.data());
   resolve_film(film, pass_film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
   if (cs.on) read_cache_stats(m.cl, wave, cs, st.cache);
+  st.material_hits = m.sorter.material_hits();
   if (trace.on())
     write_cache_trace(
         m.cl, cs.on ? &wave.cache_entries : nullptr, table_words, trace,

@@ -143,6 +143,7 @@ struct RenderStats {
   StageSeconds stages;
   std::string device;
   CacheStats cache;
+  std::vector<uint64_t> material_hits;  // hits shaded per material (MaterialSet::program order)
 };
 
 struct RenderOutput {

@@ -2,6 +2,7 @@
 #include "materials/cache_plan.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
 #include <set>
 
@@ -69,7 +70,24 @@ int material_level_floor(const CachePlan& plan, CacheKey key) {
   return floor_level;
 }
 
-CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double feature_texels) {
+namespace {
+
+// Why a point the node count admits does not pay, with the figures.
+std::string unpaid_reason(const PointEconomics& e, const CacheCosts& costs) {
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "does not pay on this device: sub-graph cost C %.1f unit nodes, expected hit rate h %.1f%%, "
+                "h C = %.1f <= lookup L %.1f + (1 - h) x miss M %.1f (gain %.1f unit nodes per lookup; "
+                "costs: %s)",
+                e.cost, 100.0 * e.hit_rate, e.hit_rate * e.cost, e.lookup, e.miss, e.gain,
+                costs.source.c_str());
+  return text;
+}
+
+}  // namespace
+
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double feature_texels,
+                     const CacheCostModel* model) {
   const bool bandwidth = feature_texels > 0;
   CachePlan plan;
   std::vector<uint32_t> deps = dependencies(g);
@@ -99,6 +117,12 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double f
             " nodes is cheaper than a lookup (threshold " + std::to_string(min_nodes) + ")";
     } else if ((node.input("index") && is_texcoord(node)) || is_position(node)) {
       why = is_position(node) ? "a bare position" : "a bare texcoord";
+    } else if (PointEconomics e;
+               model &&
+               !cache_point_pays(e = point_economics(subgraph_cost(g, n), deps[size_t(n)] == kDepPosition,
+                                                     model->costs, model->frame))) {
+      plan.not_cached.push_back({n, unpaid_reason(e, model->costs)});
+      return;  // its inputs cost less at the same hit rate: they would pay less
     } else {
       chosen.insert(n);
       CachePoint p;
@@ -106,6 +130,11 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double f
       p.subgraph_nodes = size;
       p.encoding = enc;
       p.key = deps[size_t(n)] == kDepPosition ? CacheKey::Position : CacheKey::Uv;
+      if (model) {
+        p.modelled = true;
+        p.economics =
+            point_economics(subgraph_cost(g, n), p.key == CacheKey::Position, model->costs, model->frame);
+      }
       if (bandwidth) {
         p.feature = bw[size_t(n)].feature();
         p.level_floor =

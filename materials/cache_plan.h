@@ -13,6 +13,11 @@
 // cell (pmc_cache.h). Sub-graphs that read uv and position together, or the
 // normal or tangent frame, are not cached: their value is not a function of
 // one key (a uv seam or a normal map would alias across the key's cell).
+// With a cost model (materials/node_costs.h) the node count is a floor: a
+// point must also pay on the device for the frame, h C > L + (1 - h) M, and
+// the point carries the figures behind that decision for the plan dump. A
+// point that does not pay is not replaced by its inputs (their sub-graphs
+// cost less at the same hit rate, so they pay less).
 // A material can have several cache points. Every other node gets a reason
 // for the plan dump. Each point carries the level floor its pattern's
 // bandwidth asks for (materials/bandwidth.h).
@@ -23,6 +28,7 @@
 #include <vector>
 
 #include "core/device/pmc_cache.h"
+#include "materials/node_costs.h"
 #include "materials/node_graph.h"
 
 namespace pmc {
@@ -40,6 +46,9 @@ struct CachePoint {
   double feature = 1e300;
   int level_floor = PMC_LEVEL_NO_FLOOR;
   std::string bandwidth_note;
+  // The cost model's figures (modelled: a model decided; else the node count alone).
+  bool modelled = false;
+  PointEconomics economics;
 };
 
 const char* cache_key_name(CacheKey k);
@@ -49,7 +58,11 @@ struct CachePlan {
   std::vector<std::pair<int, std::string>> not_cached;  // node, reason
 };
 
-// The sub-graph size threshold found by measurement (scripts/bench-cache,
+// The sub-graph size threshold found by measurement; with the cost model on
+// (the default) it stays the floor, so cheap sub-graphs of a few costly nodes
+// (a 4-node fractal3d roughness) stay uncached: a cached roughness moves
+// highlights and lobe choices (docs/BENCHMARKS.md, "Node costs"). The
+// measurement behind 8 (scripts/bench-cache,
 // "cache point threshold" in docs/BENCHMARKS.md): on PoCL a 3-node point
 // costs the default scene a fifth of its speed-up, points of 4-16 nodes are
 // within noise of each other, and dropping the 25-31-node points loses a
@@ -59,7 +72,9 @@ constexpr int kDefaultCacheMinNodes = 8;
 // `position_keys`: position-only sub-graphs may become (position-keyed) points.
 // `feature_texels` > 0: points get level floors from their patterns' feature
 // sizes, this many texels across the smallest (materials/bandwidth.h); 0: none.
-CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 0.0);
+// `model`: each point must also pay (see above); nullptr: node counts alone.
+CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 0.0,
+                     const CacheCostModel* model = nullptr);
 
 // A material's level floor for one key kind: the highest of its points' (the
 // points of one evaluation share one texel or cell, so their sub-graphs run

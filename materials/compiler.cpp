@@ -22,7 +22,8 @@ namespace {
 // tracks a group's misses in one 32-bit mask.
 CachePlan plan_cache_points(const Graph& g, const CompileOptions& options) {
   CachePlan plan =
-      plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels);
+      plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels,
+                 options.cache_model ? &*options.cache_model : nullptr);
   std::vector<CachePoint> kept;
   for (const CachePoint& p : plan.points)
     if (p.node < (1 << 14) && kept.size() < 32) {

@@ -22,6 +22,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct CompileOptions {
   // Level floors: texels across a pattern's smallest feature (bandwidth.h);
   // 0: none (the default, as cache_bandwidth off).
   double cache_feature_texels = 0;
+  // With a model, a point must also pay on the device for the frame
+  // (materials/node_costs.h); none: the node count alone decides.
+  std::optional<CacheCostModel> cache_model;
 };
 
 struct CompiledMaterial {

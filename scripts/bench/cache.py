@@ -167,11 +167,13 @@ class Measure:
                  f"compare {tag}")
         return common.read_json(f"{d}/metrics.json")
 
-    def cache_plan(self, scene_args):
-        """Sizes (nodes) of the sub-graphs `pmc info --dump-cache-plan` caches."""
-        info = [self.pmc, "info", "--scene", scene_args[0], "--dump-cache-plan"]
+    def cache_plan(self, scene_args, w, h, spp):
+        """Sizes (nodes) of the sub-graphs `pmc info --dump-cache-plan` caches
+        for a w x h frame of spp samples (the cost model's plan depends on them)."""
+        info = [self.pmc, "info", "--scene", scene_args[0], "--dump-cache-plan", "--width", str(w), "--height", str(h),
+                "--spp", str(spp)]
         for i, x in enumerate(scene_args):
-            if x in ("--mtlx", "--material", "--cache-min-nodes"):
+            if x in ("--mtlx", "--material", "--cache-min-nodes", "--max-depth", "--cache-model"):
                 info += [x, scene_args[i + 1]]
         out = self.run(info, "info --dump-cache-plan")
         return [int(n) for n in re.findall(r"^\s*\+ .*saves a sub-graph of (\d+) nodes", out, re.M)]
@@ -181,7 +183,7 @@ class Measure:
         progress(f"{key}: warm-up (untimed)")
         self.render(a, f"{key}_warm_off", "off", W, H, 1)
         self.render(a, f"{key}_warm_on", "on", W, H, 1)
-        plan = self.cache_plan(a)
+        plan = self.cache_plan(a, W, H, SPP)
         progress(f"{key}: pmc compare, {SPP} spp")
         m = self.compare(a, f"{key}_compare", W, H, SPP)
         progress(f"{key}: pmc compare, {self.spp_q} spp")
@@ -246,8 +248,12 @@ class Measure:
         progress("threshold: warm-up (untimed)")
         self.render(a, "threshold_warm_off", "off", W, H, 1)
         self.render(a, "threshold_warm_on", "on", W, H, 1)
-        plans = {T: self.cache_plan([*a, "--cache-min-nodes", str(T)]) for T in THRESHOLDS}
-        configs = [("off", "off", [])] + [(str(T), "on", ["--cache-min-nodes", str(T)]) for T in THRESHOLDS]
+        # The node count alone (--cache-model nodes): under the cost model the
+        # threshold is only a floor, and this study measures the threshold.
+        by_nodes = ["--cache-model", "nodes"]
+        plans = {T: self.cache_plan([*a, "--cache-min-nodes", str(T), *by_nodes], W, H, SPP) for T in THRESHOLDS}
+        configs = [("off", "off", [])] + [(str(T), "on", ["--cache-min-nodes", str(T), *by_nodes])
+                                          for T in THRESHOLDS]
         times = {name: [] for name, _, _ in configs}
         stats = {}
         for r in range(self.a.runs):

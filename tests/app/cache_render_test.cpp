@@ -68,6 +68,10 @@ std::string marble() {
 const std::string kView =
     " --env 1,1,1 --camera-from -0.1,0.5,2.2 --camera-at -0.1,0.1,0 --fov 40 --max-depth 4 --quiet";
 const std::string kFull = " --width 160 --height 120 --spp 16 --seed 3";
+// Tests of the cache's mechanics on frames too small or too few samples for
+// their points to pay (the cost model would drop them): plan by the node
+// count alone, so the points are there.
+const std::string kByNodeCount = " --cache-model nodes";
 
 struct Render {
   Image image, hits;
@@ -252,7 +256,7 @@ TEST(CacheRender, PositionDrivenMarbleIsCachedOnPositionKeys) {
 // the footprint: 31.3 dB, and both lookups and bypassed points happen.
 TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
   const std::string grid =
-      " --mtlx " + mtlx("linepattern.mtlx") + " --material test_grid --cache-min-nodes 1";
+      " --mtlx " + mtlx("linepattern.mtlx") + " --material test_grid --cache-min-nodes 1" + kByNodeCount;
   const Render& off = render("grid_off", grid + kView + kFull + " --cache off");
   const Render& floors = render("grid_floors", grid + kView + kFull + " --cache on --cache-bandwidth on");
   const Render& paper = render("grid_paper", grid + kView + kFull + " --cache on");
@@ -328,7 +332,8 @@ TEST(CacheRender, StatsReportTheCache) {
 TEST(CacheRender, OneCellOfOneEntryDropsButRenders) {
   const Render& t = render("tiny_table", brick() + kView +
                                              " --width 64 --height 48 --spp 4 --seed 3 --cache on"
-                                             " --cache-cells 1 --cache-entries 1");
+                                             " --cache-cells 1 --cache-entries 1" +
+                                             kByNodeCount);
   ASSERT_FALSE(t.image.pixels.empty()) << t.log;
   const nlohmann::json& c = t.stats["cache"];
   EXPECT_EQ(c["cells"].get<uint64_t>(), 1u);
@@ -356,8 +361,9 @@ TEST(CacheRender, CacheOffReportsNoLookupsAndNoMemory) {
 // there first: a miss uses decode(encode(v)) like a later hit, and the block
 // samples textures at the texel's width, not the hit's ray-cone footprint.
 TEST(CacheRender, CenterEvalIsBitIdenticalWithOneAndTwoThreads) {
-  const std::string args =
-      brick() + kView + " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center";
+  const std::string args = brick() + kView +
+                           " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center" +
+                           kByNodeCount;
   const Render& a = render("center_t1", args + " --threads 1");
   const Render& b = render("center_t2", args + " --threads 2");
   ASSERT_FALSE(a.image.pixels.empty());
@@ -371,8 +377,9 @@ TEST(CacheRender, CenterEvalIsBitIdenticalWithOneAndTwoThreads) {
 }
 
 TEST(CacheRender, CenterEvalWithPositionKeysIsBitIdenticalWithOneAndTwoThreads) {
-  const std::string args =
-      marble() + kView + " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center";
+  const std::string args = marble() + kView +
+                           " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center" +
+                           kByNodeCount;
   const Render& a = render("marble_center_t1", args + " --threads 1");
   const Render& b = render("marble_center_t2", args + " --threads 2");
   ASSERT_FALSE(a.image.pixels.empty());

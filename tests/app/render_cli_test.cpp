@@ -141,13 +141,41 @@ TEST(InfoCli, CachePlanShowsLevelFloorsWithBandwidthOn) {
   const std::string scene = "info --scene " + test::source_path("data/default/room.obj") + " --mtlx " +
                             test::source_path("data/default/materials.mtlx") + " --dump-cache-plan";
   std::string on, off;
-  ASSERT_EQ(test::run_pmc(scene + " --cache-bandwidth on", &on), 0) << on;
+  // The node count alone: at the default 16 spp the cost model drops the
+  // cylinder's point (see CachePlanShowsTheCostModelsFigures).
+  ASSERT_EQ(test::run_pmc(scene + " --cache-bandwidth on --cache-model nodes", &on), 0) << on;
   EXPECT_NE(on.find("smallest feature 0.00333 uv: texels of at most 0.000977 uv (level >= 10)"),
             std::string::npos)
       << on;
   ASSERT_EQ(test::run_pmc(scene, &off), 0) << off;
   EXPECT_EQ(off.find("smallest feature"), std::string::npos) << off;
   EXPECT_EQ(off.find("level floor"), std::string::npos) << off;
+}
+
+// The cost model's figures (the table's costs: the tests set
+// PMC_CACHE_COSTS=table). The cylinder's base colour (11 nodes, a 24 x 10
+// tiledhexagons) is a marginal point: at 16 spp the expected hit rate is
+// 1 - 3.25 / (16 x 1.6) = 87.3% and it does not pay; at 64 spp
+// 1 - 3.625 / (64 x 1.6) = 96.5% and it does. With the node count alone it
+// is a point at any samples.
+TEST(InfoCli, CachePlanShowsTheCostModelsFigures) {
+  const std::string scene = "info --scene " + test::source_path("data/default/room.obj") + " --mtlx " +
+                            test::source_path("data/default/materials.mtlx") + " --material cylinder" +
+                            " --dump-cache-plan --width 160 --height 90";
+  std::string few, many, nodes;
+  ASSERT_EQ(test::run_pmc(scene + " --spp 16", &few), 0) << few;
+  EXPECT_NE(few.find("cache cost model: table"), std::string::npos) << few;
+  EXPECT_NE(few.find("cache points: 0"), std::string::npos) << few;
+  EXPECT_NE(few.find("does not pay on this device"), std::string::npos) << few;
+  EXPECT_NE(few.find("expected hit rate h 87.3%"), std::string::npos) << few;
+  ASSERT_EQ(test::run_pmc(scene + " --spp 64", &many), 0) << many;
+  EXPECT_NE(many.find("cache points: 1"), std::string::npos) << many;
+  EXPECT_NE(many.find("pays: cost C"), std::string::npos) << many;
+  EXPECT_NE(many.find("expected hit rate h 96.5%"), std::string::npos) << many;
+  EXPECT_NE(many.find("predicted: 1 cache points save"), std::string::npos) << many;
+  ASSERT_EQ(test::run_pmc(scene + " --spp 16 --cache-model nodes", &nodes), 0) << nodes;
+  EXPECT_NE(nodes.find("cache points: 1"), std::string::npos) << nodes;
+  EXPECT_EQ(nodes.find("cache cost model"), std::string::npos) << nodes;
 }
 
 }  // namespace

@@ -23,6 +23,12 @@ std::string env_or(const char* name, const char* compiled_in) {
 
 std::string source_dir() { return env_or("PMC_TEST_SOURCE_DIR", PMC_SOURCE_DIR); }
 
+// The cache plan's device costs come from the cost model's table, not from a
+// calibration of this machine's device (gpu/device_calibration.h), so every
+// test (and every pmc it runs) plans the same on any machine. A test of the
+// calibration names its folder itself; PMC_CACHE_COSTS set by the caller wins.
+[[maybe_unused]] const bool kTableCosts = [] { return setenv("PMC_CACHE_COSTS", "table", 0) == 0; }();
+
 }  // namespace
 
 std::string source_path(const std::string& rel) { return source_dir() + "/" + rel; }
@@ -122,6 +128,10 @@ RenderConfig default_scene_config(int width, int height, int spp) {
   c.height = height;
   c.spp = spp;
   c.max_depth = 4;
+  // The node count plans: at these small frames and sample counts the cost
+  // model would drop most points (or all), and the tests using this config
+  // are about the renderer and the cache's mechanics, not the plan.
+  c.cache_model = CacheModel::Nodes;
   return c;
 }
 

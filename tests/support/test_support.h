@@ -48,7 +48,8 @@ double image_mean(const Image& img);
 size_t non_finite(const Image& img);
 // Values (pixel channels) that differ between two images of the same size.
 size_t differing_values(const Image& a, const Image& b);
-// The bundled default scene (data/default) at this size, path length 4.
+// The bundled default scene (data/default) at this size, path length 4,
+// cache points by node count (cache_model nodes).
 RenderConfig default_scene_config(int width, int height, int spp);
 
 }  // namespace pmc::test

@@ -1,0 +1,76 @@
+// device_calibration.h — a device's material-cache costs, measured once and kept.
+//
+// The cost model (materials/node_costs.h) weighs a cache point's sub-graph
+// against a lookup and a miss in unit nodes. Its table was measured inside
+// renders on PoCL's CPU device; another device's lookups, inserts and nodes
+// cost other amounts. measure_device_costs() times three tiny kernels
+// (gpu/kernels/device_calibration.cl: lookups that hit, misses that insert,
+// 2D Perlin noises as the unit node) and calibrated_costs() scales the
+// table's lookup and miss by how this device's ratios to the unit node differ
+// from PoCL's on the machine the table came from.
+//
+// Timings are noisy, so a device is measured once: the raw figures are stored
+// in a JSON file named by a hash of the calibration key (platform, device,
+// OpenCL and driver versions, and the calibration kernel's expanded source,
+// which changes with pmc's cache code) beside PoCL's kernel cache:
+// $PMC_CACHE_COSTS if it names a folder, else $XDG_CACHE_HOME/pmc/device-costs,
+// else ~/.cache/pmc/device-costs. Later runs read the file, so the plan, and
+// the image, is the same on a device for every run once stored. The first
+// writer wins (a file is linked into place, never replaced while valid), so
+// concurrent first runs (farm parts) all use the same figures. A file with
+// another key (a hash collision) or one that cannot be read as calibration is
+// ignored with a warning and measured again. PMC_CACHE_COSTS=table uses the
+// table without a device measurement (the test suite sets it: deterministic
+// plans on any machine).
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "gpu/cl_context.h"
+#include "materials/node_costs.h"
+
+namespace pmc {
+
+// Raw timings of the calibration kernels, nanoseconds per operation and
+// device (throughput of the whole device, as node costs are measured).
+struct DeviceTimings {
+  double unit_ns = 0;    // one 2D Perlin noise
+  double lookup_ns = 0;  // a lookup that hits
+  double miss_ns = 0;    // a lookup that misses, then its insert
+};
+
+// What identifies a device's calibration (one line of text).
+std::string calibration_key(const ClContext& cl);
+// The folder from PMC_CACHE_COSTS / XDG_CACHE_HOME / HOME; "" with
+// PMC_CACHE_COSTS=table or no home folder.
+std::string calibration_folder();
+// The file that holds `key`'s calibration in `folder`.
+std::string calibration_path(const std::string& folder, const std::string& key);
+
+// The stored timings for `key`, or none (with `problem` saying why when a
+// file exists but is unusable: unreadable, not calibration JSON, another key).
+std::optional<DeviceTimings> read_calibration(const std::string& path, const std::string& key,
+                                              std::string* problem);
+// Stores `t` unless a valid file for `key` is already there; returns the
+// timings the file holds afterwards (the first writer's). A folder that
+// cannot be written costs a warning and returns `t`.
+DeviceTimings store_calibration(const std::string& folder, const std::string& key, const DeviceTimings& t);
+
+// The stored timings, else measure() once and store them.
+DeviceTimings load_or_measure(const std::string& folder, const std::string& key,
+                              const std::function<DeviceTimings()>& measure);
+
+// The table's figures scaled by a device's timings (see above).
+CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string& source);
+
+// Times the calibration kernels on the device (builds them: seconds on PoCL
+// the first time, then PoCL's kernel cache).
+DeviceTimings measure_device_costs(const ClContext& cl);
+
+// The costs a render on `cl` plans with: the table (PMC_CACHE_COSTS=table or
+// no folder), else the stored or newly measured calibration.
+CacheCosts device_cache_costs(const ClContext& cl);
+
+}  // namespace pmc

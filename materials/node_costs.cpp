@@ -1,0 +1,90 @@
+// node_costs.cpp — node weights, the frame's expected hit rate and a cache
+// point's economics (node_costs.h).
+#include "materials/node_costs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "core/cache_sizing.h"
+#include "materials/cache_plan.h"
+
+namespace pmc {
+namespace {
+
+// Unit nodes per node of each costly family: docs/BENCHMARKS.md "Node costs"
+// (bench.node_costs, PoCL, 2026-11-27). A fractal's figure is per octave.
+// Image lookups were not in that run: 8 units, what the Sponza row of "Cache:
+// off vs on" implies (a 3-node Kd x texture point at 87% hits broke even
+// against an 11-unit lookup). Every other node costs one unit.
+const std::map<std::string, double>& family_weights() {
+  static const std::map<std::string, double> w = {
+      {"noise2d", 1.0},       {"fractal2d", 1.5},      {"cellnoise2d", 0.8}, {"worleynoise2d", 24.1},
+      {"tiledhexagons", 3.5}, {"tiledcircles", 2.3},   {"noise3d", 9.5},     {"fractal3d", 9.7},
+      {"cellnoise3d", 0.8},   {"worleynoise3d", 69.3}, {"image", 8.0},
+  };
+  return w;
+}
+
+// Free nodes: the key inputs and constants the compiler folds into operands.
+bool free_node(const std::string& category) {
+  return category == "texcoord" || category == "position" || category == "constant";
+}
+
+}  // namespace
+
+double node_cost(const Node& n) {
+  if (free_node(n.category)) return 0.0;
+  const auto& w = family_weights();
+  auto it = w.find(n.category);
+  double weight = it == w.end() ? 1.0 : it->second;
+  if (n.category == "fractal2d" || n.category == "fractal3d") {
+    const Input* octaves = n.input("octaves");
+    const double count = octaves && !octaves->linked ? double(octaves->value.f[0]) : 3.0;
+    weight *= std::clamp(count, 1.0, 16.0);
+  }
+  return weight;
+}
+
+double subgraph_cost(const Graph& g, int node) {
+  double total = 0.0;
+  for (int i : subgraph_order(g, node)) total += node_cost(g.nodes[size_t(i)]);
+  return total;
+}
+
+CacheCosts default_cache_costs(bool gpu) {
+  CacheCosts c;  // PoCL's CPU device (the struct's defaults)
+  c.source = gpu ? "table (GPU estimate, not calibrated)" : "table (PoCL CPU, not calibrated)";
+  if (gpu) c.miss_per_cost = 2.0;  // a warp waits for its missing lanes
+  return c;
+}
+
+double lookups_per_sample(const CacheFrame& frame) {
+  // Measured on the default scene (max depth 8): hits 89.8% at 320x180,
+  // 16 spp with 2.69 keys per pixel and point, 97.2% at 64 spp with 2.90,
+  // i.e. 1.6 lookups per point and sample; a camera-only path makes one.
+  return frame.max_depth > 1 ? 1.6 : 1.0;
+}
+
+double expected_hit_rate(const CacheFrame& frame, bool position_key) {
+  const double spp = std::max(1, frame.spp);
+  const double keys = expected_keys_per_pixel_point(int(spp)) * (position_key ? 2.0 : 1.0);
+  const double lookups = spp * lookups_per_sample(frame);
+  return std::clamp(1.0 - keys / lookups, 0.0, 1.0);
+}
+
+PointEconomics point_economics(double cost, bool position_key, const CacheCosts& costs,
+                               const CacheFrame& frame) {
+  PointEconomics e;
+  e.cost = cost;
+  e.lookup = costs.lookup;
+  e.miss = costs.miss + costs.miss_per_cost * cost;
+  e.hit_rate = expected_hit_rate(frame, position_key);
+  e.gain = e.hit_rate * e.cost - e.lookup - (1.0 - e.hit_rate) * e.miss;
+  const double lookups =
+      double(frame.width) * double(frame.height) * double(std::max(1, frame.spp)) * lookups_per_sample(frame);
+  e.frame_seconds = e.gain * lookups * costs.unit_ns * 1e-9;
+  return e;
+}
+
+}  // namespace pmc

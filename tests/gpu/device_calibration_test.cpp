@@ -1,0 +1,152 @@
+// device_calibration_test.cpp — a device's cache costs, measured once and kept
+// (gpu/device_calibration.h):
+//  (a) stored timings read back exactly, in a file named by the key;
+//  (b) a stored key is not measured again, another key is (its own file), and
+//      a file holding another key's figures is ignored with a warning;
+//  (c) a damaged file (not JSON, missing or non-positive figures) is ignored
+//      with a warning naming it, measured again and replaced, never a crash;
+//  (d) the first writer wins: a second store keeps the first figures;
+//  (e) the table's figures scale by the device's ratios (equal ratios: the
+//      table itself);
+//  (f) on this machine's device: the kernels measure positive figures, and
+//      device_cache_costs() gives identical costs on the second call (read
+//      back, not measured), so the plan is the same for every later run.
+#include "gpu/device_calibration.h"
+
+#include <gtest/gtest.h>
+#include <stdlib.h>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "tests/support/test_support.h"
+
+namespace pmc {
+namespace {
+
+DeviceTimings timings(double unit, double lookup, double miss) {
+  DeviceTimings t;
+  t.unit_ns = unit;
+  t.lookup_ns = lookup;
+  t.miss_ns = miss;
+  return t;
+}
+
+TEST(DeviceCalibration, StoredTimingsRoundTrip) {
+  const std::string dir = test::temp_dir();
+  const DeviceTimings t = timings(80.123456789, 120.5, 175.25);
+  const DeviceTimings kept = store_calibration(dir, "device A", t);
+  EXPECT_EQ(kept.unit_ns, t.unit_ns);
+  const std::string path = calibration_path(dir, "device A");
+  ASSERT_TRUE(test::file_exists(path));
+  std::string problem;
+  std::optional<DeviceTimings> back = read_calibration(path, "device A", &problem);
+  ASSERT_TRUE(back) << problem;
+  EXPECT_EQ(back->unit_ns, t.unit_ns);  // exactly: the plan must not move
+  EXPECT_EQ(back->lookup_ns, t.lookup_ns);
+  EXPECT_EQ(back->miss_ns, t.miss_ns);
+  EXPECT_NE(calibration_path(dir, "device B"), path);
+}
+
+TEST(DeviceCalibration, KeyedByDevice) {
+  const std::string dir = test::temp_dir();
+  int measured = 0;
+  auto measure = [&measured] {
+    ++measured;
+    return timings(80, 120 + measured, 170);
+  };
+  EXPECT_EQ(load_or_measure(dir, "device A", measure).lookup_ns, 121);
+  EXPECT_EQ(load_or_measure(dir, "device A", measure).lookup_ns, 121);
+  EXPECT_EQ(measured, 1) << "a stored calibration is not measured again";
+  EXPECT_EQ(load_or_measure(dir, "device B", measure).lookup_ns, 122);
+  EXPECT_EQ(measured, 2) << "another device key is measured";
+  // A's file where B's belongs (as a hash collision would put it): not B's.
+  std::filesystem::copy_file(calibration_path(dir, "device A"), calibration_path(dir, "device C"));
+  std::string problem;
+  EXPECT_FALSE(read_calibration(calibration_path(dir, "device C"), "device C", &problem));
+  EXPECT_NE(problem.find("another device"), std::string::npos) << problem;
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(load_or_measure(dir, "device C", measure).lookup_ns, 123);
+  const std::string warning = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warning.find(calibration_path(dir, "device C")), std::string::npos) << warning;
+}
+
+TEST(DeviceCalibration, DamagedFileIsIgnoredWithAWarning) {
+  const std::string dir = test::temp_dir();
+  const std::string path = calibration_path(dir, "device A");
+  const std::string damaged[] = {
+      "{\"format\": 1, \"key\": \"device A\", \"unit_ns\": 8",  // cut short
+      "\x01\x02 not json",
+      "[1, 2, 3]",
+      "{\"format\": 1, \"key\": \"device A\", \"unit_ns\": 80, \"lookup_ns\": -1, \"miss_ns\": 170}",
+      "{\"format\": 1, \"key\": \"device A\", \"unit_ns\": 80, \"lookup_ns\": \"fast\", \"miss_ns\": 170}",
+      "{\"format\": 99, \"key\": \"device A\", \"unit_ns\": 80, \"lookup_ns\": 120, \"miss_ns\": 170}",
+  };
+  for (const std::string& text : damaged) {
+    test::write_file(path, text);
+    int measured = 0;
+    testing::internal::CaptureStderr();
+    const DeviceTimings t = load_or_measure(dir, "device A", [&measured] {
+      ++measured;
+      return timings(80, 120, 170);
+    });
+    const std::string warning = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(measured, 1) << text;
+    EXPECT_EQ(t.lookup_ns, 120) << text;
+    EXPECT_NE(warning.find(path), std::string::npos) << text << " -> " << warning;
+    std::string problem;
+    EXPECT_TRUE(read_calibration(path, "device A", &problem))
+        << "replaced by the new measurement: " << problem;
+  }
+}
+
+TEST(DeviceCalibration, FirstWriterWins) {
+  const std::string dir = test::temp_dir();
+  store_calibration(dir, "device A", timings(80, 120, 170));
+  const DeviceTimings second = store_calibration(dir, "device A", timings(90, 200, 300));
+  EXPECT_EQ(second.lookup_ns, 120);
+  EXPECT_EQ(read_calibration(calibration_path(dir, "device A"), "device A", nullptr)->lookup_ns, 120);
+}
+
+TEST(DeviceCalibration, TableScalesByTheDevicesRatios) {
+  const CacheCosts table = default_cache_costs(false);
+  // The reference machine's own figures (lookup 1.5 and miss 2.2 noises,
+  // 16.4 ns a noise) give the table back.
+  const CacheCosts same = calibrated_costs(timings(16.4, 24.6, 36.08), false, "test");
+  EXPECT_NEAR(same.lookup, table.lookup, 1e-9);
+  EXPECT_NEAR(same.miss, table.miss, 1e-9);
+  EXPECT_NEAR(same.unit_ns, table.unit_ns, 1e-9);
+  // Lookups twice as dear against the unit node, and a device twice as fast.
+  const CacheCosts dear = calibrated_costs(timings(8.2, 24.6, 18.04), false, "test");
+  EXPECT_NEAR(dear.lookup, 2.0 * table.lookup, 1e-9);
+  EXPECT_NEAR(dear.miss, table.miss, 1e-9);
+  EXPECT_NEAR(dear.unit_ns, table.unit_ns / 2.0, 1e-9);
+  EXPECT_EQ(dear.source, "test");
+}
+
+TEST(DeviceCalibration, MeasuredOnceOnThisDevice) {
+  const std::string dir = test::temp_dir();
+  const char* before = std::getenv("PMC_CACHE_COSTS");
+  const std::string saved = before ? before : "";
+  setenv("PMC_CACHE_COSTS", dir.c_str(), 1);
+  const CacheCosts first = device_cache_costs(test::cl());
+  const CacheCosts second = device_cache_costs(test::cl());
+  if (before)
+    setenv("PMC_CACHE_COSTS", saved.c_str(), 1);
+  else
+    unsetenv("PMC_CACHE_COSTS");
+  std::string problem;
+  std::optional<DeviceTimings> t = read_calibration(calibration_path(dir, calibration_key(test::cl())),
+                                                    calibration_key(test::cl()), &problem);
+  ASSERT_TRUE(t) << problem;
+  for (double v : {t->unit_ns, t->lookup_ns, t->miss_ns}) EXPECT_TRUE(std::isfinite(v) && v > 0) << v;
+  EXPECT_NE(first.source.find("calibrated"), std::string::npos) << first.source;
+  EXPECT_EQ(first.lookup, second.lookup);
+  EXPECT_EQ(first.miss, second.miss);
+  EXPECT_EQ(first.unit_ns, second.unit_ns);
+  EXPECT_NE(calibration_key(test::cl()).find(test::cl().info().name), std::string::npos);
+}
+
+}  // namespace
+}  // namespace pmc
