@@ -25,8 +25,9 @@ def _die_with_parent():
         pass
 
 
-def render_chunk(pmc, scene, part, stats, chunk, render_args, timeout, started_dir=None):
+def render_chunk(pmc, scene, part, stats, chunk, render_args, timeout, started_dir=None, env=None):
     """Renders `chunk` into `part` (EXR) and `stats` (JSON); returns a summary dict.
+    `env`: variables set for pmc on top of the worker's environment.
     Raises RuntimeError (with pmc's message) when pmc fails, so Dask's retries apply."""
     cmd = [pmc, "render", scene, "-o", part, "--stats", stats, "--quiet",
            "--samples", "%d:%d" % tuple(chunk["samples"])]
@@ -39,7 +40,8 @@ def render_chunk(pmc, scene, part, stats, chunk, render_args, timeout, started_d
     t0 = time.monotonic()
     try:
         proc = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                              timeout=timeout, preexec_fn=_die_with_parent if sys.platform == "linux" else None)
+                              timeout=timeout, preexec_fn=_die_with_parent if sys.platform == "linux" else None,
+                              env=dict(os.environ, **env) if env else None)
     except subprocess.TimeoutExpired:
         raise RuntimeError("chunk %d: pmc render did not finish within %s s" % (chunk["index"], timeout))
     seconds = time.monotonic() - t0

@@ -11,6 +11,12 @@ chunks are rescheduled by the scheduler (up to its allowed-failures). Every
 wait is bounded: the client connection, each pmc process (--chunk-timeout)
 and the whole job (--timeout). The parts go to a folder every worker can
 write (on a cluster: a shared path); `pmc merge` adds them at the end.
+Chunks plan their cache points with one device calibration: unless
+PMC_CACHE_COSTS is set, every chunk's pmc keeps it in the parts folder
+(chunk_environment), so the first chunk on a device measures it and the
+others read it; with each machine's own calibration, parts from machines
+that measured differently would plan different programs, which pmc merge
+refuses (their scene hashes differ).
 With --denoise every chunk also renders the albedo and normal passes, and
 `pmc denoise` runs on the merged frame: OUT.exr/png denoised beside
 OUT.noisy.exr/png (parts cannot be denoised one by one: the denoiser needs
@@ -111,6 +117,15 @@ def with_denoise_passes(args):
             out += ["--aov", ",".join(names)]
         i += 1
     return out if found else out + ["--aov", ",".join(DENOISE_PASSES)]
+
+
+def chunk_environment(parts_dir, environ=None):
+    """The variables every chunk's pmc gets: PMC_CACHE_COSTS in the parts
+    folder (shared by the chunks), unless the user set it."""
+    environ = os.environ if environ is None else environ
+    if environ.get("PMC_CACHE_COSTS"):
+        return {}
+    return {"PMC_CACHE_COSTS": os.path.join(parts_dir, "device-costs")}
 
 
 def check_denoiser(pmc):
@@ -247,7 +262,8 @@ def run_farm(o):
         t0 = time.monotonic()
         futures = [client.submit(chunk_module.render_chunk, o.pmc, o.scene, c["part"], c["stats"],
                                  {k: c[k] for k in ("index", "samples", "crop")}, render_args,
-                                 o.chunk_timeout, o.started_dir, key="pmc-chunk-%s-%03d" % (token, c["index"]),
+                                 o.chunk_timeout, o.started_dir, chunk_environment(parts_dir),
+                                 key="pmc-chunk-%s-%03d" % (token, c["index"]),
                                  retries=o.retries, pure=False)
                    for c in chunks]
         bar.update(0)

@@ -88,6 +88,13 @@ class CommandLine(unittest.TestCase):
             self.assertEqual(os.listdir(d), [])
 
 
+class ChunkEnvironment(unittest.TestCase):
+    def test_chunks_share_one_device_calibration_in_the_parts_folder_unless_the_user_set_one(self):
+        self.assertEqual(run.chunk_environment("/p", {}), {"PMC_CACHE_COSTS": "/p/device-costs"})
+        self.assertEqual(run.chunk_environment("/p", {"PMC_CACHE_COSTS": "table"}), {})
+        self.assertEqual(run.chunk_environment("/p", {"PMC_CACHE_COSTS": "/shared/costs"}), {})
+
+
 class Denoise(unittest.TestCase):
     def test_the_denoisers_passes_join_the_users_list(self):
         self.assertEqual(run.with_denoise_passes(["--spp", "4"]), ["--spp", "4", "--aov", "albedo,normal"])
