@@ -18,15 +18,6 @@ std::string platform_string(cl_platform_id p, cl_platform_info what) {
   return s;
 }
 
-std::string device_string(cl_device_id d, cl_device_info what) {
-  size_t n = 0;
-  if (clGetDeviceInfo(d, what, 0, nullptr, &n) != CL_SUCCESS || n == 0) return {};
-  std::string s(n, '\0');
-  clGetDeviceInfo(d, what, n, s.data(), nullptr);
-  while (!s.empty() && s.back() == '\0') s.pop_back();
-  return s;
-}
-
 std::string lower(std::string s) {
   for (char& c : s) c = char(std::tolower((unsigned char)c));
   return s;
@@ -36,6 +27,15 @@ std::string lower(std::string s) {
 
 void cl_check(cl_int status, const char* what) {
   if (status != CL_SUCCESS) fail("OpenCL: ", what, " failed with error ", status);
+}
+
+std::string cl_device_string(cl_device_id d, cl_device_info what) {
+  size_t n = 0;
+  if (clGetDeviceInfo(d, what, 0, nullptr, &n) != CL_SUCCESS || n == 0) return {};
+  std::string s(n, '\0');
+  clGetDeviceInfo(d, what, n, s.data(), nullptr);
+  while (!s.empty() && s.back() == '\0') s.pop_back();
+  return s;
 }
 
 std::vector<ClDeviceInfo> list_cl_devices() {
@@ -56,8 +56,8 @@ std::vector<ClDeviceInfo> list_cl_devices() {
     for (cl_device_id d : devices) {
       ClDeviceInfo info;
       info.platform = platform_string(p, CL_PLATFORM_NAME);
-      info.name = device_string(d, CL_DEVICE_NAME);
-      info.version = device_string(d, CL_DEVICE_VERSION);
+      info.name = cl_device_string(d, CL_DEVICE_NAME);
+      info.version = cl_device_string(d, CL_DEVICE_VERSION);
       cl_device_type type = 0;
       clGetDeviceInfo(d, CL_DEVICE_TYPE, sizeof(type), &type, nullptr);
       info.is_gpu = (type & CL_DEVICE_TYPE_GPU) != 0;

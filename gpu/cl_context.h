@@ -33,6 +33,8 @@ struct ClDeviceInfo {
 // All devices of all platforms. Throws pmc::Error (with install advice) when
 // there is no OpenCL platform at all.
 std::vector<ClDeviceInfo> list_cl_devices();
+// A device's string property (CL_DRIVER_VERSION, ...); empty when the driver has none.
+std::string cl_device_string(cl_device_id d, cl_device_info what);
 
 void cl_check(cl_int status, const char* what);
 

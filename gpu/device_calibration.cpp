@@ -37,15 +37,6 @@ constexpr double kReferenceLookupPerUnit = 1.5;
 constexpr double kReferenceMissPerUnit = 2.2;
 constexpr double kReferenceUnitNs = 16.4;
 
-std::string device_text(cl_device_id d, cl_device_info what) {
-  size_t n = 0;
-  if (clGetDeviceInfo(d, what, 0, nullptr, &n) != CL_SUCCESS || n == 0) return {};
-  std::string s(n, '\0');
-  clGetDeviceInfo(d, what, n, s.data(), nullptr);
-  while (!s.empty() && s.back() == '\0') s.pop_back();
-  return s;
-}
-
 bool positive_finite(const nlohmann::json& j, const char* name, double& out) {
   auto it = j.find(name);
   if (it == j.end() || !it->is_number()) return false;
@@ -79,8 +70,8 @@ std::string calibration_key(const ClContext& cl) {
   ContentHash source;
   source.str(expand_kernel_source(kKernelFile));
   return d.platform + " | " + d.name + " | " + d.version + " | driver " +
-         device_text(d.device_id, CL_DRIVER_VERSION) + " | calibration " + std::to_string(kFormat) + " " +
-         source.hex();
+         cl_device_string(d.device_id, CL_DRIVER_VERSION) + " | calibration " + std::to_string(kFormat) +
+         " " + source.hex();
 }
 
 std::string calibration_folder() {
