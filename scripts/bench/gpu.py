@@ -79,6 +79,13 @@ def bench_rows(results):
     return runs
 
 
+def frame_of(s):
+    """What a cache-on render is compared with: the cache-off one of the same scene and size. The
+    scene is named by its folder and file (data/heavy/room.obj -> heavy/room.obj)."""
+    scene = "/".join(s.get("scene", "").replace("\\", "/").split("/")[-2:])
+    return scene, s["width"], s["height"]
+
+
 def options_of(s):
     c = s.get("cache", {})
     out = [f"{s['width']}x{s['height']}", f"{s['spp']} spp", f"lanes {s['shade_lanes']}"]
@@ -93,12 +100,12 @@ def table(runs):
     base = {}
     for name, stats in runs.items():
         if not stats[0].get("cache", {}).get("enabled"):
-            base.setdefault((stats[0]["width"], stats[0]["height"]), common.median([s["render_seconds"] for s in stats]))
-    for name, stats in sorted(runs.items(), key=lambda kv: (kv[1][0]["width"], kv[0])):
+            base.setdefault(frame_of(stats[0]), common.median([s["render_seconds"] for s in stats]))
+    for name, stats in sorted(runs.items(), key=lambda kv: (kv[1][0].get("scene", ""), kv[1][0]["width"], kv[0])):
         t = [s["render_seconds"] for s in stats]
         med = common.median(t)
         c = stats[0].get("cache", {})
-        ref = base.get((stats[0]["width"], stats[0]["height"]))
+        ref = base.get(frame_of(stats[0]))
         speed = f"{ref / med:.2f}x" if ref and c.get("enabled") else "-"
         rows.append([f"`{name}`", options_of(stats[0]), f"{med:.2f} ({min(t):.2f}-{max(t):.2f})",
                      f"{common.median([s['rays_per_second'] for s in stats]) / 1e6:.1f}"] +
@@ -119,13 +126,14 @@ def cache_notes(runs):
         default_cache = key == "off" or (s0["cache"]["policy"] == "keep-first" and s0["cache"]["eval"] == "center"
                                          and s0["cache"]["filter"] == "bilinear")
         if s0["shade_lanes"] == 1 and default_cache:
-            by_size.setdefault((s0["width"], s0["height"]), {}).setdefault(key, stats)
-    for (w, h), pair in sorted(by_size.items()):
+            by_size.setdefault(frame_of(s0), {}).setdefault(key, stats)
+    for (scene, w, h), pair in sorted(by_size.items()):
         if "off" in pair and "on" in pair:
             r = {k: common.median([s["render_seconds"] for s in v]) for k, v in pair.items()}
             sh = {k: common.median([s["stage_seconds"]["shade"] for s in v]) for k, v in pair.items()}
             verdict = "faster" if r["on"] < r["off"] else "slower"
-            notes.append(f"- {w}x{h}: the cache makes the render {verdict}, {r['off']:.2f} -> {r['on']:.2f} s "
+            where = f"{scene}, " if scene else ""
+            notes.append(f"- {where}{w}x{h}: the cache makes the render {verdict}, {r['off']:.2f} -> {r['on']:.2f} s "
                          f"({r['off'] / r['on']:.2f}x); the shade stage {sh['off']:.2f} -> {sh['on']:.2f} s.")
     return notes
 
@@ -182,7 +190,7 @@ def main(argv=None):
         runs = bench_rows(results)
         if runs:
             text, rounds = table(runs)
-            parts += ["", f"Default scene (data/default), medians of {common.rounds_text(rounds)}; stages "
+            parts += ["", f"The default scene (data/default; the heavy procedural scene, data/heavy, in the `heavy-` rows), medians of {common.rounds_text(rounds)}; stages "
                           "in seconds of wall clock (transfer includes waiting for the device):", "", text]
             notes = cache_notes(runs)
             if notes:

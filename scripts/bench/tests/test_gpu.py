@@ -21,10 +21,10 @@ XML = """<?xml version="1.0" encoding="UTF-8"?>
 """
 
 
-def stats(w, render, shade, cache):
+def stats(w, render, shade, cache, scene="/repo/data/default/room.obj"):
     c = {"enabled": cache, "policy": "keep-first", "eval": "center", "filter": "bilinear", "cells": 8,
          "entries": 8, "hit_rate": 0.5} if cache else {"enabled": False}
-    return {"width": w, "height": w // 2, "spp": 16, "shade_lanes": 1, "render_seconds": render,
+    return {"scene": scene, "width": w, "height": w // 2, "spp": 16, "shade_lanes": 1, "render_seconds": render,
             "rays_per_second": 1e6, "device": "Some GPU (Vendor)", "cache": c,
             "stage_seconds": {k: shade if k == "shade" else 0.1 for k in gpu.STAGES}}
 
@@ -64,3 +64,22 @@ class ReadsAGpuCheckFolder(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class ComparesEachSceneWithItsOwnCacheOffRun(unittest.TestCase):
+    def test_the_heavy_scenes_rows_use_its_own_baseline(self):
+        d = tempfile.mkdtemp()
+        os.makedirs(os.path.join(d, "bench"))
+        heavy = "/repo/data/heavy/room.obj"
+        for name, s in (("r1-cache-off", stats(200, 2.0, 1.0, False)), ("r1-cache-on", stats(200, 1.0, 0.5, True)),
+                        ("r1-heavy-cache-off", stats(200, 9.0, 8.0, False, heavy)),
+                        ("r1-heavy-cache-on", stats(200, 3.0, 2.0, True, heavy))):
+            with open(os.path.join(d, "bench", name + ".json"), "w") as f:
+                json.dump(s, f)
+        runs = gpu.bench_rows(d)
+        text, _ = gpu.table(runs)
+        self.assertIn("| 2.00x |", text)  # 2.0 / 1.0: the default scene against its own
+        self.assertIn("| 3.00x |", text)  # 9.0 / 3.0: the heavy scene against its own
+        notes = gpu.cache_notes(runs)
+        self.assertEqual(len(notes), 2)
+        self.assertTrue(any(n.startswith("- heavy/room.obj, 200x100:") and "(3.00x)" in n for n in notes), notes)
