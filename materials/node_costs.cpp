@@ -13,15 +13,14 @@ namespace pmc {
 namespace {
 
 // Unit nodes per node of each costly family: docs/BENCHMARKS.md "Node costs"
-// (bench.node_costs, PoCL, 2026-11-27). A fractal's figure is per octave.
-// Image lookups were not in that run: 8 units, what the Sponza row of "Cache:
-// off vs on" implies (a 3-node Kd x texture point at 87% hits broke even
-// against an 11-unit lookup). Every other node costs one unit.
+// (bench.node_costs, PoCL, 2026-11-27; images 2026-11-29: a bilinear read
+// through a 1024x1024 texture's mip chain, RGB or grey). A fractal's figure
+// is per octave. Every other node costs one unit.
 const std::map<std::string, double>& family_weights() {
   static const std::map<std::string, double> w = {
       {"noise2d", 1.0},       {"fractal2d", 1.5},      {"cellnoise2d", 0.8}, {"worleynoise2d", 24.1},
       {"tiledhexagons", 3.5}, {"tiledcircles", 2.3},   {"noise3d", 9.5},     {"fractal3d", 9.7},
-      {"cellnoise3d", 0.8},   {"worleynoise3d", 69.3}, {"image", 8.0},
+      {"cellnoise3d", 0.8},   {"worleynoise3d", 69.3}, {"image", 30.0},
   };
   return w;
 }

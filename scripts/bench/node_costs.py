@@ -31,6 +31,8 @@ PROG = "bench.node_costs"
 SECTION = "## Node costs (scripts/bench-node-costs)"
 K = 8
 PLANE = "../shared/scenes/materialx/geometry/plane.obj"
+IMAGE_RGB = "../shared/scenes/sponza/textures/spnza_bricks_a_diff.png"
+IMAGE_GREY = "../shared/scenes/sponza/textures/spnza_bricks_a_bump.png"
 VIEW = ["--env", "1,1,1", "--camera-from", "0,-0.75,0.65", "--camera-at", "0,-0.05,0", "--fov", "45",
         "--max-depth", "1", "--cache", "off"]
 # family -> (key input: position or uv, the node's XML given its name and coordinate node)
@@ -58,6 +60,13 @@ FAMILIES = {
                                 'nodename="{c}" /></cellnoise3d>'),
     "worleynoise3d": ("position", '<worleynoise3d name="{n}" type="float"><input name="position" '
                                   'type="vector3" nodename="{c}" /></worleynoise3d>'),
+    # Images: a 1024x1024 texture as Sponza's and the brick's, read through its mip chain.
+    "image (1024x1024 RGB)": ("uv", '<image name="{n}" type="color3"><input name="file" type="filename" '
+                                    f'value="{os.path.abspath(IMAGE_RGB)}" /><input name="texcoord" type="vector2" '
+                                    'nodename="{c}" /></image>'),
+    "image (1024x1024 grey)": ("uv", '<image name="{n}" type="float"><input name="file" type="filename" '
+                                     f'value="{os.path.abspath(IMAGE_GREY)}" /><input name="texcoord" '
+                                     'type="vector2" nodename="{c}" /></image>'),
 }
 
 
@@ -73,7 +82,9 @@ def parse(argv=None):
 
 
 def slug(name):
-    return name.split(" ")[0]
+    """A family's file name: its first word, and for images the kind in brackets (image_rgb, image_grey)."""
+    words = name.split(" ")
+    return words[0] if words[0] != "image" else f"image_{words[-1].strip(')').lower()}"
 
 
 def document(key, node_xml):
