@@ -168,6 +168,10 @@ int run_render(const RenderArgs& args) {
         (unsigned long long)st.cache.lookups, 100.0 * hit_rate(st.cache),
         (unsigned long long)st.cache.inserts, (unsigned long long)st.cache.dropped_full,
         100.0 * st.cache.occupancy());
+  if (settings.adaptive_threshold > 0.0)
+    std::fprintf(stderr,
+                 "pmc: adaptive sampling: %.1f samples per pixel on average, %llu pixels stopped before %d\n",
+                 st.adaptive_mean_spp, (unsigned long long)st.adaptive_stopped_pixels, settings.spp);
   if (st.nan_pixels > 0 || st.bad_samples > 0)
     warn(std::to_string(st.bad_samples) + " NaN/Inf samples dropped, " + std::to_string(st.nan_pixels) +
          " non-finite pixels");

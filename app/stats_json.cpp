@@ -116,6 +116,8 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
   j["rays_per_second"] = st.render_seconds > 0 ? double(st.rays) / st.render_seconds : 0.0;
   j["nan_pixels"] = st.nan_pixels;
   j["bad_samples"] = st.bad_samples;
+  if (s.adaptive_threshold > 0.0)
+    j["adaptive"] = {{"mean_spp", st.adaptive_mean_spp}, {"stopped_pixels", st.adaptive_stopped_pixels}};
   j["stage_seconds"] = {{"camera", st.stages.camera}, {"trace", st.stages.trace},
                         {"sort", st.stages.sort},     {"shade", st.stages.shade},
                         {"shadow", st.stages.shadow}, {"resolve", st.stages.resolve},

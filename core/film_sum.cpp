@@ -69,9 +69,12 @@ void add_film(FilmSums& into, const FilmSums& part, int x0, int y0) {
     }
 }
 
+long double fixed_sum_value(const uint32_t* words) {
+  return std::ldexp((long double)fixed_value(words), -64);
+}
+
 long double film_channel_sum(const FilmSums& film, size_t pixel, int channel) {
-  const __int128 n = fixed_value(&film.sum[pixel * FilmSums::kWords + size_t(4 * channel)]);
-  return std::ldexp((long double)n, -64);
+  return fixed_sum_value(&film.sum[pixel * FilmSums::kWords + size_t(4 * channel)]);
 }
 
 long double film_pass_sum(const FilmSums& film, size_t pixel, int channel) {

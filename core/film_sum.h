@@ -48,6 +48,8 @@ void add_film(FilmSums& into, const FilmSums& part, int x0, int y0);
 Image film_mean(const FilmSums& film);
 // Cache points found per sample, per pixel (1 channel).
 Image film_hitmap(const FilmSums& film);
+// Four words of a film sum (a Q63.64 number, least significant word first) as a long double.
+long double fixed_sum_value(const uint32_t* words);
 // One channel's sum as a long double (tests, stats).
 long double film_channel_sum(const FilmSums& film, size_t pixel, int channel);
 // One pass channel's sum (PMC_PASS_* + component) as a long double.

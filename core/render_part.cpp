@@ -105,6 +105,7 @@ void write_part_exr(const std::string& path, const Image& image, const PartInfo&
   attribute("pmc:cache:dropped_full", u64s(info.cache_counters.dropped_full));
   attribute("pmc:render_seconds", float(info.render_seconds));
   attribute("pmc:partial", info.partial ? 1 : 0);
+  attribute("pmc:adaptive", info.adaptive ? 1 : 0);
   attribute("pmc:passes", pass_list_text(info.passes));
 
   // Interleaved native data: every channel is 4 bytes (float or uint32).
@@ -168,6 +169,7 @@ RenderPart read_part_exr(const std::string& path) {
   info.cache_counters.dropped_full = counter("pmc:cache:dropped_full");
   info.render_seconds = in->float_attribute("pmc:render_seconds");
   info.partial = in->int_attribute("pmc:partial") != 0;
+  info.adaptive = in->int_attribute("pmc:adaptive") != 0;
   std::string pass_error;
   if (!parse_pass_list(in->string_attribute("pmc:passes"), info.passes, pass_error))
     fail(path, ": attribute pmc:passes: ", pass_error);
@@ -218,10 +220,16 @@ RenderPart read_part_exr(const std::string& path) {
     f.pass_material_inv = channel;
   }
   const uint32_t range = uint32_t(info.sample_end - info.sample_begin);
-  for (size_t i = 0; i < f.pixels(); ++i)
-    if (f.samples[i] != range || f.bad[i] > range)
+  if (info.adaptive && range != uint32_t(info.spp))
+    fail(path, ": an adaptive part holds samples ", ranges_text(info.sample_begin, info.sample_end), " of ",
+         info.spp, "; adaptive parts hold every sample of their window");
+  for (size_t i = 0; i < f.pixels(); ++i) {
+    const bool count_ok = info.adaptive ? f.samples[i] >= 1 && f.samples[i] <= range : f.samples[i] == range;
+    if (!count_ok || f.bad[i] > f.samples[i])
       fail(path, ": pixel ", i, " of the window holds ", f.samples[i], " samples (", f.bad[i],
-           " bad), its range ", ranges_text(info.sample_begin, info.sample_end), " has ", range);
+           " bad), its range ", ranges_text(info.sample_begin, info.sample_end), " has ", range,
+           info.adaptive ? " at most" : "");
+  }
   return part;
 }
 
@@ -238,6 +246,9 @@ MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial
     if (b.settings_hash != a.settings_hash)
       fail(p, ": different render settings from ", a_path, " (settings hash ", b.settings_hash, " vs ",
            a.settings_hash, ")");
+    if (b.adaptive != a.adaptive)
+      fail(p, ": ", b.adaptive ? "adaptive" : "not adaptive", " where ", a_path, " is ",
+           a.adaptive ? "adaptive" : "not adaptive", " (", setting("adaptive_threshold"), ")");
     if (b.frame_width != a.frame_width || b.frame_height != a.frame_height || b.spp != a.spp ||
         b.seed != a.seed)
       fail(p, ": a different frame from ", a_path, " (", b.frame_width, "x", b.frame_height, ", ", b.spp,
@@ -288,10 +299,11 @@ MergedFrame merge_parts(const std::vector<RenderPart>& parts, bool allow_partial
     m.info.cache_counters.dropped_full += c.dropped_full;
     m.info.render_seconds += part.info.render_seconds;
   }
-  // Every pixel's samples complete (with no overlap, a count of spp means all of 0..spp-1).
+  // Every pixel's samples complete (with no overlap, a count of spp means all of 0..spp-1;
+  // adaptive: any count, all from the one part that holds the pixel).
   for (size_t i = 0; i < m.film.pixels(); ++i) {
     const uint32_t have = m.film.samples[i];
-    if (have == uint32_t(a.spp)) continue;
+    if (have == uint32_t(a.spp) || (a.adaptive && have > 0)) continue;
     m.missing_pixel_samples += uint64_t(a.spp) - have;
     if (allow_partial) continue;
     const int x = int(i % size_t(a.frame_width)), y = int(i / size_t(a.frame_width));

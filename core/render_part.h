@@ -11,7 +11,9 @@
 //   pmc:seed, pmc:scene                 the RNG seed and the OBJ path (information);
 //   pmc:cache:*                         cache counters (lookups, hits, ...), strings of integers;
 //   pmc:render_seconds, pmc:partial     time spent; 1 on a merge that lacks samples;
-//   pmc:passes                          the render passes written as layers (core/render_passes.h).
+//   pmc:passes                          the render passes written as layers (core/render_passes.h);
+//   pmc:adaptive                        1: adaptive sampling (every part holds all samples 0:spp of
+//                                       its window, each pixel the ones it drew; split by window only).
 // A part rendered with passes also holds the pass film's exact sums
 // (pmc.pass0..pmc.pass39, pmc.pass_hits, pmc.pass_material), and its pass
 // layers (albedo.R, N.X, Z, ...); parts with and without pass sums do not merge.
@@ -48,6 +50,7 @@ struct PartInfo {
   double render_seconds = 0.0;
   bool partial = false;  // a merge with samples missing (not mergeable again)
   uint32_t passes = 0;   // PassBit: the pass layers written
+  bool adaptive = false;  // adaptive sampling: a pixel holds between 1 and spp samples
 };
 
 struct RenderPart {

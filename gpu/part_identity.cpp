@@ -138,6 +138,7 @@ PartInfo part_info(const RenderSession& session, const RenderSettings& s, const 
   const CacheStats& c = out.stats.cache;
   p.cache_counters = {c.lookups, c.hits, c.misses, c.inserts, c.dropped_full};
   p.render_seconds = out.stats.render_seconds;
+  p.adaptive = s.adaptive_threshold > 0.0;
   return p;
 }
 

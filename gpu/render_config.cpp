@@ -86,6 +86,12 @@ void RenderConfig::validate() const {
   if (samples && !((*samples)[0] >= 0 && (*samples)[0] < (*samples)[1] && (*samples)[1] <= spp))
     fail_config(setting("samples"), ": the range A:B must satisfy 0 <= A < B <= ", setting("spp"), " (", spp,
                 "), got ", (*samples)[0], ":", (*samples)[1]);
+  if (samples && adaptive_threshold > 0.0 && ((*samples)[0] != 0 || (*samples)[1] != spp))
+    fail_config(setting("adaptive_threshold"),
+                " needs every sample of a pixel in one process (a pixel's "
+                "error decides its next samples), got ",
+                setting("samples"), " ", (*samples)[0], ":", (*samples)[1], " of ", spp,
+                "; split the frame with ", setting("crop"), " instead");
   if (crop) {
     const auto& w = *crop;
     if (!(w[0] >= 0 && w[1] >= 0 && w[0] < w[2] && w[1] < w[3] && w[2] <= width && w[3] <= height))
@@ -147,6 +153,12 @@ void validate_render_settings(const RenderSettings& s) {
   if (s.crop[2] > 0 && !(s.crop[0] >= 0 && s.crop[1] >= 0 && s.crop[0] < s.crop[2] && s.crop[1] < s.crop[3] &&
                          s.crop[2] <= s.width && s.crop[3] <= s.height))
     fail_config(setting("crop"), ": the window must lie within the image and hold at least one pixel");
+  if (s.adaptive_threshold > 0.0 && (first_sample != 0 || end_sample != s.spp))
+    fail_config(setting("adaptive_threshold"),
+                " needs every sample of a pixel in one process (a pixel's "
+                "error decides its next samples), got ",
+                setting("samples"), " ", first_sample, ":", end_sample, " of ", s.spp,
+                "; split the frame with ", setting("crop"), " instead");
   if (s.cache.on && (s.cache.cells == 0 || s.cache.ways == 0))
     fail_config(setting("cache_cells"), "/", setting("cache_entries"),
                 ": the table needs at least one cell and one entry");

@@ -141,6 +141,16 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     "sobol|random",                                                                                         \
     "the numbers each sample draws: Owen-scrambled Sobol points (stratified: less noise at equal samples) " \
     "or independent hashed numbers (the sampler before Sobol, for comparisons)")                            \
+  X(adaptive_threshold, "adaptive_threshold", "--adaptive-threshold", double, 0.0, 0, 1,                    \
+    "must be 0..1, got {}", Image, TAG("adaptive"), S(adaptive_threshold), NONE, "adaptive_threshold", "T", \
+    "adaptive sampling: a pixel stops drawing samples once the relative standard error of its mean (its "   \
+    "grey value's, against mean^2 + 0.01, as bench's relMSE weighs it) is below T, checked every "          \
+    "--adaptive-min-spp samples; a stopped pixel equals the same pixel rendered with its sample count. "    \
+    "Needs each pixel's samples in one process (no --samples part; farm chunks split by --crop). "          \
+    "0: every pixel draws --spp samples")                                                                   \
+  X(adaptive_min_spp, "adaptive_min_spp", "--adaptive-min-spp", int, 16, 1, settings_table::kNone,          \
+    "must be at least 1, got {}", Image, TAG("adaptive_min"), S(adaptive_min_spp), NONE, "adaptive_min_spp", \
+    "N", "with --adaptive-threshold: samples every pixel draws before its first check, and between checks") \
   X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), K(cache_on, AS_IS),   \
     "enabled", "off|on",                                                                                    \
     "progressive material cache")                                                                           \

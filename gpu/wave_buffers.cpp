@@ -24,6 +24,7 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
   film_bytes = pixels * sizeof(PmcFilmPixel);
   cache_bytes = std::max<size_t>(1, cache_words) * sizeof(uint64_t);
   film = cl.buffer(film_bytes);
+  active = cl.buffer(std::max<size_t>(1, pixels) * sizeof(uint32_t));
   cache_entries = cl.buffer(cache_bytes);
   cache_stats = cl.buffer(PMC_CSTAT_COUNT * sizeof(uint64_t));
   path_passes = cl.buffer((passes ? n : 1) * sizeof(PmcPathPasses));

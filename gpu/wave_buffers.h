@@ -33,6 +33,7 @@ struct WaveBuffers {
   ClBuffer order;  // material-sorted ray indices (gpu/material_sort.h)
   size_t order_capacity = 0;
   ClBuffer film;
+  ClBuffer active;  // adaptive sampling: window indices of the pixels still sampled (one per pixel)
   // Render passes (core/device/pmc_passes.h): per path slot, and the pass
   // film for the whole render; one element each when the render has none.
   ClBuffer path_passes;

@@ -86,7 +86,7 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
 }
 
 void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
-  set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states, w.path_passes);
+  set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states, w.path_passes, w.active);
   launch(camera_, count, kLocalSize, done);
 }
 

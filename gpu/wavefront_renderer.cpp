@@ -8,6 +8,7 @@
 
 #include "core/device/pmc_cache.h"
 #include "core/error.h"
+#include "gpu/adaptive_sampling.h"
 #include "gpu/cache_trace.h"
 #include "gpu/material_sort.h"
 #include "gpu/render_config.h"
@@ -220,9 +221,10 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   return frame;
 }
 
-// The window's film -> its exact sums, the image (mean of the good samples) and the hit map.
+// The window's film (each pixel drew samples[i] samples) -> its exact sums, the image (mean of the
+// good samples) and the hit map.
 void resolve_film(const std::vector<PmcFilmPixel>& film, const std::vector<PmcPassPixel>& pass_film,
-                  int width, int height, uint32_t samples, RenderOutput& out) {
+                  int width, int height, const std::vector<uint32_t>& samples, RenderOutput& out) {
   RenderStats& st = out.stats;
   FilmSums& f = out.film;
   f = FilmSums::zero(width, height, !pass_film.empty());
@@ -235,7 +237,7 @@ void resolve_film(const std::vector<PmcFilmPixel>& film, const std::vector<PmcPa
   for (size_t i = 0; i < film.size(); ++i) {
     const PmcFilmPixel& p = film[i];
     std::copy(p.sum, p.sum + FilmSums::kWords, &f.sum[i * FilmSums::kWords]);
-    f.samples[i] = samples;
+    f.samples[i] = samples[i];
     f.bad[i] = p.bad_samples;
     f.hits[i] = p.cache_hits;
     st.bad_samples += p.bad_samples;
@@ -342,24 +344,53 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   m.kernels.clear(wave);
 
   WaveLoop loop(m.cl, link, m.kernels, m.scene_buffers, m.tracer, m.sorter, wave, s.chunk_rays, st);
-  for (int sample = first_sample; sample < end_sample; sample += wave_samples) {
-    const int samples = std::min(wave_samples, end_sample - sample);
-    for (size_t block = 0; block < pixels; block += block_pixels) {
+  // Adaptive sampling: the waves run over the pixels still active (all of them without it).
+  AdaptiveSampler adaptive(pixels, s.adaptive_threshold, s.adaptive_min_spp);
+  std::vector<PmcFilmPixel> film(pixels);
+  frame.active_list = adaptive.on() ? 1u : 0u;
+  if (adaptive.on()) m.cl.write(wave.active, 0, pixels * sizeof(uint32_t), adaptive.active().data(), true);
+  for (int sample = first_sample; sample < end_sample && !adaptive.active().empty();) {
+    const size_t active = adaptive.active().size();
+    // Fewer active pixels leave room for more samples of each in a wave (within the buffers).
+    const size_t block = std::min(active, block_pixels);
+    const int samples = int(std::min<size_t>(
+        {size_t(end_sample - sample), size_t(adaptive.samples_to_next_check(sample - first_sample)),
+         std::max<size_t>(size_t(wave_samples), std::min(target, wave_paths) / block), wave_paths / block}));
+    for (size_t at = 0; at < active; at += block) {
       frame.sample = uint32_t(sample);
-      frame.pixel_offset = uint32_t(block);
-      frame.wave_pixels = uint32_t(std::min(block_pixels, pixels - block));
+      frame.pixel_offset = uint32_t(at);
+      frame.wave_pixels = uint32_t(std::min(block, active - at));
       frame.wave_samples = uint32_t(samples);
       frame.path_count = frame.wave_pixels * frame.wave_samples;
       loop.run(frame);
     }
-    if (progress) progress(sample + samples - first_sample, end_sample - first_sample, st.rays);
+    adaptive.add_samples(samples);
+    sample += samples;
+    if (adaptive.on() && sample < end_sample &&
+        adaptive.samples_to_next_check(sample - first_sample) ==
+            s.adaptive_min_spp) {  // a check: the film decides
+      m.cl.read(wave.film, 0, pixels * sizeof(PmcFilmPixel), film.data());
+      if (adaptive.check(film) > 0 && !adaptive.active().empty())
+        m.cl.write(wave.active, 0, adaptive.active().size() * sizeof(uint32_t), adaptive.active().data(),
+                   true);
+    }
+    if (progress) progress(sample - first_sample, end_sample - first_sample, st.rays);
   }
+  if (progress && adaptive.active().empty())
+    progress(end_sample - first_sample, end_sample - first_sample, st.rays);
 
-  std::vector<PmcFilmPixel> film(pixels);
   m.cl.read(wave.film, 0, pixels * sizeof(PmcFilmPixel), film.data());
   std::vector<PmcPassPixel> pass_film(s.passes != 0 ? pixels : 0);
   if (!pass_film.empty()) m.cl.read(wave.pass_film, 0, pixels * sizeof(PmcPassPixel), pass_film.data());
-  resolve_film(film, pass_film, x1 - x0, y1 - y0, uint32_t(end_sample - first_sample), out);
+  resolve_film(film, pass_film, x1 - x0, y1 - y0, adaptive.samples(), out);
+  if (adaptive.on()) {
+    uint64_t drawn = 0;
+    for (uint32_t n : adaptive.samples()) {
+      drawn += n;
+      st.adaptive_stopped_pixels += n < uint32_t(end_sample - first_sample) ? 1 : 0;
+    }
+    st.adaptive_mean_spp = pixels > 0 ? double(drawn) / double(pixels) : 0.0;
+  }
   if (cs.on) read_cache_stats(m.cl, wave, cs, st.cache);
   st.material_hits = m.sorter.material_hits();
   if (trace.on())

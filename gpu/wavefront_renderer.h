@@ -106,6 +106,10 @@ struct RenderSettings {
   SceneLights lights;                 // lights file and environment (emissive triangles come from the scene)
   bool env_importance = true;         // false: sample an environment map uniformly (comparisons)
   bool light_tree = true;             // the light tree sampler; false: by power (core/lights.h)
+  // Adaptive sampling (gpu/adaptive_sampling.h): 0 off; else a pixel stops once the relative
+  // standard error of its mean is below the threshold, checked every adaptive_min_spp samples.
+  double adaptive_threshold = 0.0;
+  int adaptive_min_spp = 16;
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave (several samples of each pixel when it can)
@@ -144,6 +148,9 @@ struct RenderStats {
   std::string device;
   CacheStats cache;
   std::vector<uint64_t> material_hits;  // hits shaded per material (MaterialSet::program order)
+  // Adaptive sampling: samples drawn per pixel on average, and the pixels that stopped before spp.
+  double adaptive_mean_spp = 0;
+  uint64_t adaptive_stopped_pixels = 0;
 };
 
 struct RenderOutput {

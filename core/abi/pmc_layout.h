@@ -67,6 +67,7 @@
   X(PmcFilmPixel, sum)             \
   X(PmcFilmPixel, bad_samples)     \
   X(PmcFilmPixel, cache_hits)      \
+  X(PmcFilmPixel, grey_sq_sum)     \
   X(PmcPathPasses, albedo)         \
   X(PmcPathPasses, normal)         \
   X(PmcPathPasses, position)       \

@@ -93,13 +93,17 @@ typedef struct __attribute__((aligned(64))) PmcTriangleRecord {
 
 /* Accumulated film pixel: the exact sum of its samples' rgb (per channel a
  * 128-bit fixed-point number in four 32-bit words, core/device/pmc_film.h),
- * the number of samples dropped as NaN/Inf/huge, and the cache points found
- * by its samples (the hit map). */
+ * the number of samples dropped as NaN/Inf/huge, the cache points found
+ * by its samples (the hit map), and the sum of its good samples' squared
+ * grey value ((r + g + b) / 3)^2, added in sample order (one work-item per
+ * pixel), which adaptive sampling's error estimate reads
+ * (gpu/adaptive_sampling.h). */
 typedef struct PmcFilmPixel {
   pmc_u32 sum[12]; /* channel c: sum[4c .. 4c+3], least significant word first */
   pmc_u32 bad_samples;
   pmc_u32 cache_hits;
-  pmc_u32 pad[2];
+  float grey_sq_sum;
+  pmc_u32 pad;
 } PmcFilmPixel;
 
 /* Render passes (AOVs; core/device/pmc_passes.h). Per path slot, what the
@@ -278,7 +282,8 @@ typedef struct PmcLightHeader {
   M(A, pmc_u32, passes_on)         /* render passes: fill PmcPathPasses and the pass film */      \
   M(A, pmc_u32, wave_pixels)       /* path i of the wave: pixel pixel_offset + i % wave_pixels */ \
   M(A, pmc_u32, wave_samples)      /* of the window, sample `sample` + i / wave_pixels */         \
-  M(A, pmc_u32, sampler)           /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */
+  M(A, pmc_u32, sampler)           /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */  \
+  M(A, pmc_u32, active_list)       /* 1: the wave's pixels are active[pixel_offset + i % wave_pixels] */
 /* clang-format on */
 #define PMC_FRAME_MEMBER_(unused, type, member) type member;
 

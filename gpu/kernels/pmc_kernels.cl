@@ -47,11 +47,15 @@ static inline PmcSampler pmc_path_sampler(__constant PmcFrame* frame, uint pixel
   return pmc_sampler(frame->sampler, frame->seed, pixel, pmc_path_sample(frame, path));
 }
 
+/* `active`: with frame->active_list, the window indices of the pixels still
+ * sampled (adaptive sampling, gpu/adaptive_sampling.h); the wave's pixels are
+ * a run of that list instead of a run of the window. */
 __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays, __global PmcPathState* paths,
-                              __global PmcPathPasses* passes) {
+                              __global PmcPathPasses* passes, __global const uint* active) {
   uint i = get_global_id(0);
   if (i >= frame->path_count) return;
   uint k = frame->pixel_offset + i % frame->wave_pixels; /* index into the window (crop), row by row */
+  if (frame->active_list) k = active[k];
   uint x = frame->crop_x0 + k % frame->crop_width;
   uint y = frame->crop_y0 + k / frame->crop_width;
   uint pixel = y * (uint)frame->width + x; /* in the full frame: the RNG key is the same in any window */
@@ -773,6 +777,8 @@ static inline void pmc_film_add_path(__global PmcFilmPixel* px, __global const P
   pmc_u32 v[3][PMC_FIXED_WORDS];
   if (pmc_fixed_of_float(p->radiance[0], v[0]) && pmc_fixed_of_float(p->radiance[1], v[1]) &&
       pmc_fixed_of_float(p->radiance[2], v[2])) {
+    const float grey = (p->radiance[0] + p->radiance[1] + p->radiance[2]) * (1.0f / 3.0f);
+    px->grey_sq_sum += grey * grey;
     for (int c = 0; c < 3; ++c) {
       pmc_u32 acc[PMC_FIXED_WORDS];
       for (uint w = 0; w < PMC_FIXED_WORDS; ++w) acc[w] = px->sum[4 * c + w];

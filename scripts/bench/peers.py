@@ -19,7 +19,9 @@ Method (also written into the section):
              cache off), Cycles (bpy, CPU), Mitsuba 3 llvm_ad_rgb and
              scalar_rgb; every one on --threads threads, max depth matched;
              pmc+oidn and cycles+oidn: the same with Open Image Denoise,
-             against the plain renderer's reference, the denoiser's time added
+             against the plain renderer's reference, the denoiser's time added;
+             pmc+adaptive: pmc with --adaptive-threshold (a timed render's
+             sample count is its pixels' most), against pmc's reference
   time       seconds of N samples = (t(N) - t(1)) x N / (N - 1), where t is a
              render's own time (pmc: its render_seconds; Cycles: the render
              call; Mitsuba: mi.render and the image's evaluation, kernels
@@ -43,8 +45,8 @@ from bench import common, peer_scenes
 
 PROG = "bench.peers"
 SECTION = "## Against Cycles and Mitsuba 3 (scripts/bench-peers)"
-RENDERERS = ["pmc", "pmc+oidn", "cycles", "cycles+oidn", "mitsuba-llvm", "mitsuba-scalar"]
-LABELS = {"pmc": "pmc", "pmc+oidn": "pmc + OIDN", "cycles": "Cycles 5.0.1", "cycles+oidn": "Cycles 5.0.1 + OIDN",
+RENDERERS = ["pmc", "pmc+oidn", "pmc+adaptive", "cycles", "cycles+oidn", "mitsuba-llvm", "mitsuba-scalar"]
+LABELS = {"pmc": "pmc", "pmc+oidn": "pmc + OIDN", "pmc+adaptive": "pmc, adaptive sampling", "cycles": "Cycles 5.0.1", "cycles+oidn": "Cycles 5.0.1 + OIDN",
           "mitsuba-llvm": "Mitsuba 3 llvm_ad_rgb",
           "mitsuba-scalar": "Mitsuba 3 scalar_rgb"}
 PY = ".venv/bin/python"
@@ -70,6 +72,10 @@ def parse(argv=None):
                    help="surface hits per path, pmc's --max-depth (default 8)")
     p.add_argument("--threads", type=common.positive_int, default=2, metavar="T",
                    help="threads of every renderer (default 2)")
+    p.add_argument("--adaptive-threshold", type=float, default=0.02, metavar="T",
+                   help="pmc+adaptive's --adaptive-threshold (default 0.02)")
+    p.add_argument("--adaptive-min-spp", type=common.positive_int, default=8, metavar="N",
+                   help="pmc+adaptive's --adaptive-min-spp (default 8)")
     common.add_out_dir(p, "out/bench-peers")
     common.add_doc(p)
     common.add_report_only(p)
@@ -115,19 +121,22 @@ def relmse(img, ref):
 
 
 # ---- running one renderer ------------------------------------------------------------
-def run_pmc(args, job, spps, seed, folder, cache, denoise=False):
+def run_pmc(args, job, spps, seed, folder, cache, denoise=False, adaptive=False):
     """pmc renders; returns {spp: (render_seconds, exr, denoise seconds)}
-    (spp 1 included). With denoise, exr is the denoised image."""
+    (spp 1 included). With denoise, exr is the denoised image; with adaptive,
+    pixels stop early (--adaptive-threshold)."""
     cam = job["camera"]
     out = {}
+    extra = ["--adaptive-threshold", str(args.adaptive_threshold), "--adaptive-min-spp",
+             str(args.adaptive_min_spp)] if adaptive else []
     for spp in [1] + spps:
-        exr = os.path.join(folder, f"pmc_{cache}{'_oidn' if denoise else ''}_{spp}_s{seed}.exr")
+        exr = os.path.join(folder, f"pmc_{cache}{'_oidn' if denoise else ''}{'_ad' if adaptive else ''}_{spp}_s{seed}.exr")
         stats = exr[:-4] + ".json"
         cmd = [args.pmc, "render", job["obj"], "--lights", job["lights_file"],
                "--camera-from", ",".join(map(str, cam["from"])), "--camera-at", ",".join(map(str, cam["at"])),
                "--fov", str(cam["vfov"]), "--max-depth", str(args.max_depth), "--seed", str(seed),
                "--threads", str(args.threads), "--cache", cache, "-o", exr, "--stats", stats,
-               *(["--denoise"] if denoise else []), *common.size_args(args.width, args.height, spp)]
+               *(["--denoise"] if denoise else []), *extra, *common.size_args(args.width, args.height, spp)]
         st, _ = common.run_pmc(cmd, stats, os.path.join(folder, "pmc.log"), f"pmc {job['scene']}", append=True)
         out[spp] = (st["render_seconds"], exr, st["denoise"]["seconds"] if denoise else 0.0)
     return out
@@ -164,7 +173,8 @@ def base(renderer):
 
 def render(args, renderer, job, spps, seed, folder, reference=False):
     if renderer.startswith("pmc"):
-        return run_pmc(args, job, spps, seed, folder, "off" if reference else "on", renderer.endswith("+oidn"))
+        return run_pmc(args, job, spps, seed, folder, "off" if reference else "on", renderer.endswith("+oidn"),
+                       renderer.endswith("+adaptive"))
     return run_peer(args, renderer, job, spps, seed, folder)
 
 
@@ -258,6 +268,7 @@ def summary_lines(data, top):
     """One line per comparison the issue's goals name, over every scene."""
     out = []
     pairs = [("pmc", "cycles", "efficiency, pmc / Cycles"),
+             ("pmc+adaptive", "pmc", "efficiency, pmc with adaptive sampling / without"),
              ("pmc+oidn", "cycles+oidn", "efficiency with OIDN, pmc / Cycles"),
              ("pmc", "mitsuba-llvm", f"render time at {data['reference_spp']} spp, pmc / Mitsuba llvm_ad_rgb")]
     for a, b, what in pairs:

@@ -156,6 +156,20 @@ def render_setting(args, flag, defaults):
     return value
 
 
+def adaptive_requested(args):
+    """Whether pmc render arguments turn adaptive sampling on (a nonzero --adaptive-threshold, last one wins)."""
+    value = "0"
+    for i, a in enumerate(args):
+        if a == "--adaptive-threshold" and i + 1 < len(args):
+            value = args[i + 1]
+        elif a.startswith("--adaptive-threshold="):
+            value = a.split("=", 1)[1]
+    try:
+        return float(value) != 0.0
+    except ValueError:
+        return True  # pmc refuses the value itself, naming it
+
+
 def check_options(o):
     if not os.path.isfile(o.scene):
         raise FarmError(f"{o.scene}: no such scene file")
@@ -175,6 +189,9 @@ def check_options(o):
         raise FarmError(f"--workers: must be at least 1, got {o.workers}")
     if o.retries < 0:
         raise FarmError(f"--retries: must not be negative, got {o.retries}")
+    if o.split == "samples" and o.chunks > 1 and adaptive_requested(o.render_args):
+        raise FarmError("--adaptive-threshold: a pixel's error decides its next samples, so its samples "
+                        "cannot be split over chunks; use --split tiles")
     if o.scheduler and o.cluster is None and not o.scheduler.startswith(("tcp://", "tls://", "ucx://")):
         raise FarmError(f"--scheduler: expected tcp://HOST:PORT, got {o.scheduler!r}")
 

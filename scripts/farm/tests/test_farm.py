@@ -81,6 +81,8 @@ class CommandLine(unittest.TestCase):
                 ([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--spp", "many"], "--spp"),
                 ([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--pmc", f"{d}/nopmc"], "not an executable pmc"),
                 ([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--scheduler", "localhost"], "tcp://"),
+                ([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--adaptive-threshold", "0.05"], "--split tiles"),
+                ([scene, "-o", f"{d}/x.exr", "--chunks", "2", "--adaptive-threshold=0.1"], "--split tiles"),
             ]
             for argv, message in cases:
                 err = _stderr_of(lambda: cli.main(argv + ["--quiet"]), expect=2)
