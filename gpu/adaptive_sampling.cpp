@@ -26,7 +26,11 @@ bool adaptive_pixel_converged(const PmcFilmPixel& px, uint32_t samples, double t
 }
 
 AdaptiveSampler::AdaptiveSampler(size_t pixels, double threshold, int check_every)
-    : threshold_(threshold), check_every_(std::max(1, check_every)), active_(pixels), samples_(pixels, 0u) {
+    : threshold_(threshold),
+      check_every_(std::max(1, check_every)),
+      active_(pixels),
+      samples_(pixels, 0u),
+      passed_(pixels, 0u) {
   for (size_t i = 0; i < pixels; ++i) active_[i] = uint32_t(i);
 }
 
@@ -42,10 +46,14 @@ void AdaptiveSampler::add_samples(int n) {
 size_t AdaptiveSampler::check(const std::vector<PmcFilmPixel>& film) {
   if (!on()) return 0;
   const size_t before = active_.size();
-  active_.erase(
-      std::remove_if(active_.begin(), active_.end(),
-                     [&](uint32_t k) { return adaptive_pixel_converged(film[k], samples_[k], threshold_); }),
-      active_.end());
+  active_.erase(std::remove_if(active_.begin(), active_.end(),
+                               [&](uint32_t k) {
+                                 const bool now = adaptive_pixel_converged(film[k], samples_[k], threshold_);
+                                 const bool stop = now && passed_[k];
+                                 passed_[k] = now ? 1u : 0u;
+                                 return stop;
+                               }),
+                active_.end());
   return before - active_.size();
 }
 

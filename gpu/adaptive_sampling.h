@@ -1,12 +1,15 @@
 // adaptive_sampling.h — which pixels keep drawing samples (--adaptive-threshold).
 //
 // Every pixel draws `check_every` samples, then, at every multiple of
-// `check_every` samples, a pixel whose mean is already good enough stops:
-// its relative standard error, sqrt(var / n / (mean^2 + 0.01)) of its grey
-// value ((r + g + b) / 3), is below the threshold (the 0.01 is the one
-// bench's relMSE adds to the reference's square, so a dark pixel is not
-// sampled without end). var comes from the film's exact sums and the sum of
-// squared grey values the film kernel keeps beside them (PmcFilmPixel).
+// `check_every` samples, a pixel whose mean is good enough at this check
+// and at the one before stops: its relative standard error,
+// sqrt(var / n / (mean^2 + 0.01)) of its grey value ((r + g + b) / 3), is
+// below the threshold (the 0.01 is the one bench's relMSE adds to the
+// reference's square, so a dark pixel is not sampled without end). var
+// comes from the film's exact sums and the sum of squared grey values the
+// film kernel keeps beside them (PmcFilmPixel). One check is not enough: a
+// pixel whose rare bright paths have not shown up yet looks converged
+// (docs/BENCHMARKS.md, "Adaptive sampling"), and stopping it then biases it.
 //
 // The checks sit at fixed sample counts, not at wave boundaries, and read
 // only the pixel's own film, which one work-item adds up in sample order, so
@@ -45,8 +48,8 @@ class AdaptiveSampler {
   // The active pixels each drew `n` more samples.
   void add_samples(int n);
   // At a check (`done` samples, a multiple of check_every): stops the
-  // active pixels whose film (the window's, in window order) is converged.
-  // Returns how many stopped.
+  // active pixels whose film (the window's, in window order) is converged
+  // now and was at the previous check. Returns how many stopped.
   size_t check(const std::vector<PmcFilmPixel>& film);
 
  private:
@@ -54,6 +57,7 @@ class AdaptiveSampler {
   int check_every_;
   std::vector<uint32_t> active_;
   std::vector<uint32_t> samples_;
+  std::vector<uint8_t> passed_;  // converged at the previous check
 };
 
 }  // namespace pmc

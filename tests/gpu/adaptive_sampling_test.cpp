@@ -72,10 +72,16 @@ TEST(AdaptiveSampling, SamplerChecksAtFixedCountsAndKeepsTheActiveListInWindowOr
   a.add_samples(8);
   std::vector<PmcFilmPixel> film = {film_of({1, 1, 1, 1, 1, 1, 1, 1}), film_of({0, 2, 0, 2, 0, 2, 0, 2}),
                                     film_of({1, 1, 1, 1, 1, 1, 1, 1}), film_of({0, 0, 0, 0, 0, 0, 0, 9})};
-  EXPECT_EQ(a.check(film), 2u);  // the constant pixels stop
-  EXPECT_EQ(a.active(), (std::vector<uint32_t>{1, 3}));
+  EXPECT_EQ(a.check(film), 0u);  // converged once is not enough
+  a.add_samples(8);
+  film[0] = film_of({1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1});
+  film[1] = film_of({0, 2, 0, 2, 0, 2, 0, 2, 0, 2, 0, 2, 0, 2, 0, 2});
+  film[2] = film_of({1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 9});  // a bright sample showed up
+  film[3] = film_of({0, 0, 0, 0, 0, 0, 0, 9, 0, 0, 0, 0, 0, 0, 0, 0});
+  EXPECT_EQ(a.check(film), 1u);  // only pixel 0 passed twice in a row
+  EXPECT_EQ(a.active(), (std::vector<uint32_t>{1, 2, 3}));
   a.add_samples(4);
-  EXPECT_EQ(a.samples(), (std::vector<uint32_t>{8, 12, 8, 12}));
+  EXPECT_EQ(a.samples(), (std::vector<uint32_t>{16, 20, 20, 20}));
   AdaptiveSampler off(3, 0.0, 8);
   EXPECT_FALSE(off.on());
   EXPECT_EQ(off.check(film), 0u);

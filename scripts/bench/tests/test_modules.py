@@ -11,7 +11,7 @@ from unittest import mock
 
 from bench import cache, cache_bandwidth, cache_policy, cache_position, common, denoise, mtlx_conformance
 
-MODULES = ["cache", "cache_bandwidth", "cache_model", "cache_policy", "cache_position", "cache_replay", "cacheless", "denoise", "gpu", "heavy", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "sampler", "shade", "speed", "sweep", "trace", "waves"]
+MODULES = ["adaptive", "cache", "cache_bandwidth", "cache_model", "cache_policy", "cache_position", "cache_replay", "cacheless", "denoise", "gpu", "heavy", "layered_bsdf", "light_tree", "material_peers", "materials", "mtlx_conformance", "peers", "sampler", "shade", "speed", "sweep", "trace", "waves"]
 
 
 def parse(module, argv, env=None):
