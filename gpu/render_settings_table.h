@@ -144,8 +144,9 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
   X(adaptive_threshold, "adaptive_threshold", "--adaptive-threshold", double, 0.0, 0, 1,                    \
     "must be 0..1, got {}", Image, TAG("adaptive"), S(adaptive_threshold), NONE, "adaptive_threshold", "T", \
     "adaptive sampling: a pixel stops drawing samples once the relative standard error of its mean (its "   \
-    "grey value's, against mean^2 + 0.01, as bench's relMSE weighs it) is below T, checked every "          \
-    "--adaptive-min-spp samples; a stopped pixel equals the same pixel rendered with its sample count. "    \
+    "grey value's, against mean^2 + 0.01, as bench's relMSE weighs it) is below T at two checks in a "     \
+    "row, one every --adaptive-min-spp samples; a stopped pixel equals the same pixel rendered with its "   \
+    "sample count. "                                                                                        \
     "Needs each pixel's samples in one process (no --samples part; farm chunks split by --crop). "          \
     "0: every pixel draws --spp samples")                                                                   \
   X(adaptive_min_spp, "adaptive_min_spp", "--adaptive-min-spp", int, 16, 1, settings_table::kNone,          \
