@@ -69,8 +69,10 @@ PMC_FN float2 pmc_env_dir_to_uv(float3 d) {
 PMC_FN float3 pmc_env_uv_to_dir(float u, float v) {
   float phi = (u - 0.5f) * (2.0f * PMC_PI);
   float theta = v * PMC_PI;
-  float st = sin(theta);
-  return make_float3(st * sin(phi), cos(theta), -st * cos(phi));
+  float st, ct, sp, cp;
+  pmc_sincos(theta, &st, &ct);
+  pmc_sincos(phi, &sp, &cp);
+  return make_float3(st * sp, ct, -st * cp);
 }
 
 /* World direction -> map direction (the inverse of the rotation about +Y). */
@@ -231,14 +233,13 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
   float3 n1 = make_float3(-z0, 0.0f, r->x1) * (1.0f / sqrt(z2 + r->x1 * r->x1));
   float3 n2 = make_float3(0.0f, -z0, r->y1) * (1.0f / sqrt(z2 + r->y1 * r->y1));
   float3 n3 = make_float3(z0, 0.0f, -r->x0) * (1.0f / sqrt(z2 + r->x0 * r->x0));
-  float g0 = acos(clamp(-dot(n0, n1), -1.0f, 1.0f));
-  float g1 = acos(clamp(-dot(n1, n2), -1.0f, 1.0f));
-  float g2 = acos(clamp(-dot(n2, n3), -1.0f, 1.0f));
-  float g3 = acos(clamp(-dot(n3, n0), -1.0f, 1.0f));
+  /* the four angles between them in one call (a vector acos costs about what one scalar call does) */
+  const float4 g = acos(make_float4(clamp(-dot(n0, n1), -1.0f, 1.0f), clamp(-dot(n1, n2), -1.0f, 1.0f),
+                                    clamp(-dot(n2, n3), -1.0f, 1.0f), clamp(-dot(n3, n0), -1.0f, 1.0f)));
   r->b0 = n0.z;
   r->b1 = n2.z;
-  r->k = 2.0f * PMC_PI - g2 - g3;
-  r->solid_angle = fmax(0.0f, g0 + g1 - r->k);
+  r->k = 2.0f * PMC_PI - g.z - g.w;
+  r->solid_angle = fmax(0.0f, g.x + g.y - r->k);
   return r->solid_angle;
 }
 
@@ -246,7 +247,8 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
  * uniformly over the spherical rectangle r seen from p. */
 PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
   float au = u * r->solid_angle + r->k;
-  float sin_au = sin(au), cos_au = cos(au);
+  float sin_au, cos_au;
+  pmc_sincos(au, &sin_au, &cos_au);
   float fu = (cos_au * r->b0 - r->b1) / sin_au;
   float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + r->b0 * r->b0);
   cu = clamp(cu, -1.0f, 1.0f);
