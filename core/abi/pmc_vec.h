@@ -162,17 +162,6 @@ PMC_FN void pmc_sincos_turns(float t, float* s, float* c) {
   *c = k == 0 ? cs : (k == 1 ? -sn : (k == 2 ? -cs : sn));
 }
 
-/* sin and cos of one angle in radians with one argument reduction (OpenCL's
- * sincos; the values are sin's and cos's). */
-#ifdef __OPENCL_VERSION__
-PMC_FN void pmc_sincos(float x, float* s, float* c) { *s = sincos(x, c); }
-#else
-PMC_FN void pmc_sincos(float x, float* s, float* c) {
-  *s = std::sin(x);
-  *c = std::cos(x);
-}
-#endif
-
 /* Three floats from any address space (a macro, since OpenCL pointers carry one). */
 #define pmc_load3(p) make_float3((p)[0], (p)[1], (p)[2])
 PMC_FN float pmc_max3(float3 v) { return fmax(v.x, fmax(v.y, v.z)); }

@@ -67,11 +67,10 @@ PMC_FN float2 pmc_env_dir_to_uv(float3 d) {
 }
 
 PMC_FN float3 pmc_env_uv_to_dir(float u, float v) {
-  float phi = (u - 0.5f) * (2.0f * PMC_PI);
-  float theta = v * PMC_PI;
+  /* phi = 2 pi (u - 0.5) and theta = pi v, as turns (pmc_sincos_turns) */
   float st, ct, sp, cp;
-  pmc_sincos(theta, &st, &ct);
-  pmc_sincos(phi, &sp, &cp);
+  pmc_sincos_turns(0.5f * v, &st, &ct);
+  pmc_sincos_turns(u - 0.5f, &sp, &cp);
   return make_float3(st * sp, ct, -st * cp);
 }
 
@@ -109,7 +108,8 @@ PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i) {
   float sin_theta = sqrt(fmax(0.0f, 1.0f - m.y * m.y));
   if (!(sin_theta > 0.0f)) return 0.0f;
   int row = i / h->env_width;
-  float row_sin = sin(((float)row + 0.5f) * PMC_PI / (float)h->env_height);
+  float row_sin, row_cos; /* sin(pi (row + 0.5) / height) */
+  pmc_sincos_turns(((float)row + 0.5f) / (2.0f * (float)h->env_height), &row_sin, &row_cos);
   float f = pmc_luminance(pmc_env_texel(ls, i)) * row_sin;
   float texels = (float)h->env_width * (float)h->env_height;
   return f * h->env_inv_integral * texels / (2.0f * PMC_PI * PMC_PI * sin_theta);
@@ -141,15 +141,20 @@ PMC_FN float pmc_cdf_fraction(PMC_GLOBAL const float* cdf, int i, float u) {
 }
 
 /* Sample a map direction (world space) by luminance x sin(theta); returns
- * its density (without the pick probability), 0 on failure. */
+ * its density (without the pick probability), 0 on failure. The texel is the
+ * one the CDFs picked (its radiance and density are the sample's; finding it
+ * again from the direction took an atan2 and an acos, and near a texel's edge
+ * could name its neighbour). */
 PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float3* wi, float3* le) {
   const PmcLightHeader* h = &ls->h;
   int w = h->env_width, hh = h->env_height;
   float3 m;
+  int texel;
   if (h->env_uniform) {
     float z = 1.0f - 2.0f * u1, r = sqrt(fmax(0.0f, 1.0f - z * z)), sin_phi, cos_phi;
     pmc_sincos_turns(u2, &sin_phi, &cos_phi);
     m = make_float3(r * cos_phi, z, r * sin_phi);
+    texel = pmc_env_texel_index(h, m);
   } else {
     PMC_GLOBAL const float* marginal = ls->env + 3 * w * hh;
     int row = pmc_cdf_search(marginal, hh, u1);
@@ -158,10 +163,11 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     int col = pmc_cdf_search(conditional, w, u2);
     float fu = pmc_cdf_fraction(conditional, col, u2);
     m = pmc_env_uv_to_dir(((float)col + fu) / (float)w, ((float)row + fv) / (float)hh);
+    texel = row * w + col;
   }
-  float pdf = pmc_env_map_pdf(ls, m);
+  float pdf = pmc_env_map_pdf_in(ls, m, texel);
   *wi = pmc_env_to_world(h, m);
-  *le = pmc_env_texel(ls, pmc_env_texel_index(h, m));
+  *le = pmc_env_texel(ls, texel);
   return pdf;
 }
 
@@ -247,8 +253,8 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
  * uniformly over the spherical rectangle r seen from p. */
 PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
   float au = u * r->solid_angle + r->k;
-  float sin_au, cos_au;
-  pmc_sincos(au, &sin_au, &cos_au);
+  float sin_au, cos_au; /* au is in [0, 4 pi) */
+  pmc_sincos_turns(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
   float fu = (cos_au * r->b0 - r->b1) / sin_au;
   float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + r->b0 * r->b0);
   cu = clamp(cu, -1.0f, 1.0f);
