@@ -249,24 +249,40 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
   return r->solid_angle;
 }
 
+/* The point in direction (u, v) of the unit square, mapped uniformly over
+ * a spherical rectangle (its fields as PmcSphRect's, solid angle omega), as
+ * its coordinates xu, yv along the rectangle's edges. Scalars in,
+ * straight-line (selects, no branches): the shade kernel runs it in one loop
+ * over a batch's lanes, which PoCL's compiler vectorises. */
+PMC_FN float2 pmc_sph_rect_sample_xy(float omega, float k, float b0, float b1, float z0, float x0, float x1,
+                                     float y0, float y1, float u, float v) {
+  float au = u * omega + k;
+  float sin_au, cos_au; /* au is in [0, 4 pi) */
+  pmc_sincos_turns(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
+  float fu = (cos_au * b0 - b1) / sin_au;
+  float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + b0 * b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float xu = -(cu * z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
+  xu = clamp(xu, x0, x1);
+  float dd = sqrt(xu * xu + z0 * z0);
+  float h0 = y0 / sqrt(dd * dd + y0 * y0);
+  float h1 = y1 / sqrt(dd * dd + y1 * y1);
+  float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+  float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : y1;
+  return make_float2(xu, clamp(yv, y0, y1));
+}
+
+/* The rectangle's point at coordinates xy (pmc_sph_rect_sample_xy) seen from p. */
+PMC_FN float3 pmc_sph_rect_point(const PmcSphRect* r, float3 p, float2 xy) {
+  return p + r->x * xy.x + r->y * xy.y + r->z * r->z0;
+}
+
 /* The point of the rectangle in direction (u, v) of the unit square, mapped
  * uniformly over the spherical rectangle r seen from p. */
 PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
-  float au = u * r->solid_angle + r->k;
-  float sin_au, cos_au; /* au is in [0, 4 pi) */
-  pmc_sincos_turns(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
-  float fu = (cos_au * r->b0 - r->b1) / sin_au;
-  float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + r->b0 * r->b0);
-  cu = clamp(cu, -1.0f, 1.0f);
-  float xu = -(cu * r->z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
-  xu = clamp(xu, r->x0, r->x1);
-  float dd = sqrt(xu * xu + r->z0 * r->z0);
-  float h0 = r->y0 / sqrt(dd * dd + r->y0 * r->y0);
-  float h1 = r->y1 / sqrt(dd * dd + r->y1 * r->y1);
-  float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
-  float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : r->y1;
-  yv = clamp(yv, r->y0, r->y1);
-  return p + r->x * xu + r->y * yv + r->z * r->z0;
+  return pmc_sph_rect_point(
+      r, p,
+      pmc_sph_rect_sample_xy(r->solid_angle, r->k, r->b0, r->b1, r->z0, r->x0, r->x1, r->y0, r->y1, u, v));
 }
 
 /* Light-sampling pdf (solid angle, pick probability pmf included) of quad l
@@ -504,10 +520,37 @@ PMC_FN float pmc_env_light_pdf(const PmcLightSet* ls, float3 p, float3 n, float3
   return pmf * pmc_env_map_pdf(ls, pmc_env_to_map(&ls->h, d));
 }
 
+/* An area light's sample from point p at point q of light l (picked with
+ * probability pmf; omega: the spherical rectangle's solid angle where it is
+ * sampled so, else 0). Returns 0 when it carries nothing. */
+PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, float omega, float3 p, float3 q,
+                                    PmcLightSample* s) {
+  float3 d = q - p;
+  float dist = length(d);
+  if (!(dist > 0.0f)) return 0;
+  s->wi = d * (1.0f / dist);
+  float cos_light = -dot(pmc_load3(l->normal), s->wi);
+  if (l->type == PMC_LIGHT_QUAD && !(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
+  s->pdf =
+      omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE ? pmf / omega : pmc_area_light_pdf(pmf, dist, l->area, cos_light);
+  if (!(s->pdf > 0.0f)) return 0;
+  s->dist = dist;
+  s->weight = pmc_load3(l->rgb) * (1.0f / s->pdf);
+  return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
+}
+
+/* pmc_light_sample_begin's answers besides 0 (nothing) and 1 (done). */
+#define PMC_LIGHT_SAMPLE_RECT 2 /* a spherical rectangle to sample: pmc_light_sample_rect_end */
+
 /* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
- * (pick) normal n (u1, u2). Returns 0 when the sample carries nothing. */
-PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
-                            PmcLightSample* s) {
+ * (pick) normal n (u1, u2), except for one step: a quad sampled by solid
+ * angle returns PMC_LIGHT_SAMPLE_RECT with its spherical rectangle in *r,
+ * light index in *light and pick probability in *pmf, and its point is
+ * pmc_sph_rect_sample(r, p, u1, u2), which the shade kernel computes for a
+ * batch's lanes in one loop (straight-line, vectorised), then
+ * pmc_light_sample_rect_end. */
+PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
+                                  PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   float pmf;
   int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
   if (picked < 0 || !(pmf > 0.0f)) return 0;
@@ -516,31 +559,19 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
   float3 rgb = pmc_load3(l->rgb);
   s->pdf = 0.0f;
   s->dist = INFINITY;
-  if (type == PMC_LIGHT_TRIANGLE || type == PMC_LIGHT_QUAD) {
-    float3 q = pmc_load3(l->pos);
-    float omega = 0.0f; /* the spherical rectangle's solid angle where it is sampled so */
-    if (type == PMC_LIGHT_TRIANGLE) {
-      float2 bc = pmc_sample_triangle(u1, u2);
-      q = q + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
-    } else {
-      PmcSphRect r;
-      omega = pmc_sph_rect_init(l, p, &r);
-      if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE)
-        q = pmc_sph_rect_sample(&r, p, u1, u2);
-      else
-        q = q + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+  if (type == PMC_LIGHT_TRIANGLE) {
+    float2 bc = pmc_sample_triangle(u1, u2);
+    float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
+    return pmc_area_light_sample_at(l, pmf, 0.0f, p, q, s);
+  } else if (type == PMC_LIGHT_QUAD) {
+    const float omega = pmc_sph_rect_init(l, p, r);
+    if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) {
+      *light = picked;
+      *pmf_out = pmf;
+      return PMC_LIGHT_SAMPLE_RECT;
     }
-    float3 d = q - p;
-    float dist = length(d);
-    if (!(dist > 0.0f)) return 0;
-    s->wi = d * (1.0f / dist);
-    float cos_light = -dot(pmc_load3(l->normal), s->wi);
-    if (type == PMC_LIGHT_QUAD && !(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
-    s->pdf = omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE ? pmf / omega
-                                                   : pmc_area_light_pdf(pmf, dist, l->area, cos_light);
-    if (!(s->pdf > 0.0f)) return 0;
-    s->dist = dist;
-    s->weight = rgb * (1.0f / s->pdf);
+    float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+    return pmc_area_light_sample_at(l, pmf, omega, p, q, s);
   } else if (type == PMC_LIGHT_POINT || type == PMC_LIGHT_SPOT) {
     float3 d = pmc_load3(l->pos) - p;
     float dist2 = dot(d, d);
@@ -587,6 +618,24 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
     return 0;
   }
   return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
+}
+
+/* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at point q of the rectangle. */
+PMC_FN int pmc_light_sample_rect_end(const PmcLightSet* ls, int light, float pmf, const PmcSphRect* r,
+                                     float3 p, float3 q, PmcLightSample* s) {
+  return pmc_area_light_sample_at(&ls->lights[light], pmf, r->solid_angle, p, q, s);
+}
+
+/* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
+ * (pick) normal n (u1, u2). Returns 0 when the sample carries nothing. */
+PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
+                            PmcLightSample* s) {
+  PmcSphRect r;
+  int light = 0;
+  float pmf = 0.0f;
+  const int begun = pmc_light_sample_begin(ls, p, n, u_pick, u1, u2, s, &r, &light, &pmf);
+  if (begun != PMC_LIGHT_SAMPLE_RECT) return begun;
+  return pmc_light_sample_rect_end(ls, light, pmf, &r, p, pmc_sph_rect_sample(&r, p, u1, u2), s);
 }
 
 /* Radiance that a traced ray (origin o, unit direction d) receives from the
