@@ -597,15 +597,56 @@ static inline void pmc_prefetch_ahead(const PmcSceneData* scene, __global const 
 }
 #endif
 
+#if PMC_LANES >= 8
+/* pmc_sincos_turns and pmc_sph_rect_sample_xy (core/abi/pmc_vec.h,
+ * core/device/pmc_lights.h), eight lanes at a time: the same operations in
+ * the same order on float8, so each lane's value is the scalar form's (the
+ * images are bit-identical). PoCL's compiler did not vectorise the scalar
+ * form's loop over the lanes; OpenCL's vector types say it outright. */
+static inline void pmc_sincos_turns8(float8 t, float8* s, float8* c) {
+  const float8 q = floor(t * 4.0f + 0.5f);
+  const float8 x = (t - q * 0.25f) * (2.0f * 3.14159265358979323846f);
+  const float8 z = x * x;
+  const float8 sn = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
+  const float8 cs =
+      ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z +
+      1.0f;
+  const int8 k = convert_int8(q) & 3;
+  *s = k == 0 ? sn : (k == 1 ? cs : (k == 2 ? -sn : -cs));
+  *c = k == 0 ? cs : (k == 1 ? -sn : (k == 2 ? -cs : sn));
+}
+
+static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, float8 b1, float8 z0, float8 x0,
+                                           float8 x1, float8 y0, float8 y1, float8 u, float8 v,
+                                           float8* xu_out, float8* yv_out) {
+  const float8 au = u * omega + k;
+  float8 sin_au, cos_au;
+  pmc_sincos_turns8(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
+  const float8 fu = (cos_au * b0 - b1) / sin_au;
+  float8 cu = select((float8)(-1.0f), (float8)(1.0f), fu >= 0.0f) / sqrt(fu * fu + b0 * b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float8 xu = -(cu * z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
+  xu = clamp(xu, x0, x1);
+  const float8 dd = sqrt(xu * xu + z0 * z0);
+  const float8 h0 = y0 / sqrt(dd * dd + y0 * y0);
+  const float8 h1 = y1 / sqrt(dd * dd + y1 * y1);
+  const float8 hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+  const float8 yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : y1;
+  *xu_out = xu;
+  *yv_out = clamp(yv, y0, y1);
+}
+#endif
+
 /* Next-event estimation for lanes lane[0, m) of a batch (their
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
  * light pick and the light's sample up to its last step (pmc_light_sample_begin:
  * scalar and branchy); the points on spherical rectangles (the quad lights'
- * sampling by solid angle: about ten dependent square roots and divisions,
- * which one straight-line loop over arrays of the lanes' values lets PoCL's
- * compiler vectorise); then the light sample's end, the BSDF's value for its
+ * sampling by solid angle: about ten dependent square roots and divisions),
+ * from arrays of the lanes' values, eight lanes at a time in float8 where
+ * PMC_LANES >= 8 (pmc_sph_rect_sample_xy8); then the light sample's end, the
+ * BSDF's value for its
  * direction, MIS and the shadow ray. Lanes without a rectangle run the middle
- * loop on zeros and ignore what it gives. */
+ * loop on zeros and ignore what it gives (a batch without one skips it). */
 static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSceneData* scene,
                                         const PmcNeeInput* nee, const int* lane, int m,
                                         const PmcBatchNumbers* numbers, PmcShadeOut* out) {
@@ -618,6 +659,7 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   float omega[PMC_LANES], rk[PMC_LANES], b0[PMC_LANES], b1[PMC_LANES], z0[PMC_LANES];
   float x0[PMC_LANES], x1[PMC_LANES], y0[PMC_LANES], y1[PMC_LANES], su[PMC_LANES], sv[PMC_LANES];
   float xu[PMC_LANES], yv[PMC_LANES];
+  int rects = 0;
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
     state[j] = nee[j].active
@@ -626,6 +668,7 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
                                             &light[j], &pmf[j])
                    : 0;
     const int r = state[j] == PMC_LIGHT_SAMPLE_RECT;
+    rects += r;
     omega[j] = r ? rect[j].solid_angle : 0.0f;
     rk[j] = r ? rect[j].k : 0.0f;
     b0[j] = r ? rect[j].b0 : 0.0f;
@@ -638,12 +681,25 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     su[j] = numbers->light_u[k];
     sv[j] = numbers->light_v[k];
   }
-  for (int j = 0; j < m; ++j) {
+#if PMC_LANES >= 8
+  for (int j = rects ? m : PMC_LANES; j < ((m + 7) & ~7); ++j) /* the last group's unused lanes */
+    omega[j] = rk[j] = b0[j] = b1[j] = z0[j] = x0[j] = x1[j] = y0[j] = y1[j] = su[j] = sv[j] = 0.0f;
+  for (int j = 0; rects && j < m; j += 8) {
+    float8 xu8, yv8;
+    pmc_sph_rect_sample_xy8(vload8(0, omega + j), vload8(0, rk + j), vload8(0, b0 + j), vload8(0, b1 + j),
+                            vload8(0, z0 + j), vload8(0, x0 + j), vload8(0, x1 + j), vload8(0, y0 + j),
+                            vload8(0, y1 + j), vload8(0, su + j), vload8(0, sv + j), &xu8, &yv8);
+    vstore8(xu8, 0, xu + j);
+    vstore8(yv8, 0, yv + j);
+  }
+#else
+  for (int j = 0; rects && j < m; ++j) {
     const float2 xy = pmc_sph_rect_sample_xy(omega[j], rk[j], b0[j], b1[j], z0[j], x0[j], x1[j], y0[j], y1[j],
                                              su[j], sv[j]);
     xu[j] = xy.x;
     yv[j] = xy.y;
   }
+#endif
   for (int j = 0; j < m; ++j) {
     const PmcNeeInput* in = &nee[j];
     int ok = state[j];
