@@ -122,9 +122,17 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
   /* Anisotropic lobes take the larger of the isotropic albedos at their two
    * alphas (it bounds theirs from above, so the compensation never adds
    * energy; measured: at the projected or the mean alpha it does, by 2-5%). */
-  float e1 = pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.ax));
-  float e5 = pmc_table_lookup(pmc_ggx_e5_table, mu, pmc_table_rough(l.ax));
-  if (l.ay != l.ax) {
+  /* Only the base's GGX lobes (conductor, dielectric specular) read them: a
+   * stack without those (Lambert alone) skips the lookups, its zero lobe
+   * weights making every product with them zero either way. */
+  const int base_ggx =
+      b->metal > 0.0f || (b->flat ? pmc_max3(b->spec_f0) > 0.0f : pmc_max3(b->spec_tint) > 0.0f);
+  float e1 = 0.0f, e5 = 0.0f;
+  if (base_ggx) {
+    e1 = pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.ax));
+    e5 = pmc_table_lookup(pmc_ggx_e5_table, mu, pmc_table_rough(l.ax));
+  }
+  if (base_ggx && l.ay != l.ax) {
     const float e1y = pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.ay));
     if (e1y > e1) {
       e1 = e1y;
@@ -268,14 +276,16 @@ PMC_FN float3 pmc_bsdf_eval_pdf(const PmcLobes* l, float3 wo, float3 wi, float* 
   f += l->kd * PMC_INV_PI;
   if (pmc_max3(l->sheen_w) > 0.0f) f += l->sheen_w * pmc_sheen_brdf(wo, wi, l->sheen_r);
   p += p_cos * wi.z * PMC_INV_PI;
-  const float3 h = normalize(wo + wi);
-  if (h.z > 0.0f) {
+  const int spec = l->c_spec > 0.0f || pmc_max3(l->spec_p + l->spec_q) > 0.0f;
+  const int coat = l->c_coat > l->c_spec || pmc_max3(l->coat_p + l->coat_q) > 0.0f;
+  const float3 h = spec || coat ? normalize(wo + wi) : wi; /* Lambert alone needs no half vector */
+  if ((spec || coat) && h.z > 0.0f) {
     float ps;
-    if (l->c_spec > 0.0f || pmc_max3(l->spec_p + l->spec_q) > 0.0f) {
+    if (spec) {
       f += pmc_ggx_reflection(l->spec_p, l->spec_q, wo, wi, h, l->ax, l->ay, &ps);
       p += l->c_spec * ps;
     }
-    if (l->c_coat > l->c_spec || pmc_max3(l->coat_p + l->coat_q) > 0.0f) {
+    if (coat) {
       f += pmc_ggx_reflection(l->coat_p, l->coat_q, wo, wi, h, l->coat_alpha, l->coat_alpha, &ps);
       p += (l->c_coat - l->c_spec) * ps;
     }
@@ -301,15 +311,12 @@ PMC_FN float pmc_bsdf_pdf(const PmcLobes* l, float3 wo, float3 wi) {
 PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
   float a = 2.0f * u1 - 1.0f;
   float c = 2.0f * u2 - 1.0f;
-  float r, turns; /* the angle, in turns */
   if (a == 0.0f && c == 0.0f) return make_float3(0.0f, 0.0f, 1.0f);
-  if (fabs(a) > fabs(c)) {
-    r = a;
-    turns = 0.125f * (c / a);
-  } else {
-    r = c;
-    turns = 0.25f - 0.125f * (a / c);
-  }
+  /* both octants' values, then a select: the comparison is a coin toss per
+   * sample, which as a branch cost more than the second division */
+  const int wide = fabs(a) > fabs(c);
+  const float r = wide ? a : c;
+  const float turns = wide ? 0.125f * (c / a) : 0.25f - 0.125f * (a / c); /* the angle, in turns */
   float sin_phi, cos_phi;
   pmc_sincos_turns(turns, &sin_phi, &cos_phi);
   float x = r * cos_phi, y = r * sin_phi;

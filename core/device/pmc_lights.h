@@ -67,10 +67,11 @@ PMC_FN float2 pmc_env_dir_to_uv(float3 d) {
 }
 
 PMC_FN float3 pmc_env_uv_to_dir(float u, float v) {
-  float phi = (u - 0.5f) * (2.0f * PMC_PI);
-  float theta = v * PMC_PI;
-  float st = sin(theta);
-  return make_float3(st * sin(phi), cos(theta), -st * cos(phi));
+  /* phi = 2 pi (u - 0.5) and theta = pi v, as turns (pmc_sincos_turns) */
+  float st, ct, sp, cp;
+  pmc_sincos_turns(0.5f * v, &st, &ct);
+  pmc_sincos_turns(u - 0.5f, &sp, &cp);
+  return make_float3(st * sp, ct, -st * cp);
 }
 
 /* World direction -> map direction (the inverse of the rotation about +Y). */
@@ -107,7 +108,8 @@ PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i) {
   float sin_theta = sqrt(fmax(0.0f, 1.0f - m.y * m.y));
   if (!(sin_theta > 0.0f)) return 0.0f;
   int row = i / h->env_width;
-  float row_sin = sin(((float)row + 0.5f) * PMC_PI / (float)h->env_height);
+  float row_sin, row_cos; /* sin(pi (row + 0.5) / height) */
+  pmc_sincos_turns(((float)row + 0.5f) / (2.0f * (float)h->env_height), &row_sin, &row_cos);
   float f = pmc_luminance(pmc_env_texel(ls, i)) * row_sin;
   float texels = (float)h->env_width * (float)h->env_height;
   return f * h->env_inv_integral * texels / (2.0f * PMC_PI * PMC_PI * sin_theta);
@@ -139,15 +141,20 @@ PMC_FN float pmc_cdf_fraction(PMC_GLOBAL const float* cdf, int i, float u) {
 }
 
 /* Sample a map direction (world space) by luminance x sin(theta); returns
- * its density (without the pick probability), 0 on failure. */
+ * its density (without the pick probability), 0 on failure. The texel is the
+ * one the CDFs picked (its radiance and density are the sample's; finding it
+ * again from the direction took an atan2 and an acos, and near a texel's edge
+ * could name its neighbour). */
 PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float3* wi, float3* le) {
   const PmcLightHeader* h = &ls->h;
   int w = h->env_width, hh = h->env_height;
   float3 m;
+  int texel;
   if (h->env_uniform) {
     float z = 1.0f - 2.0f * u1, r = sqrt(fmax(0.0f, 1.0f - z * z)), sin_phi, cos_phi;
     pmc_sincos_turns(u2, &sin_phi, &cos_phi);
     m = make_float3(r * cos_phi, z, r * sin_phi);
+    texel = pmc_env_texel_index(h, m);
   } else {
     PMC_GLOBAL const float* marginal = ls->env + 3 * w * hh;
     int row = pmc_cdf_search(marginal, hh, u1);
@@ -156,10 +163,11 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     int col = pmc_cdf_search(conditional, w, u2);
     float fu = pmc_cdf_fraction(conditional, col, u2);
     m = pmc_env_uv_to_dir(((float)col + fu) / (float)w, ((float)row + fv) / (float)hh);
+    texel = row * w + col;
   }
-  float pdf = pmc_env_map_pdf(ls, m);
+  float pdf = pmc_env_map_pdf_in(ls, m, texel);
   *wi = pmc_env_to_world(h, m);
-  *le = pmc_env_texel(ls, pmc_env_texel_index(h, m));
+  *le = pmc_env_texel(ls, texel);
   return pdf;
 }
 
@@ -231,34 +239,51 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
   float3 n1 = make_float3(-z0, 0.0f, r->x1) * (1.0f / sqrt(z2 + r->x1 * r->x1));
   float3 n2 = make_float3(0.0f, -z0, r->y1) * (1.0f / sqrt(z2 + r->y1 * r->y1));
   float3 n3 = make_float3(z0, 0.0f, -r->x0) * (1.0f / sqrt(z2 + r->x0 * r->x0));
-  float g0 = acos(clamp(-dot(n0, n1), -1.0f, 1.0f));
-  float g1 = acos(clamp(-dot(n1, n2), -1.0f, 1.0f));
-  float g2 = acos(clamp(-dot(n2, n3), -1.0f, 1.0f));
-  float g3 = acos(clamp(-dot(n3, n0), -1.0f, 1.0f));
+  /* the four angles between them in one call (a vector acos costs about what one scalar call does) */
+  const float4 g = acos(make_float4(clamp(-dot(n0, n1), -1.0f, 1.0f), clamp(-dot(n1, n2), -1.0f, 1.0f),
+                                    clamp(-dot(n2, n3), -1.0f, 1.0f), clamp(-dot(n3, n0), -1.0f, 1.0f)));
   r->b0 = n0.z;
   r->b1 = n2.z;
-  r->k = 2.0f * PMC_PI - g2 - g3;
-  r->solid_angle = fmax(0.0f, g0 + g1 - r->k);
+  r->k = 2.0f * PMC_PI - g.z - g.w;
+  r->solid_angle = fmax(0.0f, g.x + g.y - r->k);
   return r->solid_angle;
+}
+
+/* The point in direction (u, v) of the unit square, mapped uniformly over
+ * a spherical rectangle (its fields as PmcSphRect's, solid angle omega), as
+ * its coordinates xu, yv along the rectangle's edges. Scalars in,
+ * straight-line (selects, no branches); the shade kernel runs it for a
+ * batch's lanes together, eight at a time in its float8 twin
+ * (pmc_sph_rect_sample_xy8 in gpu/kernels/pmc_kernels.cl: keep the two alike). */
+PMC_FN float2 pmc_sph_rect_sample_xy(float omega, float k, float b0, float b1, float z0, float x0, float x1,
+                                     float y0, float y1, float u, float v) {
+  float au = u * omega + k;
+  float sin_au, cos_au; /* au is in [0, 4 pi) */
+  pmc_sincos_turns(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
+  float fu = (cos_au * b0 - b1) / sin_au;
+  float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + b0 * b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float xu = -(cu * z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
+  xu = clamp(xu, x0, x1);
+  float dd = sqrt(xu * xu + z0 * z0);
+  float h0 = y0 / sqrt(dd * dd + y0 * y0);
+  float h1 = y1 / sqrt(dd * dd + y1 * y1);
+  float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+  float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : y1;
+  return make_float2(xu, clamp(yv, y0, y1));
+}
+
+/* The rectangle's point at coordinates xy (pmc_sph_rect_sample_xy) seen from p. */
+PMC_FN float3 pmc_sph_rect_point(const PmcSphRect* r, float3 p, float2 xy) {
+  return p + r->x * xy.x + r->y * xy.y + r->z * r->z0;
 }
 
 /* The point of the rectangle in direction (u, v) of the unit square, mapped
  * uniformly over the spherical rectangle r seen from p. */
 PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
-  float au = u * r->solid_angle + r->k;
-  float sin_au = sin(au), cos_au = cos(au);
-  float fu = (cos_au * r->b0 - r->b1) / sin_au;
-  float cu = (fu >= 0.0f ? 1.0f : -1.0f) / sqrt(fu * fu + r->b0 * r->b0);
-  cu = clamp(cu, -1.0f, 1.0f);
-  float xu = -(cu * r->z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
-  xu = clamp(xu, r->x0, r->x1);
-  float dd = sqrt(xu * xu + r->z0 * r->z0);
-  float h0 = r->y0 / sqrt(dd * dd + r->y0 * r->y0);
-  float h1 = r->y1 / sqrt(dd * dd + r->y1 * r->y1);
-  float hv = h0 + v * (h1 - h0), hv2 = hv * hv;
-  float yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : r->y1;
-  yv = clamp(yv, r->y0, r->y1);
-  return p + r->x * xu + r->y * yv + r->z * r->z0;
+  return pmc_sph_rect_point(
+      r, p,
+      pmc_sph_rect_sample_xy(r->solid_angle, r->k, r->b0, r->b1, r->z0, r->x0, r->x1, r->y0, r->y1, u, v));
 }
 
 /* Light-sampling pdf (solid angle, pick probability pmf included) of quad l
@@ -496,10 +521,37 @@ PMC_FN float pmc_env_light_pdf(const PmcLightSet* ls, float3 p, float3 n, float3
   return pmf * pmc_env_map_pdf(ls, pmc_env_to_map(&ls->h, d));
 }
 
+/* An area light's sample from point p at point q of light l (picked with
+ * probability pmf; omega: the spherical rectangle's solid angle where it is
+ * sampled so, else 0). Returns 0 when it carries nothing. */
+PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, float omega, float3 p, float3 q,
+                                    PmcLightSample* s) {
+  float3 d = q - p;
+  float dist = length(d);
+  if (!(dist > 0.0f)) return 0;
+  s->wi = d * (1.0f / dist);
+  float cos_light = -dot(pmc_load3(l->normal), s->wi);
+  if (l->type == PMC_LIGHT_QUAD && !(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
+  s->pdf =
+      omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE ? pmf / omega : pmc_area_light_pdf(pmf, dist, l->area, cos_light);
+  if (!(s->pdf > 0.0f)) return 0;
+  s->dist = dist;
+  s->weight = pmc_load3(l->rgb) * (1.0f / s->pdf);
+  return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
+}
+
+/* pmc_light_sample_begin's answers besides 0 (nothing) and 1 (done). */
+#define PMC_LIGHT_SAMPLE_RECT 2 /* a spherical rectangle to sample: pmc_light_sample_rect_end */
+
 /* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
- * (pick) normal n (u1, u2). Returns 0 when the sample carries nothing. */
-PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
-                            PmcLightSample* s) {
+ * (pick) normal n (u1, u2), except for one step: a quad sampled by solid
+ * angle returns PMC_LIGHT_SAMPLE_RECT with its spherical rectangle in *r,
+ * light index in *light and pick probability in *pmf, and its point is
+ * pmc_sph_rect_sample(r, p, u1, u2), which the shade kernel computes for a
+ * batch's lanes in one loop (straight-line, vectorised), then
+ * pmc_light_sample_rect_end. */
+PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
+                                  PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   float pmf;
   int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
   if (picked < 0 || !(pmf > 0.0f)) return 0;
@@ -508,31 +560,19 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
   float3 rgb = pmc_load3(l->rgb);
   s->pdf = 0.0f;
   s->dist = INFINITY;
-  if (type == PMC_LIGHT_TRIANGLE || type == PMC_LIGHT_QUAD) {
-    float3 q = pmc_load3(l->pos);
-    float omega = 0.0f; /* the spherical rectangle's solid angle where it is sampled so */
-    if (type == PMC_LIGHT_TRIANGLE) {
-      float2 bc = pmc_sample_triangle(u1, u2);
-      q = q + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
-    } else {
-      PmcSphRect r;
-      omega = pmc_sph_rect_init(l, p, &r);
-      if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE)
-        q = pmc_sph_rect_sample(&r, p, u1, u2);
-      else
-        q = q + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+  if (type == PMC_LIGHT_TRIANGLE) {
+    float2 bc = pmc_sample_triangle(u1, u2);
+    float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
+    return pmc_area_light_sample_at(l, pmf, 0.0f, p, q, s);
+  } else if (type == PMC_LIGHT_QUAD) {
+    const float omega = pmc_sph_rect_init(l, p, r);
+    if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) {
+      *light = picked;
+      *pmf_out = pmf;
+      return PMC_LIGHT_SAMPLE_RECT;
     }
-    float3 d = q - p;
-    float dist = length(d);
-    if (!(dist > 0.0f)) return 0;
-    s->wi = d * (1.0f / dist);
-    float cos_light = -dot(pmc_load3(l->normal), s->wi);
-    if (type == PMC_LIGHT_QUAD && !(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
-    s->pdf = omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE ? pmf / omega
-                                                   : pmc_area_light_pdf(pmf, dist, l->area, cos_light);
-    if (!(s->pdf > 0.0f)) return 0;
-    s->dist = dist;
-    s->weight = rgb * (1.0f / s->pdf);
+    float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+    return pmc_area_light_sample_at(l, pmf, omega, p, q, s);
   } else if (type == PMC_LIGHT_POINT || type == PMC_LIGHT_SPOT) {
     float3 d = pmc_load3(l->pos) - p;
     float dist2 = dot(d, d);
@@ -579,6 +619,24 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
     return 0;
   }
   return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
+}
+
+/* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at point q of the rectangle. */
+PMC_FN int pmc_light_sample_rect_end(const PmcLightSet* ls, int light, float pmf, const PmcSphRect* r,
+                                     float3 p, float3 q, PmcLightSample* s) {
+  return pmc_area_light_sample_at(&ls->lights[light], pmf, r->solid_angle, p, q, s);
+}
+
+/* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
+ * (pick) normal n (u1, u2). Returns 0 when the sample carries nothing. */
+PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
+                            PmcLightSample* s) {
+  PmcSphRect r;
+  int light = 0;
+  float pmf = 0.0f;
+  const int begun = pmc_light_sample_begin(ls, p, n, u_pick, u1, u2, s, &r, &light, &pmf);
+  if (begun != PMC_LIGHT_SAMPLE_RECT) return begun;
+  return pmc_light_sample_rect_end(ls, light, pmf, &r, p, pmc_sph_rect_sample(&r, p, u1, u2), s);
 }
 
 /* Radiance that a traced ray (origin o, unit direction d) receives from the

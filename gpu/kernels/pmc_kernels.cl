@@ -364,8 +364,19 @@ static inline void pmc_shading_frame(float3 ns, float3 tangent, const PmcBsdf* b
   pmc_basis(ns, t, b);
 }
 
-/* After the material: emission, next-event estimation and the BSDF sample
- * for the next bounce of one hit. `shading_normal` is the material's normal
+/* What next-event estimation needs of one hit (pmc_shade_surface fills it). */
+typedef struct PmcNeeInput {
+  PmcLobes lobes;             /* the BSDF prepared for wo */
+  float3 t, b, ns, ng, wo;    /* the shading frame, the geometric normal, wo in the frame */
+  float3 origin, pick_normal; /* where the shadow ray starts, the normal the pick uses */
+  float3 throughput;          /* the path's, before this hit's BSDF sample */
+  int active;                 /* the BSDF scatters */
+  int mis;                    /* not the last vertex: weigh against the BSDF sample */
+} PmcNeeInput;
+
+/* After the material: emission, what next-event estimation needs (`nee`:
+ * pmc_next_event_lanes takes the light sample) and the BSDF sample for the
+ * next bounce of one hit. `shading_normal` is the material's normal
  * (normal maps) or the hit's.
  * Glass: light samples are taken on the side wo is on only (a shadow ray is
  * stopped by every surface, glass included, so a light behind glass is
@@ -376,7 +387,7 @@ static inline void pmc_shading_frame(float3 ns, float3 tangent, const PmcBsdf* b
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
                                      const PmcHitNumbers* u, __global PmcPathState* paths,
-                                     __global PmcPathPasses* passes, PmcShadeOut* out) {
+                                     __global PmcPathPasses* passes, PmcShadeOut* out, PmcNeeInput* nee) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
   float3 radiance = pmc_load3(path->radiance);
@@ -415,31 +426,21 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
 
   /* Next-event estimation: one light, picked at `origin` with the shading
    * normal as the path stores it (pmc_lights.h), so that the next vertex can
-   * recompute the pick's probability from its ray's origin and that normal. */
-  PmcLightSample ls;
+   * recompute the pick's probability from its ray's origin and that normal;
+   * taken for the batch's lanes together after this (pmc_next_event_lanes). */
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
   const uint light_normal = pmc_oct_encode(ns);
-  const float3 pick_normal = pmc_oct_decode(light_normal);
-  if (has_lobes &&
-      pmc_light_sample(&scene->light_set, origin, pick_normal, u->light_pick, u->light_u, u->light_v, &ls) &&
-      dot(ls.wi, ng) > 0.0f) {
-    float3 wi = pmc_to_local(ls.wi, t, b, ns);
-    if (wi.z > 0.0f) {
-      float bsdf_pdf;
-      float3 f = pmc_bsdf_eval_pdf(&lobes, wo, wi, &bsdf_pdf);
-      /* MIS against the BSDF sample, unless this is the last vertex (whose
-       * continuation is not traced, so light sampling alone covers it). */
-      float w = ls.pdf > 0.0f && (int)depth < frame->max_depth ? pmc_mis_power(ls.pdf, bsdf_pdf) : 1.0f;
-      float3 c = throughput * f * ls.weight * (wi.z * w);
-      if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
-        out->shadow = 1;
-        out->shadow_org = origin;
-        out->shadow_dir = ls.wi;
-        out->shadow_tfar = isinf(ls.dist) ? INFINITY : ls.dist * (1.0f - 1e-4f);
-        out->shadow_rgb = c;
-      }
-    }
-  }
+  nee->active = has_lobes;
+  nee->mis = (int)depth < frame->max_depth;
+  nee->origin = origin;
+  nee->pick_normal = pmc_oct_decode(light_normal);
+  nee->ng = ng;
+  nee->t = t;
+  nee->b = b;
+  nee->ns = ns;
+  nee->wo = wo;
+  nee->throughput = throughput;
+  nee->lobes = lobes;
 
   int alive = has_lobes && (int)depth < frame->max_depth;
   if (alive) {
@@ -600,6 +601,136 @@ static inline void pmc_prefetch_ahead(const PmcSceneData* scene, __global const 
 }
 #endif
 
+#if PMC_LANES >= 8
+/* pmc_sincos_turns and pmc_sph_rect_sample_xy (core/abi/pmc_vec.h,
+ * core/device/pmc_lights.h), eight lanes at a time: the same operations in
+ * the same order on float8, so each lane's value is the scalar form's (the
+ * images are bit-identical). PoCL's compiler did not vectorise the scalar
+ * form's loop over the lanes; OpenCL's vector types say it outright. */
+static inline void pmc_sincos_turns8(float8 t, float8* s, float8* c) {
+  const float8 q = floor(t * 4.0f + 0.5f);
+  const float8 x = (t - q * 0.25f) * (2.0f * 3.14159265358979323846f);
+  const float8 z = x * x;
+  const float8 sn = ((-1.9515295891e-4f * z + 8.3321608736e-3f) * z - 1.6666654611e-1f) * z * x + x;
+  const float8 cs =
+      ((2.443315711809948e-5f * z - 1.388731625493765e-3f) * z + 4.166664568298827e-2f) * z * z - 0.5f * z +
+      1.0f;
+  const int8 k = convert_int8(q) & 3;
+  *s = k == 0 ? sn : (k == 1 ? cs : (k == 2 ? -sn : -cs));
+  *c = k == 0 ? cs : (k == 1 ? -sn : (k == 2 ? -cs : sn));
+}
+
+static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, float8 b1, float8 z0, float8 x0,
+                                           float8 x1, float8 y0, float8 y1, float8 u, float8 v,
+                                           float8* xu_out, float8* yv_out) {
+  const float8 au = u * omega + k;
+  float8 sin_au, cos_au;
+  pmc_sincos_turns8(au * (0.5f * PMC_INV_PI), &sin_au, &cos_au);
+  const float8 fu = (cos_au * b0 - b1) / sin_au;
+  float8 cu = select((float8)(-1.0f), (float8)(1.0f), fu >= 0.0f) / sqrt(fu * fu + b0 * b0);
+  cu = clamp(cu, -1.0f, 1.0f);
+  float8 xu = -(cu * z0) / sqrt(fmax(1e-30f, 1.0f - cu * cu));
+  xu = clamp(xu, x0, x1);
+  const float8 dd = sqrt(xu * xu + z0 * z0);
+  const float8 h0 = y0 / sqrt(dd * dd + y0 * y0);
+  const float8 h1 = y1 / sqrt(dd * dd + y1 * y1);
+  const float8 hv = h0 + v * (h1 - h0), hv2 = hv * hv;
+  const float8 yv = hv2 < 1.0f - 1e-6f ? hv * dd / sqrt(1.0f - hv2) : y1;
+  *xu_out = xu;
+  *yv_out = clamp(yv, y0, y1);
+}
+#endif
+
+/* Next-event estimation for lanes lane[0, m) of a batch (their
+ * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
+ * light pick and the light's sample up to its last step (pmc_light_sample_begin:
+ * scalar and branchy); the points on spherical rectangles (the quad lights'
+ * sampling by solid angle: about ten dependent square roots and divisions),
+ * from arrays of the lanes' values, eight lanes at a time in float8 where
+ * PMC_LANES >= 8 (pmc_sph_rect_sample_xy8); then the light sample's end, the
+ * BSDF's value for its
+ * direction, MIS and the shadow ray. Lanes without a rectangle run the middle
+ * loop on zeros and ignore what it gives (a batch without one skips it). */
+static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                        const PmcNeeInput* nee, const int* lane, int m,
+                                        const PmcBatchNumbers* numbers, PmcShadeOut* out) {
+  const PmcLightSet* lights = &scene->light_set;
+  PmcLightSample ls[PMC_LANES];
+  PmcSphRect rect[PMC_LANES];
+  int state[PMC_LANES], light[PMC_LANES];
+  float pmf[PMC_LANES];
+  /* the rectangles' values, one array each (for the vectorised loop) */
+  float omega[PMC_LANES], rk[PMC_LANES], b0[PMC_LANES], b1[PMC_LANES], z0[PMC_LANES];
+  float x0[PMC_LANES], x1[PMC_LANES], y0[PMC_LANES], y1[PMC_LANES], su[PMC_LANES], sv[PMC_LANES];
+  float xu[PMC_LANES], yv[PMC_LANES];
+  int rects = 0;
+  for (int j = 0; j < m; ++j) {
+    const int k = lane[j];
+    state[j] = nee[j].active
+                   ? pmc_light_sample_begin(lights, nee[j].origin, nee[j].pick_normal, numbers->light_pick[k],
+                                            numbers->light_u[k], numbers->light_v[k], &ls[j], &rect[j],
+                                            &light[j], &pmf[j])
+                   : 0;
+    const int r = state[j] == PMC_LIGHT_SAMPLE_RECT;
+    rects += r;
+    omega[j] = r ? rect[j].solid_angle : 0.0f;
+    rk[j] = r ? rect[j].k : 0.0f;
+    b0[j] = r ? rect[j].b0 : 0.0f;
+    b1[j] = r ? rect[j].b1 : 0.0f;
+    z0[j] = r ? rect[j].z0 : 0.0f;
+    x0[j] = r ? rect[j].x0 : 0.0f;
+    x1[j] = r ? rect[j].x1 : 0.0f;
+    y0[j] = r ? rect[j].y0 : 0.0f;
+    y1[j] = r ? rect[j].y1 : 0.0f;
+    su[j] = numbers->light_u[k];
+    sv[j] = numbers->light_v[k];
+  }
+#if PMC_LANES >= 8
+  for (int j = rects ? m : PMC_LANES; j < ((m + 7) & ~7); ++j) /* the last group's unused lanes */
+    omega[j] = rk[j] = b0[j] = b1[j] = z0[j] = x0[j] = x1[j] = y0[j] = y1[j] = su[j] = sv[j] = 0.0f;
+  for (int j = 0; rects && j < m; j += 8) {
+    float8 xu8, yv8;
+    pmc_sph_rect_sample_xy8(vload8(0, omega + j), vload8(0, rk + j), vload8(0, b0 + j), vload8(0, b1 + j),
+                            vload8(0, z0 + j), vload8(0, x0 + j), vload8(0, x1 + j), vload8(0, y0 + j),
+                            vload8(0, y1 + j), vload8(0, su + j), vload8(0, sv + j), &xu8, &yv8);
+    vstore8(xu8, 0, xu + j);
+    vstore8(yv8, 0, yv + j);
+  }
+#else
+  for (int j = 0; rects && j < m; ++j) {
+    const float2 xy = pmc_sph_rect_sample_xy(omega[j], rk[j], b0[j], b1[j], z0[j], x0[j], x1[j], y0[j], y1[j],
+                                             su[j], sv[j]);
+    xu[j] = xy.x;
+    yv[j] = xy.y;
+  }
+#endif
+  for (int j = 0; j < m; ++j) {
+    const PmcNeeInput* in = &nee[j];
+    int ok = state[j];
+    if (ok == PMC_LIGHT_SAMPLE_RECT)
+      ok = pmc_light_sample_rect_end(lights, light[j], pmf[j], &rect[j], in->origin,
+                                     pmc_sph_rect_point(&rect[j], in->origin, make_float2(xu[j], yv[j])),
+                                     &ls[j]);
+    if (!ok || !(dot(ls[j].wi, in->ng) > 0.0f)) continue;
+    float3 wi = pmc_to_local(ls[j].wi, in->t, in->b, in->ns);
+    if (!(wi.z > 0.0f)) continue;
+    float bsdf_pdf;
+    float3 f = pmc_bsdf_eval_pdf(&in->lobes, in->wo, wi, &bsdf_pdf);
+    /* MIS against the BSDF sample, unless this is the last vertex (whose
+     * continuation is not traced, so light sampling alone covers it). */
+    float w = ls[j].pdf > 0.0f && in->mis ? pmc_mis_power(ls[j].pdf, bsdf_pdf) : 1.0f;
+    float3 c = in->throughput * f * ls[j].weight * (wi.z * w);
+    if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
+      PmcShadeOut* o = &out[lane[j]];
+      o->shadow = 1;
+      o->shadow_org = in->origin;
+      o->shadow_dir = ls[j].wi;
+      o->shadow_tfar = isinf(ls[j].dist) ? INFINITY : ls[j].dist * (1.0f - 1e-4f);
+      o->shadow_rgb = c;
+    }
+  }
+}
+
 /* The materials of one batch of hits, then the rest of their shading. The
  * host sorts hits by material, so a batch normally holds one material; any
  * mix still works: each run of one material is evaluated together. */
@@ -626,6 +757,7 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
       pmc_material_inputs(frame, &hp[lane[j]], cache_entries, &sp[j], cached ? &cache[j] : 0);
     PmcBsdf bsdf[PMC_LANES];
     pmc_eval_material_lanes(&md, material, sp, m, cached ? cache : 0, bsdf);
+    PmcNeeInput nee[PMC_LANES];
     for (int j = 0; j < m; ++j) {
       const int k = lane[j];
       if (cached) {
@@ -633,8 +765,9 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
         for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache_counts[c] += cache[j].counts[c];
       }
       const PmcHitNumbers u = pmc_load_hit_numbers(numbers, k);
-      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, paths, passes, &out[k]);
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, paths, passes, &out[k], &nee[j]);
     }
+    pmc_next_event_lanes(frame, scene, nee, lane, m, numbers, out);
   }
 }
 
