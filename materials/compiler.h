@@ -44,6 +44,9 @@ struct CompileOptions {
   // With a model, a point must also pay on the device for the frame
   // (materials/node_costs.h); none: the node count alone decides.
   std::optional<CacheCostModel> cache_model;
+  // Sub-samples per supersampled miss in cache_eval center, per key kind
+  // (resolve_supersample); carried in each CACHE_LOOKUP's skip word.
+  CacheSupersample cache_supersample;
 };
 
 struct CompiledMaterial {
