@@ -87,7 +87,7 @@ struct CacheSupersample {
 };
 // The automatic K for a key kind in the frame (see above).
 int auto_supersample(const CacheFrame& frame, bool position_key);
-// --cache-supersample: 0 is auto (per key kind), else that K for both kinds.
+// The cache_supersample setting: 0 is auto (per key kind), else that K for both kinds.
 CacheSupersample resolve_supersample(const CacheFrame& frame, int setting);
 
 // `samples`: the sub-samples a miss evaluates (M counts them).
