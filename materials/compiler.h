@@ -17,7 +17,8 @@
 // CACHE_STORE per point that inserts and delivers the values that missed.
 // The last lookup jumps past the group when every lookup hit. The group is
 // self-contained, so a hit skips all of its work and cache_eval center can
-// re-evaluate it at a texel centre. With the cache off the program has no
+// re-evaluate it at a texel centre, or replay it at K sub-sample points
+// (cache_supersample; each LOOKUP's skip word carries its point's K). With the cache off the program has no
 // cache instructions at all.
 #pragma once
 
