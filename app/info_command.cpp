@@ -33,9 +33,10 @@ void print_cache_plan(const MaterialSet& set, const CompiledMaterial& m, bool ba
   static const char* enc[] = {"float", "rgb9e5", "half2"};
   std::printf("  cache points: %zu\n", m.cache_plan.points.size());
   for (const CachePoint& cp : m.cache_plan.points) {
-    std::printf("    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s\n",
-                node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key),
-                enc[cp.encoding % 3]);
+    std::printf(
+        "    + %s: saves a sub-graph of %d nodes, keyed on %s, stored as %s, K %d sub-sample%s a miss\n",
+        node_label(*g, cp.node).c_str(), cp.subgraph_nodes, cache_key_name(cp.key), enc[cp.encoding % 3],
+        cp.supersample, cp.supersample == 1 ? "" : "s");
     if (cp.modelled) {
       const PointEconomics& e = cp.economics;
       std::printf(
@@ -115,6 +116,7 @@ struct InfoArgs {
   bool cache_position_keys = RenderConfig{}.cache_position_keys;
   bool cache_bandwidth = RenderConfig{}.cache_bandwidth;
   double cache_feature_texels = RenderConfig{}.cache_feature_texels;
+  int cache_supersample = RenderConfig{}.cache_supersample;
   // The cost model's frame and device (pmc render's defaults).
   bool cache_cost_model = RenderConfig{}.cache_model == CacheModel::Cost;
   RenderConfig frame;
@@ -182,6 +184,10 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
     mo.compile.cache_min_nodes = a.cache_min_nodes;
     mo.compile.cache_position_keys = a.cache_position_keys;
     mo.compile.cache_feature_texels = a.cache_bandwidth ? a.cache_feature_texels : 0.0;
+    mo.compile.cache_supersample = resolve_supersample(cache_frame(a.frame), a.cache_supersample);
+    std::printf("cache sub-samples per miss (--cache-supersample %s): uv %d, position %d\n",
+                a.cache_supersample == 0 ? "auto" : std::to_string(a.cache_supersample).c_str(),
+                mo.compile.cache_supersample.uv, mo.compile.cache_supersample.position);
     if (a.cache_cost_model) {
       CacheCosts costs;
       try {
@@ -313,6 +319,12 @@ CommandRun add_info_command(CLI::App& pmc) {
       ->type_name("on|off")
       ->check(cli::one_of({"on", "off"}))
       ->default_str("off");
+  app->add_option("--cache-supersample", a->cache_supersample,
+                  "sub-samples a cache miss averages over its texel, for the frame above (see pmc render "
+                  "--help; 0: auto)")
+      ->type_name("N")
+      ->check(CLI::IsMember({0, 1, 2, 4, 8, 16}))
+      ->capture_default_str();
   app->add_option("--cache-feature-texels", a->cache_feature_texels,
                   "texels across a pattern's smallest feature (see pmc render --help)")
       ->type_name("N")

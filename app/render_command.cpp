@@ -147,6 +147,9 @@ int run_render(const RenderArgs& args) {
     nlohmann::json j = render_json(settings, out.stats, obj);
     j["setup_seconds"] = setup_json(session.setup_seconds());
     j["cache"]["model"] = cache_model_json(session, out.stats);
+    if (settings.cache.on)
+      j["cache"]["supersample"] = {{"uv", session.cache_supersample().uv},
+                                   {"position", session.cache_supersample().position}};
     j["texture_cache"] = texture_cache_json(TextureCache::instance());
     j["passes"] = pass_list_text(config.passes);
     if (a.denoise)

@@ -87,6 +87,8 @@ nlohmann::json cache_model_json(const RenderSession& session, const RenderStats&
   j["miss_per_cost"] = c.miss_per_cost;
   j["expected_uv_hit_rate"] = expected_hit_rate(model->frame, false);
   j["expected_position_hit_rate"] = expected_hit_rate(model->frame, true);
+  j["supersample"] = {{"uv", session.cache_supersample().uv},
+                      {"position", session.cache_supersample().position}};
   j["shaded_hits"] = st.material_hits;
   j["predicted_saving_seconds"] = predicted * c.unit_ns * 1e-9;
   j["saving_at_measured_hit_rates_seconds"] = at_measured * c.unit_ns * 1e-9;

@@ -111,6 +111,10 @@ void RenderConfig::validate() const {
   if (shade_lanes < 0 || shade_lanes > 64 || (shade_lanes & (shade_lanes - 1)) != 0)
     fail_config(setting("shade_lanes"), ": must be 0 (automatic) or a power of two up to 64, got ",
                 shade_lanes);
+  if (cache_supersample < 0 || cache_supersample > 16 ||
+      (cache_supersample != 0 && (cache_supersample & (cache_supersample - 1)) != 0))
+    fail_config(setting("cache_supersample"), ": must be 0 (auto) or a power of two 1..16, got ",
+                cache_supersample);
   if (threads && *threads <= 0) fail_config(setting("threads"), ": must be at least 1, got ", *threads);
 
   if (fov && !(*fov > 0.0f && *fov < 180.0f))

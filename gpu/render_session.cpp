@@ -211,6 +211,9 @@ void RenderSession::prepare_scene(const std::function<void(double&)>& lap,
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   mo.compile.cache_position_keys = config_.cache_position_keys;
   mo.compile.cache_feature_texels = config_.cache_bandwidth ? config_.cache_feature_texels : 0.0;
+  if (config_.cache_eval == CacheEval::Center)  // hit mode stores the hit's value: nothing to average
+    mo.compile.cache_supersample = cache_supersample_ =
+        resolve_supersample(cache_frame(config_), config_.cache_supersample);
   if (config_.cache && config_.cache_model == CacheModel::Cost)
     mo.compile.cache_model = cache_model_ =
         CacheCostModel{device_cache_costs(device()), cache_frame(config_)};

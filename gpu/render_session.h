@@ -85,6 +85,8 @@ class RenderSession {
   const SetupSeconds& setup_seconds() const { return setup_; }
   // The cost model the cache plan was made with (cache_model cost), else none.
   const std::optional<CacheCostModel>& cache_model() const { return cache_model_; }
+  // The sub-samples a miss evaluates per key kind (cache_supersample resolved; 1 in hit mode).
+  const CacheSupersample& cache_supersample() const { return cache_supersample_; }
 
   RenderOutput render(const ProgressFn& progress = {}) { return render(settings_, progress); }
   // `settings` must keep settings().cache.on (the program was compiled for it).
@@ -105,6 +107,7 @@ class RenderSession {
   MaterialSet materials_;
   RenderSettings settings_;
   std::optional<CacheCostModel> cache_model_;
+  CacheSupersample cache_supersample_;
   std::unique_ptr<CutoutTester> cutout_;
   std::unique_ptr<EmbreeTracer> tracer_;
   std::unique_ptr<WavefrontRenderer> renderer_;

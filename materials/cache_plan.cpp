@@ -77,9 +77,9 @@ std::string unpaid_reason(const PointEconomics& e, const CacheCosts& costs) {
   char text[400];
   std::snprintf(text, sizeof text,
                 "does not pay on this device: sub-graph cost C %.1f unit nodes, expected hit rate h %.1f%%, "
-                "h C = %.1f <= lookup L %.1f + (1 - h) x miss M %.1f (gain %.1f unit nodes per lookup; "
-                "costs: %s)",
-                e.cost, 100.0 * e.hit_rate, e.hit_rate * e.cost, e.lookup, e.miss, e.gain,
+                "h C = %.1f <= lookup L %.1f + (1 - h) x miss M %.1f (K %d sub-samples; gain %.1f unit nodes "
+                "per lookup; costs: %s)",
+                e.cost, 100.0 * e.hit_rate, e.hit_rate * e.cost, e.lookup, e.miss, e.samples, e.gain,
                 costs.source.c_str());
   return text;
 }
@@ -87,7 +87,7 @@ std::string unpaid_reason(const PointEconomics& e, const CacheCosts& costs) {
 }  // namespace
 
 CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double feature_texels,
-                     const CacheCostModel* model) {
+                     const CacheCostModel* model, CacheSupersample supersample) {
   const bool bandwidth = feature_texels > 0;
   CachePlan plan;
   std::vector<uint32_t> deps = dependencies(g);
@@ -120,7 +120,8 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double f
     } else if (PointEconomics e;
                model &&
                !cache_point_pays(e = point_economics(subgraph_cost(g, n), deps[size_t(n)] == kDepPosition,
-                                                     model->costs, model->frame))) {
+                                                     model->costs, model->frame,
+                                                     supersample.of(deps[size_t(n)] == kDepPosition)))) {
       plan.not_cached.push_back({n, unpaid_reason(e, model->costs)});
       return;  // its inputs cost less at the same hit rate: they would pay less
     } else {
@@ -130,10 +131,11 @@ CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys, double f
       p.subgraph_nodes = size;
       p.encoding = enc;
       p.key = deps[size_t(n)] == kDepPosition ? CacheKey::Position : CacheKey::Uv;
+      p.supersample = supersample.of(p.key == CacheKey::Position);
       if (model) {
         p.modelled = true;
-        p.economics =
-            point_economics(subgraph_cost(g, n), p.key == CacheKey::Position, model->costs, model->frame);
+        p.economics = point_economics(subgraph_cost(g, n), p.key == CacheKey::Position, model->costs,
+                                      model->frame, p.supersample);
       }
       if (bandwidth) {
         p.feature = bw[size_t(n)].feature();

@@ -46,6 +46,9 @@ struct CachePoint {
   double feature = 1e300;
   int level_floor = PMC_LEVEL_NO_FLOOR;
   std::string bandwidth_note;
+  // Sub-samples a miss evaluates and averages in cache_eval center
+  // (core/device/pmc_cache_supersample.h): a power of two, 1..16.
+  int supersample = 1;
   // The cost model's figures (modelled: a model decided; else the node count alone).
   bool modelled = false;
   PointEconomics economics;
@@ -73,8 +76,9 @@ constexpr int kDefaultCacheMinNodes = 8;
 // `feature_texels` > 0: points get level floors from their patterns' feature
 // sizes, this many texels across the smallest (materials/bandwidth.h); 0: none.
 // `model`: each point must also pay (see above); nullptr: node counts alone.
+// `supersample`: each point's sub-samples by its key kind (the model counts them).
 CachePlan plan_cache(const Graph& g, int min_nodes, bool position_keys = true, double feature_texels = 0.0,
-                     const CacheCostModel* model = nullptr);
+                     const CacheCostModel* model = nullptr, CacheSupersample supersample = {});
 
 // A material's level floor for one key kind: the highest of its points' (the
 // points of one evaluation share one texel or cell, so their sub-graphs run

@@ -17,13 +17,23 @@
 namespace pmc {
 namespace {
 
+// A point's sub-samples (a power of two, 1..16) as its CACHE_LOOKUP word's
+// PMC_CACHE_SAMPLES_* bits.
+uint32_t samples_bits(int samples) {
+  PMC_CHECK(samples >= 1 && samples <= int(PMC_CACHE_SAMPLES_MAX) && (samples & (samples - 1)) == 0,
+            "cache sub-samples must be a power of two 1..16");
+  uint32_t log2k = 0;
+  while ((1 << log2k) < samples) ++log2k;
+  return log2k << PMC_CACHE_SAMPLES_SHIFT;
+}
+
 // Cache plan: the planner's points, less those a cache instruction cannot
 // carry. The node id travels in 14 bits of the instruction; the interpreter
 // tracks a group's misses in one 32-bit mask.
 CachePlan plan_cache_points(const Graph& g, const CompileOptions& options) {
   CachePlan plan =
       plan_cache(g, options.cache_min_nodes, options.cache_position_keys, options.cache_feature_texels,
-                 options.cache_model ? &*options.cache_model : nullptr);
+                 options.cache_model ? &*options.cache_model : nullptr, options.cache_supersample);
   std::vector<CachePoint> kept;
   for (const CachePoint& p : plan.points)
     if (p.node < (1 << 14) && kept.size() < 32) {
@@ -119,7 +129,10 @@ class ProgramEmitter {
   // The cache group: every cache point's LOOKUP first, then the union of
   // their sub-graphs (each node once, its own texcoord included, in
   // block-local slots), then one STORE per point. A LOOKUP's skip word
-  // carries PMC_CACHE_KEY_POSITION for a position-keyed point; the last
+  // carries PMC_CACHE_KEY_POSITION for a position-keyed point and its
+  // sub-samples (PMC_CACHE_SAMPLES_*: the union replays once per
+  // sub-sample in cache_eval center; the STOREs' destinations, allocated
+  // before it, are never its slots, so they can sum the sub-samples); the last
   // LOOKUP jumps past the group when every lookup hit. On any miss the whole
   // union runs once (shared nodes are not evaluated per point) and each
   // STORE inserts and delivers only the values that missed.
@@ -134,7 +147,7 @@ class ProgramEmitter {
       slot_of_[size_t(p.node)] = dst;
       point_dst.push_back(dst);
       last_lookup = em_.size();
-      last_kind = p.key == CacheKey::Position ? PMC_CACHE_KEY_POSITION : 0u;
+      last_kind = (p.key == CacheKey::Position ? PMC_CACHE_KEY_POSITION : 0u) | samples_bits(p.supersample);
       em_.instr_raw(PMC_OP_CACHE_LOOKUP, width_of(p.node), uint32_t(p.node) | (p.encoding << 14),
                     uint32_t(dst), {last_kind});
     }

@@ -17,7 +17,8 @@
 // CACHE_STORE per point that inserts and delivers the values that missed.
 // The last lookup jumps past the group when every lookup hit. The group is
 // self-contained, so a hit skips all of its work and cache_eval center can
-// re-evaluate it at a texel centre. With the cache off the program has no
+// re-evaluate it at a texel centre, or replay it at K sub-sample points
+// (cache_supersample; each LOOKUP's skip word carries its point's K). With the cache off the program has no
 // cache instructions at all.
 #pragma once
 
@@ -44,6 +45,9 @@ struct CompileOptions {
   // With a model, a point must also pay on the device for the frame
   // (materials/node_costs.h); none: the node count alone decides.
   std::optional<CacheCostModel> cache_model;
+  // Sub-samples per supersampled miss in cache_eval center, per key kind
+  // (resolve_supersample); carried in each CACHE_LOOKUP's skip word.
+  CacheSupersample cache_supersample;
 };
 
 struct CompiledMaterial {

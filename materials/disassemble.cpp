@@ -5,6 +5,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/device/pmc_cache_supersample.h"
 #include "materials/compiler.h"
 
 namespace pmc {
@@ -34,8 +35,9 @@ std::string disassemble(const MaterialProgram& program, const CompiledMaterial& 
     if (op == PMC_OP_CACHE_LOOKUP) {
       const uint32_t word = program.code[pc + 2];
       os << " node " << (pmc_op_imm(h) & 0x3fffu) << " enc " << (pmc_op_imm(h) >> 14) << " key "
-         << ((word & PMC_CACHE_KEY_POSITION) ? "position" : "uv") << " (hit: skip "
-         << (word & ~PMC_CACHE_KEY_POSITION) << " words)\n";
+         << ((word & PMC_CACHE_KEY_POSITION) ? "position" : "uv");
+      if (pmc_cache_samples_of(word) > 1u) os << " sub-samples " << pmc_cache_samples_of(word);
+      os << " (hit: skip " << (word & ~(PMC_CACHE_KEY_POSITION | PMC_CACHE_SAMPLES_MASK)) << " words)\n";
       pc += 3;
       continue;
     }

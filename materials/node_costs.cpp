@@ -72,12 +72,40 @@ double expected_hit_rate(const CacheFrame& frame, bool position_key) {
   return std::clamp(1.0 - keys / lookups, 0.0, 1.0);
 }
 
+double expected_lookups_per_key(const CacheFrame& frame, bool position_key) {
+  const double spp = std::max(1, frame.spp);
+  const double keys = expected_keys_per_pixel_point(int(spp)) * (position_key ? 2.0 : 1.0);
+  return spp * lookups_per_sample(frame) / keys;
+}
+
+int auto_supersample(const CacheFrame& frame, bool position_key) {
+  const double most = expected_lookups_per_key(frame, position_key) / 8.0;
+  int k = 1;
+  while (k < 16 && 2.0 * k <= most) k *= 2;
+  return k;
+}
+
+CacheSupersample resolve_supersample(const CacheFrame& frame, int setting) {
+  CacheSupersample s;
+  if (setting > 0) {
+    s.uv = s.position = setting;
+  } else {
+    s.uv = auto_supersample(frame, false);
+    s.position = auto_supersample(frame, true);
+  }
+  return s;
+}
+
 PointEconomics point_economics(double cost, bool position_key, const CacheCosts& costs,
-                               const CacheFrame& frame) {
+                               const CacheFrame& frame, int samples) {
   PointEconomics e;
   e.cost = cost;
   e.lookup = costs.lookup;
-  e.miss = costs.miss + costs.miss_per_cost * cost;
+  e.samples = std::max(1, samples);
+  // A miss evaluates the sub-graph K times at (1 + miss_per_cost) each; the
+  // first C is what the render pays without the cache too.
+  e.miss =
+      costs.miss + costs.miss_per_cost * cost + double(e.samples - 1) * (1.0 + costs.miss_per_cost) * cost;
   e.hit_rate = expected_hit_rate(frame, position_key);
   e.gain = e.hit_rate * e.cost - e.lookup - (1.0 - e.hit_rate) * e.miss;
   const double lookups =

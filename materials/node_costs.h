@@ -22,6 +22,13 @@
 // cuts more cells than texels); lookups are the samples times the hits a path
 // makes. The frame's pixel count cancels (texels follow the pixel footprint),
 // so the samples per pixel, the path depth and the key kind decide it.
+//
+// Supersampled misses (core/device/pmc_cache_supersample.h): a miss may run
+// the sub-graph at K points over its texel and store their mean. K
+// multiplies what a miss evaluates, so M counts K (1 + miss_per_cost) C - C
+// beyond the insert, and a point that no longer pays at that K is not cached.
+// The automatic K (auto_supersample) keeps misses a small share of a key's
+// lookups: the largest power of two of at most lookups per key / 8, 1..16.
 #pragma once
 
 #include <string>
@@ -63,14 +70,29 @@ double lookups_per_sample(const CacheFrame& frame);
 struct PointEconomics {
   double cost = 0;           // C, unit nodes
   double lookup = 0;         // L
-  double miss = 0;           // M = miss + miss_per_cost x C
+  double miss = 0;           // M = miss + miss_per_cost x C + (K - 1)(1 + miss_per_cost) C
+  int samples = 1;           // K, the sub-samples a miss evaluates
   double hit_rate = 0;       // h
   double gain = 0;           // h C - L - (1 - h) M, unit nodes per lookup (> 0: it pays)
   double frame_seconds = 0;  // gain x the frame's lookups x unit_ns: seconds the point saves
 };
 
+// Expected lookups of one key (texel or cell) in the frame: 1 / (1 - h) before the clamp.
+double expected_lookups_per_key(const CacheFrame& frame, bool position_key);
+
+// Sub-samples per supersampled miss, per key kind (1: the texel's centre alone).
+struct CacheSupersample {
+  int uv = 1, position = 1;
+  int of(bool position_key) const { return position_key ? position : uv; }
+};
+// The automatic K for a key kind in the frame (see above).
+int auto_supersample(const CacheFrame& frame, bool position_key);
+// The cache_supersample setting: 0 is auto (per key kind), else that K for both kinds.
+CacheSupersample resolve_supersample(const CacheFrame& frame, int setting);
+
+// `samples`: the sub-samples a miss evaluates (M counts them).
 PointEconomics point_economics(double cost, bool position_key, const CacheCosts& costs,
-                               const CacheFrame& frame);
+                               const CacheFrame& frame, int samples = 1);
 inline bool cache_point_pays(const PointEconomics& e) { return e.gain > 0; }
 
 // What the plan needs to decide by cost (CompileOptions::cache_model).

@@ -31,8 +31,12 @@
  * sub-graph reads the position only, on its position cell (pmc_cache.h); each
  * point of a lane computes either at most once. In cache_eval center the
  * group's sub-graphs read the texel's centre uv and the cell's centre
- * position, so a stored value depends on its key alone. What one point does
- * at a lookup and a store is pmc_cache_point.h's protocol.
+ * position, so a stored value depends on its key alone. With K sub-samples
+ * (pmc_cache_supersample.h) the group's sub-graphs run K times, at K points
+ * over the texel (cell), for the same packed lanes: each STORE adds its value
+ * into the point's destination row (which no sub-graph reads: the group's
+ * nodes live in their own slots), and the last pass's STORE stores the mean.
+ * What one point does at a lookup and a store is pmc_cache_point.h's protocol.
  *
  * The file reads as its steps: pmc_interp_lanes() decodes an instruction and
  * runs the control instructions itself (OUTPUT, the cache group's LOOKUP and
@@ -50,6 +54,7 @@
 
 #include "../abi/pmc_bytecode.h"
 #include "pmc_cache_point.h"
+#include "pmc_cache_supersample.h"
 #include "pmc_compositing.h"
 #include "pmc_flake.h"
 #include "pmc_hair_data.h"
@@ -299,6 +304,9 @@ PMC_FN void pmc_lanes_all(PmcLanes* lanes, const PmcShadingInputs* in, int n) {
  * its texel, every position point its cell. */
 typedef struct PmcCacheGroup {
   pmc_u32 lookups, stores, by_position;
+  pmc_u32 samples_uv, samples_position; /* sub-samples of its uv and position points */
+  pmc_u32 pass, passes;                 /* the sub-sample the sub-graphs run at, and how many */
+  pmc_u32 replay_pc;                    /* the group's first instruction after its lookups */
   pmc_u32 missed[PMC_LANES];
   PmcCacheTexel texel[PMC_LANES], cell[PMC_LANES];
 } PmcCacheGroup;
@@ -306,6 +314,10 @@ typedef struct PmcCacheGroup {
 PMC_FN void pmc_cache_group_begin(PmcCacheGroup* g, int n, const PmcCacheContext* cache) {
   (void)n; /* unused when PMC_LANES is 1 */
   g->lookups = g->stores = g->by_position = 0u;
+  g->samples_uv = g->samples_position = 1u;
+  g->pass = 0u;
+  g->passes = 1u;
+  g->replay_pc = 0u;
   for (int k = 0; k < PMC_BATCH(n); ++k) {
     g->missed[k] = 0u;
     g->texel[k].ready = 0u;
@@ -317,8 +329,43 @@ PMC_FN void pmc_cache_group_begin(PmcCacheGroup* g, int n, const PmcCacheContext
   }
 }
 
+/* Virtual lane j (point k) reads its texel's and cell's centre in
+ * cache_eval center, offset to the group's current sub-sample where its
+ * kind has more than one (pmc_cache_subsample); else its own inputs. */
+PMC_FN void pmc_lanes_place(PmcLanes* lanes, int j, int k, const PmcCacheGroup* g,
+                            const PmcCacheContext* cache) {
+  const PmcCacheTexel* texel = &g->texel[k];
+  const PmcCacheTexel* cell = &g->cell[k];
+  if (!cache || !cache[k].center) return;
+  if (texel->ready && !texel->bypass) {
+    float2 uv = make_float2(pmc_cache_texel_center(texel->tx, texel->lambda),
+                            pmc_cache_texel_center(texel->ty, texel->lambda));
+    if (g->samples_uv > 1u) {
+      const float4 o = pmc_cache_subsample(texel, cache[k].material, g->pass & (g->samples_uv - 1u));
+      uv = make_float2(pmc_cache_subsample_coord(uv.x, texel->tx, texel->lambda, o.x),
+                       pmc_cache_subsample_coord(uv.y, texel->ty, texel->lambda, o.y));
+    }
+    lanes->uv[j] = uv;
+    lanes->footprint[j] = pmc_cache_texel_footprint(texel->footprint_lambda, cache[k].bias);
+    lanes->axis[j] = make_float2(0.0f, 0.0f); /* a texel's footprint is round */
+    lanes->minor[j] = 0.0f;
+  }
+  if (cell->ready && !cell->bypass) {
+    float3 p = make_float3(pmc_cache_cell_center(cell->tx, cell->lambda),
+                           pmc_cache_cell_center(cell->ty, cell->lambda),
+                           pmc_cache_cell_center(cell->tz, cell->lambda));
+    if (g->samples_position > 1u) {
+      const float4 o = pmc_cache_subsample(cell, cache[k].material, g->pass & (g->samples_position - 1u));
+      p = make_float3(pmc_cache_subsample_coord(p.x, cell->tx, cell->lambda, o.x),
+                      pmc_cache_subsample_coord(p.y, cell->ty, cell->lambda, o.y),
+                      pmc_cache_subsample_coord(p.z, cell->tz, cell->lambda, o.z));
+    }
+    lanes->pos[j] = p;
+  }
+}
+
 /* Packs the points that missed a lookup of the group into the first lanes,
- * reading their texel's and cell's centres in cache_eval center. */
+ * reading their texel's and cell's centres (sub-samples) in cache_eval center. */
 PMC_FN void pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
                                   const PmcCacheContext* cache) {
   int nn = 0;
@@ -326,19 +373,7 @@ PMC_FN void pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const
   for (int k = 0; k < PMC_BATCH(n); ++k)
     if (g->missed[k] != 0u) {
       pmc_lanes_set(lanes, nn, k, in);
-      const PmcCacheTexel* texel = &g->texel[k];
-      const PmcCacheTexel* cell = &g->cell[k];
-      if (cache && cache[k].center && texel->ready && !texel->bypass) {
-        lanes->uv[nn] = make_float2(pmc_cache_texel_center(texel->tx, texel->lambda),
-                                    pmc_cache_texel_center(texel->ty, texel->lambda));
-        lanes->footprint[nn] = pmc_cache_texel_footprint(texel->footprint_lambda, cache[k].bias);
-        lanes->axis[nn] = make_float2(0.0f, 0.0f); /* a texel's footprint is round */
-        lanes->minor[nn] = 0.0f;
-      }
-      if (cache && cache[k].center && cell->ready && !cell->bypass)
-        lanes->pos[nn] = make_float3(pmc_cache_cell_center(cell->tx, cell->lambda),
-                                     pmc_cache_cell_center(cell->ty, cell->lambda),
-                                     pmc_cache_cell_center(cell->tz, cell->lambda));
+      pmc_lanes_place(lanes, nn, k, g, cache);
       ++nn;
     }
   lanes->n = nn;
@@ -358,7 +393,13 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
   const pmc_u32 word = PMC_OPERAND(CACHE_LOOKUP, skip);
   const int positional = (word & PMC_CACHE_KEY_POSITION) != 0u;
   const pmc_u32 rank = g->lookups;
-  if (positional) g->by_position |= bit;
+  const pmc_u32 samples = pmc_cache_samples_of(word);
+  if (positional) {
+    g->by_position |= bit;
+    if (samples > g->samples_position) g->samples_position = samples;
+  } else {
+    if (samples > g->samples_uv) g->samples_uv = samples;
+  }
   g->lookups += 1u;
   for (int k = 0; k < PMC_BATCH(n); ++k) {
     float4 v;
@@ -377,9 +418,13 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
       g->missed[k] |= bit;
     }
   }
-  const pmc_u32 skip = word & ~PMC_CACHE_KEY_POSITION;
+  const pmc_u32 skip = word & ~(PMC_CACHE_KEY_POSITION | PMC_CACHE_SAMPLES_MASK);
   pc += 3u;
   if (skip != 0u) { /* the group's last lookup: pack the points that need it */
+    g->replay_pc = pc;
+    g->passes = 1u;
+    if (cache && cache[0].center)
+      g->passes = g->samples_uv > g->samples_position ? g->samples_uv : g->samples_position;
     pmc_lanes_pack_missed(lanes, g, in, n, cache);
     if (lanes->n == 0) { /* every point hit: skip the sub-graphs and stores */
       pc += skip;
@@ -390,34 +435,69 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
   return pc;
 }
 
+/* A missed point's value over the group's passes: the sum of its sub-samples
+ * so far in its destination row (`samples` of them; later passes add
+ * nothing), and after the last pass their mean, with a one-float value
+ * broadcast as an operand fetch gives it. */
+PMC_FN float4 pmc_cache_accumulate(float* row, pmc_u32 width, pmc_u32 pass, pmc_u32 passes, pmc_u32 samples,
+                                   float4 v) {
+  if (pass < samples) {
+    const float sum[4] = {v.x, v.y, v.z, v.w};
+    for (pmc_u32 c = 0u; c < width; ++c)
+      row[c * PMC_LANES] = pass == 0u ? sum[c] : row[c * PMC_LANES] + sum[c];
+  }
+  if (pass + 1u < passes) return v; /* not the last pass: the caller stores nothing */
+  const float scale = 1.0f / (float)samples;
+  const float x = row[0] * scale;
+  if (width == 1u) return make_float4(x, x, x, x);
+  return make_float4(x, row[PMC_LANES] * scale, width > 2u ? row[2 * PMC_LANES] * scale : 0.0f,
+                     width > 3u ? row[3 * PMC_LANES] * scale : 0.0f);
+}
+
 /* CACHE_STORE: the group's k-th STORE belongs to its k-th LOOKUP (same imm).
  * A point that hit keeps its value; one that missed gets the computed operand
- * in `dst` and, with a cache, is inserted (pmc_cache_point_store). After the
- * group's last store every point runs again in its own lane. */
-PMC_FN void pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
-                                   int n, float* stack, PmcCacheContext* cache, PmcCacheGroup* g,
-                                   PmcLanes* lanes, float A[4][PMC_LANES]) {
+ * in `dst` and, with a cache, is inserted (pmc_cache_point_store). With
+ * sub-samples (g->passes > 1) the stores of all but the last pass only add
+ * their values up, and the last pass's store inserts the mean (a bypassed
+ * key, evaluated at its own point every pass, keeps its last value). Returns
+ * the next pc: past this STORE, or back to the group's sub-graphs after the
+ * last STORE of a pass that is not the last. After the group's last store
+ * every point runs again in its own lane. */
+PMC_FN pmc_u32 pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const PmcShadingInputs* in,
+                                      int n, float* stack, PmcCacheContext* cache, PmcCacheGroup* g,
+                                      PmcLanes* lanes, float A[4][PMC_LANES]) {
   const pmc_u32 h = code[pc], imm = pmc_op_imm(h), width = pmc_op_width(h), dst = code[pc + 1u];
   const pmc_u32 bit = 1u << (g->stores & 31u);
   const pmc_u32 rank = g->stores;
   const int nn = lanes->n;
+  const int last_pass = g->pass + 1u >= g->passes;
+  const pmc_u32 samples = (g->by_position & bit) ? g->samples_position : g->samples_uv;
   g->stores += 1u;
   PMC_FETCH4(A, CACHE_STORE, value);
   for (int j = 0; j < PMC_BATCH(nn); ++j) {
     int k = lanes->lane_of[j];
     if (!(g->missed[k] & bit)) continue;
     float4 v = pmc_lanes4(A, j);
-    if (cache) {
-      const PmcCacheTexel* t = (g->by_position & bit) ? &g->cell[k] : &g->texel[k];
-      v = pmc_cache_point_store(&cache[k], t, imm & 0x3fffu, rank, imm >> 14, v);
-    }
     float* row = stack + dst * PMC_LANES + k;
+    const PmcCacheTexel* t = (g->by_position & bit) ? &g->cell[k] : &g->texel[k];
+    if (g->passes > 1u && !t->bypass) v = pmc_cache_accumulate(row, width, g->pass, g->passes, samples, v);
+    if (!last_pass) continue;
+    if (cache) v = pmc_cache_point_store(&cache[k], t, imm & 0x3fffu, rank, imm >> 14, v);
     row[0] = v.x;
     if (width > 1u) row[PMC_LANES] = v.y;
     if (width > 2u) row[2 * PMC_LANES] = v.z;
     if (width > 3u) row[3 * PMC_LANES] = v.w;
   }
-  if (g->stores == g->lookups) pmc_lanes_all(lanes, in, n); /* the group is done: every point again */
+  if (g->stores == g->lookups) {
+    if (!last_pass) { /* the next sub-sample: the same packed lanes, the sub-graphs again */
+      g->pass += 1u;
+      g->stores = 0u;
+      for (int j = 0; j < PMC_BATCH(nn); ++j) pmc_lanes_place(lanes, j, lanes->lane_of[j], g, cache);
+      return g->replay_pc;
+    }
+    pmc_lanes_all(lanes, in, n); /* the group is done: every point again */
+  }
+  return pc + 3u;
 }
 
 /* The parameters of the opcode groups: the instruction (op, width, imm at
@@ -1010,7 +1090,8 @@ PMC_FN void pmc_interp_lanes(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc, const P
       pc = pmc_interp_cache_lookup(code, pc, in, n, stack, cache, &group, lanes);
       continue;
     } else if (op == PMC_OP_CACHE_STORE) {
-      pmc_interp_cache_store(code, pc, in, n, stack, cache, &group, lanes, A);
+      pc = pmc_interp_cache_store(code, pc, in, n, stack, cache, &group, lanes, A);
+      continue;
     } else if (pmc_interp_arith(PMC_OP_ARGS) || pmc_interp_data(PMC_OP_ARGS) ||
                pmc_interp_pattern(PMC_OP_ARGS)) {
       for (int c = 0; c < (int)width; ++c) {

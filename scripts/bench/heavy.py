@@ -28,6 +28,10 @@ Method:
      in its worst 16x16 tile (pmc compare's metrics.json, as bench.cache and
      bench.cache_position read them), and the worst tile with each tile's 2
      largest pixel errors left out;
+  3b. with --supersample K,...: per K one more `pmc compare` at the PSNR size with
+     `--cache-supersample K` (0: auto): PSNR, worst tile and trimmed worst tile, and
+     the compare's own off/on time ratio (one run each: the speed at those samples,
+     not the timed rounds' medians);
   4. `pmc info --dump-cache-plan`: per material its nodes after pmc's passes,
      its cache points (node, sub-graph size, key) and the nodes that read uv
      and position together (not cacheable: the few nodes where the two
@@ -69,10 +73,23 @@ def parse(argv=None):
                    help="its image width (default 320)")
     p.add_argument("--psnr-height", type=common.positive_int, default=180, metavar="H",
                    help="its image height (default 180)")
+    p.add_argument("--supersample", type=supersample_list, default=[], metavar="K,...",
+                   help="also compare --cache-supersample K for each K (0: auto) at the PSNR size")
     common.add_out_dir(p, "out/bench-heavy")
     common.add_doc(p)
     common.add_report_only(p)
     return common.parse_args(p, "heavy", None, argv)
+
+
+def supersample_list(text):
+    """"1,4,16,0" -> [1, 4, 16, 0]: --cache-supersample values (0: auto)."""
+    try:
+        ks = [int(x) for x in text.split(",") if x.strip()]
+    except ValueError:
+        raise common.argparse.ArgumentTypeError(f"expected a comma-separated list of 0, 1, 2, 4, 8, 16, got {text!r}")
+    if not ks or any(k not in (0, 1, 2, 4, 8, 16) for k in ks):
+        raise common.argparse.ArgumentTypeError(f"expected a comma-separated list of 0, 1, 2, 4, 8, 16, got {text!r}")
+    return ks
 
 
 def progress(msg):
@@ -122,9 +139,17 @@ class Measure:
         common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d, *extra[2:],
                     *common.size_args(self.a.psnr_width, self.a.psnr_height, self.a.psnr_spp)],
                    self.log, f"compare {name}", append=True)
-        m = common.read_json(f"{d}/metrics.json")["cached_vs_cacheless"]
+        metrics = common.read_json(f"{d}/metrics.json")
+        m = metrics["cached_vs_cacheless"]
         return dict(psnr=m["psnr"], worst_tile_psnr=m["worst_tile_psnr"], worst_tile=m["worst_tile"],
-                    worst_trimmed_tile_psnr=m.get("worst_trimmed_tile_psnr"))
+                    worst_trimmed_tile_psnr=m.get("worst_trimmed_tile_psnr"),
+                    worst_trimmed_tile=m.get("worst_trimmed_tile"), speed_ratio=metrics.get("speed_ratio"),
+                    hit_rate=metrics.get("hit_rate"))
+
+    def supersample(self):
+        """{K: compare result} of --cache-supersample K at the PSNR size (0: auto)."""
+        return {str(k): self.compare(f"supersample_{k}", ["--cache", "on", "--cache-supersample", str(k)])
+                for k in self.a.supersample}
 
     def all(self):
         t0 = time.time()
@@ -150,6 +175,7 @@ class Measure:
                                                             "lookups", "position_lookups", "bypassed")},
                                 memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
                                 **self.compare(name, extra))
+        supersampled = self.supersample()
         plan = common.run([self.a.pmc, "info", "--scene", *SCENE, "--dump-cache-plan"], self.log, "cache plan",
                           append=True).output
         return dict(command=self.a.command, now=common.utc_now(), rev=common.git_rev(ignore=["docs/BENCHMARKS.md"]),
@@ -158,7 +184,7 @@ class Measure:
                     runs=self.a.runs, psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height,
                     psnr_spp=self.a.psnr_spp, times=times, t_off=common.median(times["off"]),
                     t_free=common.median(times["free"]), ratios_free=common.round_ratios(times["off"], times["free"]),
-                    cached=cached, plan=parse_plan(plan))
+                    cached=cached, supersample=supersampled, plan=parse_plan(plan))
 
 
 def pct(x):
@@ -217,6 +243,33 @@ def cached_row(d, name, r):
     return [CACHED[name], f"{r['t']:.2f}", f"**{d['t_off'] / r['t']:.2f}x** ({lo:.2f}-{hi:.2f})",
             f"{pct(h['hit_rate'])} ({pct(h['uv_hit_rate'])} / {pct(h['position_hit_rate'])}){bypassed}",
             f"{r['memory'] / 2**20:.1f} MiB", psnr, tile]
+
+
+def supersample_text(d, psnr_size):
+    """The --supersample rows: the cache's error and speed per sub-sample count (empty without them)."""
+    results = d.get("supersample") or {}
+    if not results:
+        return ""
+    rows = []
+    for k, r in results.items():
+        trimmed = r.get("worst_trimmed_tile_psnr")
+        rows.append([f"`--cache-supersample {k}`" + (" (auto)" if k == "0" else ""),
+                     f"{r['speed_ratio']:.2f}x" if r.get("speed_ratio") else "-", f"{r['psnr']:.1f} dB",
+                     f"{r['worst_tile_psnr']:.1f} dB at {tuple(r['worst_tile'])}",
+                     f"{trimmed:.1f} dB at {tuple(r['worst_trimmed_tile'])}" if trimmed else "-"])
+    table = common.md_table(["cached render", "off / on (one run each)", "PSNR vs off", "worst 16x16 tile",
+                             "worst tile, each tile's 2 worst pixels left out"], rows)
+    cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR", "--cache-supersample", "K",
+                    *common.size_args(d["psnr_width"], d["psnr_height"], d["psnr_spp"])])
+    return f"""
+Supersampled misses (`--cache-supersample K`: a miss stores the mean of K stratified points over its
+texel instead of its centre's value; auto is per key kind, at {d['psnr_spp']} spp
+{'8 for uv texels and 4 for cells' if d['psnr_spp'] == 256 else 'see pmc info --dump-cache-plan'}), one `pmc compare` each at {psnr_size}:
+
+    {cmd}
+
+{table}
+"""
 
 
 def goals_text(d, cached, size, psnr_size):
@@ -314,7 +367,7 @@ Cache plan (`pmc info --scene data/heavy/room.obj --mtlx data/heavy/materials.mt
 
 {plan}
 
-{notes_text(d, cached)}
+{notes_text(d, cached)}{supersample_text(d, psnr_size)}
 {goals_text(d, cached, size, psnr_size)}
 """
     on = cached["on"]

@@ -34,7 +34,10 @@
 //    cacheable; with one cell of one entry the render
 //    completes with drops and no NaN; with --cache off no lookups, 0 bytes.
 //  * --cache-eval center with --threads 1 and 2 is bit-identical (README),
-//    with uv keys (brick) and with position keys (marble).
+//    with uv keys (brick) and with position keys (marble), also with
+//    supersampled misses (--cache-supersample 4, whose image differs from
+//    K = 1's and whose stats report K); an explicit K = 1 is the default's
+//    image at 4 spp (where auto is 1), bit for bit.
 //  * Level floors: a thin grid forced into the cache aliases with footprint
 //    texels (the default) and does not with --cache-bandwidth on.
 #include <gtest/gtest.h>
@@ -387,6 +390,38 @@ TEST(CacheRender, CenterEvalWithPositionKeysIsBitIdenticalWithOneAndTwoThreads) 
   ASSERT_GT(a.stats["cache"]["position_hits"].get<uint64_t>(), 0u) << "position keys are in use";
   EXPECT_EQ(0,
             std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(float)));
+}
+
+// Supersampled misses store a mean that depends on the key alone: still
+// bit-identical for any thread count, with uv and position keys.
+TEST(CacheRender, SupersampledMissesAreBitIdenticalWithOneAndTwoThreads) {
+  for (const std::string& material : {brick(), marble()}) {
+    const std::string args = material + kView +
+                             " --width 96 --height 72 --spp 4 --seed 5 --cache on --cache-eval center" +
+                             kByNodeCount;
+    const std::string tag = material == brick() ? "brick" : "marble";
+    const Render& one = render(tag + "_k1", args + " --cache-supersample 1 --threads 2");
+    const Render& auto_k = render(tag + "_kauto", args + " --threads 2");
+    const Render& a = render(tag + "_k4_t1", args + " --cache-supersample 4 --threads 1");
+    const Render& b = render(tag + "_k4_t2", args + " --cache-supersample 4 --threads 2");
+    ASSERT_FALSE(a.image.pixels.empty());
+    ASSERT_EQ(a.image.pixels.size(), b.image.pixels.size());
+    ASSERT_GT(a.stats["cache"]["hits"].get<uint64_t>(), 0u) << tag << ": the cache is in use";
+    const bool position = tag == "marble";
+    EXPECT_EQ(a.stats["cache"]["supersample"][position ? "position" : "uv"].get<int>(), 4) << tag;
+    EXPECT_EQ(auto_k.stats["cache"]["supersample"][position ? "position" : "uv"].get<int>(), 1)
+        << tag << ": auto is 1 at 4 spp";
+    EXPECT_EQ(
+        0, std::memcmp(a.image.pixels.data(), b.image.pixels.data(), a.image.pixels.size() * sizeof(float)))
+        << tag << ": --cache-supersample 4 with --threads 1 and 2";
+    ASSERT_EQ(one.image.pixels.size(), a.image.pixels.size());
+    EXPECT_NE(
+        0, std::memcmp(one.image.pixels.data(), a.image.pixels.data(), a.image.pixels.size() * sizeof(float)))
+        << tag << ": K = 4 stores other values than the centre's";
+    EXPECT_EQ(0, std::memcmp(one.image.pixels.data(), auto_k.image.pixels.data(),
+                             a.image.pixels.size() * sizeof(float)))
+        << tag << ": K = 1 and auto (1 at 4 spp) are one program";
+  }
 }
 
 }  // namespace

@@ -71,6 +71,15 @@ TEST(RenderConfig, EachBadFieldIsNamed) {
             (S{"cache_filter", "cache_eval"}));
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_policy = static_cast<CachePolicy>(7); }),
             S{"cache_policy"});
+  for (int bad : {-1, 3, 12, 32})
+    EXPECT_EQ(settings_named_by([bad](RenderConfig& c) { c.cache_supersample = bad; }),
+              S{"cache_supersample"})
+        << bad;
+  for (int good : {0, 1, 2, 4, 8, 16}) {
+    RenderConfig c = valid();
+    c.cache_supersample = good;
+    EXPECT_NO_THROW(c.validate()) << good;
+  }
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_cells = 0; }), S{"cache_cells"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_entries = 1025; }), S{"cache_entries"});
   EXPECT_EQ(settings_named_by([](RenderConfig& c) { c.cache_cells = int64_t(1) << 50; }),

@@ -8,7 +8,9 @@
 //    --cache-eval center (the brick teapot, one cache point: a centre-mode
 //    texel holds its centre's value whoever inserted it, so a sample's
 //    radiance does not depend on the table; the parts' tables start empty and
-//    find fewer hits, which the test checks so the comparison is not vacuous);
+//    find fewer hits, which the test checks so the comparison is not vacuous),
+//    also with supersampled misses (--cache-supersample 4: a texel holds the
+//    mean of its 4 key-scrambled sub-samples, a function of the key alone);
 //  * a window's pixels equal the whole frame's pixels at the same place, and
 //    tiles, one split by samples as well, assemble into the frame;
 //  * the part hashes (gpu/part_identity.h) change with the seed and the
@@ -84,6 +86,24 @@ TEST(RenderParts, CenterCachedSampleRangesAddToTheOneProcessImageExactly) {
   const RenderOutput full = session.render();
   ASSERT_GT(full.stats.cache.hits, 0u);
   const RenderOutput a = session.render(part(s, 0, 2)), b = session.render(part(s, 2, 6));
+  EXPECT_LT(a.stats.cache.hits + b.stats.cache.hits, full.stats.cache.hits);  // each table warmed alone
+  FilmSums sum = FilmSums::zero(s.width, s.height);
+  add_film(sum, b.film, 0, 0);
+  add_film(sum, a.film, 0, 0);
+  EXPECT_TRUE(film_mean(sum).pixels == full.image.pixels);
+}
+
+TEST(RenderParts, SupersampledCenterCachedSampleRangesAddToTheOneProcessImageExactly) {
+  RenderConfig c = teapot();
+  c.cache_supersample = 4;
+  c.cache_model = CacheModel::Nodes;  // at 6 spp a 4-sample miss would not pay: keep the point
+  RenderSession session(c, test::cl());
+  const RenderSettings& s = session.settings();
+  ASSERT_TRUE(s.cache.on);
+  ASSERT_EQ(session.cache_supersample().uv, 4);
+  const RenderOutput full = session.render();
+  ASSERT_GT(full.stats.cache.hits, 0u);
+  const RenderOutput a = session.render(part(s, 0, 3)), b = session.render(part(s, 3, 6));
   EXPECT_LT(a.stats.cache.hits + b.stats.cache.hits, full.stats.cache.hits);  // each table warmed alone
   FilmSums sum = FilmSums::zero(s.width, s.height);
   add_film(sum, b.film, 0, 0);

@@ -8,7 +8,11 @@
 //  (d) a marginal point pays at 16 spp and not at 2 (few samples per key);
 //  (e) the node count stays a floor: an expensive sub-graph of fewer nodes
 //      than the node-count floor (min_nodes) is not cached;
-//  (f) compile_material applies the model from CompileOptions.
+//  (f) compile_material applies the model from CompileOptions;
+//  (g) supersampled misses: K sub-samples make a miss evaluate the sub-graph
+//      K times (M = miss + miss_per_cost C + (K - 1)(1 + miss_per_cost) C), so
+//      a point that pays with K = 1 may not with K = 16; the automatic K is
+//      the largest power of two up to lookups per key / 8, 1..16, per key kind.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -165,6 +169,59 @@ TEST(CacheCostModel, CompilerAppliesTheModel) {
   cost.cache_model = model(16);
   EXPECT_EQ(compile(nodes), 1u);
   EXPECT_EQ(compile(cost), 0u);
+}
+
+TEST(CacheCostModel, SubSamplesScaleTheMissAndCanTurnAPointOff) {
+  Graph g = test::new_graph("Supersampled");
+  int top = roughness_chain(g, "worleynoise2d");  // 26.1 units
+  CacheCostModel m = model(16);
+  m.costs.miss_per_cost = 1.0;
+  const double h = 1.0 - 3.25 / 25.6, c = 26.1;
+  const PointEconomics one = point_economics(c, false, m.costs, m.frame);
+  EXPECT_NEAR(one.miss, 10.0 + c, 1e-9);
+  EXPECT_EQ(one.samples, 1);
+  const PointEconomics four = point_economics(c, false, m.costs, m.frame, 4);
+  EXPECT_NEAR(four.miss, 10.0 + c + 3 * 2.0 * c, 1e-9);
+  EXPECT_NEAR(four.gain, h * c - 10.0 - (1.0 - h) * (10.0 + 7.0 * c), 1e-9);
+  // K = 1: h C 22.8 > 10 + 0.127 x 36.1 = 14.6: pays. K = 16: 10 + 0.127 x (36.1 + 30 x 26.1) = 113.9: does
+  // not.
+  ASSERT_EQ(plan_cache(g, 1, true, 0.0, &m).points.size(), 1u);
+  EXPECT_EQ(plan_cache(g, 1, true, 0.0, &m).points[0].supersample, 1);
+  CachePlan plan = plan_cache(g, 1, true, 0.0, &m, CacheSupersample{16, 16});
+  EXPECT_TRUE(plan.points.empty());
+  EXPECT_NE(reason_for(plan, top).find("K 16 sub-samples"), std::string::npos) << reason_for(plan, top);
+  // At 1024 spp it pays again, and the point carries its K.
+  m.frame.spp = 1024;
+  plan = plan_cache(g, 1, true, 0.0, &m, CacheSupersample{16, 16});
+  ASSERT_EQ(plan.points.size(), 1u);
+  EXPECT_EQ(plan.points[0].supersample, 16);
+}
+
+TEST(CacheCostModel, AutomaticSubSamplesKeepMissesASmallShare) {
+  // Lookups per key: spp x 1.6 / (1 + 3 (1 - 1/sqrt(spp))), position keys half that.
+  auto by_hand = [](int spp, bool position) {
+    const double per_key =
+        spp * 1.6 / ((1.0 + 3.0 * (1.0 - 1.0 / std::sqrt(double(spp)))) * (position ? 2 : 1));
+    int k = 1;
+    while (k < 16 && 2 * k <= per_key / 8.0) k *= 2;
+    return k;
+  };
+  for (int spp : {1, 4, 16, 64, 256, 1024, 65536})
+    for (bool position : {false, true}) {
+      const CacheFrame f{640, 360, spp, 8};
+      EXPECT_EQ(auto_supersample(f, position), by_hand(spp, position))
+          << spp << " spp, position " << position;
+    }
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 16, 8}, false), 1);   // 7.9 lookups per key
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, false), 8);  // 107.5
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, true), 4);   // 53.7
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 65536, 8}, true), 16);
+  const CacheSupersample fixed = resolve_supersample(CacheFrame{640, 360, 16, 8}, 4);
+  EXPECT_EQ(fixed.uv, 4);
+  EXPECT_EQ(fixed.position, 4);
+  const CacheSupersample automatic = resolve_supersample(CacheFrame{640, 360, 256, 8}, 0);
+  EXPECT_EQ(automatic.uv, 8);
+  EXPECT_EQ(automatic.position, 4);
 }
 
 }  // namespace

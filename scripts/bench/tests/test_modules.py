@@ -57,6 +57,22 @@ class CommandLines(unittest.TestCase):
         self.assertEqual(parse("speed", ["--only", "cold,scaling"]).parts, ["cold", "scaling"])
         self.assertEqual(parse("speed", ["--baseline-pmc", "old/pmc"]).parts, ["before", "cold", "scaling"])
 
+    def test_heavy_takes_supersample_counts_and_reports_them(self):
+        from bench import heavy
+        self.assertEqual(parse("heavy", ["--supersample", "1,4,16,0"]).supersample, [1, 4, 16, 0])
+        self.assertEqual(parse("heavy", []).supersample, [])
+        for bad in ("3", "1,x", "32"):
+            with self.subTest(bad=bad), redirect_stdout(io.StringIO()), mock.patch("sys.stderr", io.StringIO()), \
+                    self.assertRaises(SystemExit):
+                parse("heavy", ["--supersample", bad])
+        row = dict(psnr=36.8, worst_tile_psnr=21.6, worst_tile=[112, 128, 16], worst_trimmed_tile_psnr=23.5,
+                   worst_trimmed_tile=[112, 128, 16], speed_ratio=2.15)
+        text = heavy.supersample_text(dict(psnr_spp=256, psnr_width=320, psnr_height=180,
+                                           supersample={"4": row, "0": dict(row, speed_ratio=1.47)}), "320x180, 256 spp")
+        self.assertIn("| `--cache-supersample 4` | 2.15x | 36.8 dB | 21.6 dB at (112, 128, 16) |", text)
+        self.assertIn("`--cache-supersample 0` (auto) | 1.47x", text)
+        self.assertEqual(heavy.supersample_text(dict(psnr_spp=256), "x"), "")
+
     def test_bad_values_are_usage_errors(self):
         for module, argv in (("cache", ["--only", "nosuchpart"]), ("cache", ["--spp", "0"]),
                              ("cache_policy", ["--fractions", "1,0"]), ("cache_policy", ["--fractions", "a"]),
