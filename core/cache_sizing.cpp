@@ -36,7 +36,8 @@ CacheSize choose_cache_size(int width, int height, int spp, double points, uint6
   s.cells = cells;
   std::ostringstream os;
   os.precision(3);
-  os << width << "x" << height << " pixels x " << points << " cache points per material x " << factor
+  os << width << "x" << height << " pixels x " << points << " cache points per material (position points twice) x "
+     << factor
      << " (texels reached by " << spp << " spp: jitter, bilinear selection, bounces) = " << uint64_t(keys)
      << " expected keys at load factor 1/2 in cells of " << s.entries << " entries"
      << (capped ? ", capped by the memory limit" : "");

@@ -30,10 +30,13 @@ using Clock = std::chrono::steady_clock;
 // cacheless program runs) when no material has a cache point.
 void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheSettings& cache, int width,
                 int height, int spp) {
-  size_t points = 0, with_points = 0;
+  // Position points count twice toward the table's size: a surface cuts about twice as many
+  // cells as it covers texels (the cost model's hit rates assume the same, materials/node_costs.h).
+  size_t points = 0, with_points = 0, key_weight = 0;
   for (const CompiledMaterial& m : materials.program.materials) {
     points += m.cache_plan.points.size();
     with_points += m.cache_plan.points.empty() ? 0 : 1;
+    for (const CachePoint& p : m.cache_plan.points) key_weight += p.key == CacheKey::Position ? 2 : 1;
   }
   if (points == 0) {
     cache.on = false;  // nothing cacheable: run the cacheless path, allocate nothing
@@ -44,7 +47,7 @@ void size_cache(const RenderConfig& config, const MaterialSet& materials, CacheS
     cache.reason = os.str();
     return;
   }
-  const double per_material = double(points) / double(std::max<size_t>(1, with_points));
+  const double per_material = double(key_weight) / double(std::max<size_t>(1, with_points));
   if (config.cache_cells) {
     cache.cells = uint64_t(*config.cache_cells);
     cache.ways = uint32_t(config.cache_entries);
