@@ -1,4 +1,4 @@
-// adaptive_sampling.h — which pixels keep drawing samples (--adaptive-threshold).
+// adaptive_sampling.h — which pixels keep drawing samples (the adaptive_threshold setting).
 //
 // Every pixel draws `check_every` samples, then, at every multiple of
 // `check_every` samples, a pixel whose mean is good enough at this check
@@ -14,11 +14,11 @@
 // The checks sit at fixed sample counts, not at wave boundaries, and read
 // only the pixel's own film, which one work-item adds up in sample order, so
 // which pixels stop, and when, is the same for any thread count, wave shape
-// or crop window: a window rendered alone (a farm chunk split by --crop)
+// or crop window: a window rendered alone (a farm chunk split by crop)
 // equals the same pixels of the whole frame. Sample i of a pixel is the same
 // sample with or without adaptive sampling (the sampler is keyed by pixel
 // and sample index), so a pixel stopped after n samples equals that pixel
-// rendered with --spp n. Sample ranges (--samples A:B) are refused: a
+// rendered with spp n. Sample ranges (the samples setting) are refused: a
 // pixel's later samples depend on its earlier ones.
 #pragma once
 
