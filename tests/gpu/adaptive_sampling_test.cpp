@@ -102,19 +102,7 @@ RenderConfig room() {
 }
 
 RenderConfig teapot() {
-  RenderConfig c;
-  c.scene = test::shared_scene("materialx/geometry/teapot.obj");
-  c.mtlx = {test::shared_scene("materialx/standard_surface_brick_procedural.mtlx")};
-  c.material = "M_BrickPattern";
-  c.env = {1.0f, 1.0f, 1.0f};
-  c.camera_from = Vec3{-0.1f, 0.5f, 2.2f};
-  c.camera_at = Vec3{-0.1f, 0.1f, 0.0f};
-  c.fov = 40.0f;
-  c.width = 40;
-  c.height = 30;
-  c.spp = 16;
-  c.max_depth = 3;
-  c.cache_eval = CacheEval::Center;
+  RenderConfig c = test::brick_teapot_config(16);
   c.cache_model = CacheModel::Nodes;  // at 16 spp the cost model may leave the point out
   c.adaptive_threshold = 0.05;
   c.adaptive_min_spp = 4;

@@ -40,22 +40,7 @@ RenderConfig room() {
   return c;
 }
 
-RenderConfig teapot() {
-  RenderConfig c;
-  c.scene = test::shared_scene("materialx/geometry/teapot.obj");
-  c.mtlx = {test::shared_scene("materialx/standard_surface_brick_procedural.mtlx")};
-  c.material = "M_BrickPattern";
-  c.env = {1.0f, 1.0f, 1.0f};
-  c.camera_from = Vec3{-0.1f, 0.5f, 2.2f};
-  c.camera_at = Vec3{-0.1f, 0.1f, 0.0f};
-  c.fov = 40.0f;
-  c.width = 40;
-  c.height = 30;
-  c.spp = 6;
-  c.max_depth = 3;
-  c.cache_eval = CacheEval::Center;
-  return c;
-}
+RenderConfig teapot() { return test::brick_teapot_config(6); }
 
 RenderSettings part(const RenderSettings& s, int a, int b, std::array<int, 4> crop = {0, 0, 0, 0}) {
   RenderSettings p = s;

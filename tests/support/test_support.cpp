@@ -120,6 +120,23 @@ size_t differing_values(const Image& a, const Image& b) {
   return n;
 }
 
+RenderConfig brick_teapot_config(int spp) {
+  RenderConfig c;
+  c.scene = shared_scene("materialx/geometry/teapot.obj");
+  c.mtlx = {shared_scene("materialx/standard_surface_brick_procedural.mtlx")};
+  c.material = "M_BrickPattern";
+  c.env = {1.0f, 1.0f, 1.0f};
+  c.camera_from = Vec3{-0.1f, 0.5f, 2.2f};
+  c.camera_at = Vec3{-0.1f, 0.1f, 0.0f};
+  c.fov = 40.0f;
+  c.width = 40;
+  c.height = 30;
+  c.spp = spp;
+  c.max_depth = 3;
+  c.cache_eval = CacheEval::Center;
+  return c;
+}
+
 RenderConfig default_scene_config(int width, int height, int spp) {
   RenderConfig c;
   c.scene = source_path("data/default/room.obj");

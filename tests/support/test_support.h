@@ -51,5 +51,8 @@ size_t differing_values(const Image& a, const Image& b);
 // The bundled default scene (data/default) at this size, path length 4,
 // cache points by node count (cache_model nodes).
 RenderConfig default_scene_config(int width, int height, int spp);
+// The shared brick teapot (M_BrickPattern, one uv cache point) seen close up
+// under a white environment, 40x30, path length 3, cache_eval center.
+RenderConfig brick_teapot_config(int spp);
 
 }  // namespace pmc::test
