@@ -118,29 +118,31 @@ TEST(CacheLobeRender, RoughBouncesShareCoarserCellsAndKeepTheImage) {
   EXPECT_GT(psnr(paper.image, off.image), 36.0);
 }
 
-// The counters that a change of keys or levels would move. Lookups are
-// deterministic; hits and misses vary by a few between runs (two threads
-// missing one texel at once both count a miss), so they may differ by 1%.
+// The counters that a change of keys or levels would move. On one thread
+// every counter is deterministic (measured: identical over repeated runs);
+// with two, two threads missing one texel at once both count a miss, and the
+// misses vary by up to 1.3% between runs (seen in CI), so these renders run
+// on one thread and must agree exactly.
 void expect_same_cache_events(const nlohmann::json& a, const nlohmann::json& b, const char* what) {
-  for (const char* k : {"lookups", "camera_lookups", "position_lookups", "bypassed"})
+  for (const char* k :
+       {"lookups", "camera_lookups", "position_lookups", "bypassed", "hits", "misses", "inserts"})
     EXPECT_EQ(a[k], b[k]) << what << ": " << k;
-  for (const char* k : {"hits", "misses", "inserts"})
-    EXPECT_NEAR(a[k].get<double>(), b[k].get<double>(), 0.01 * a[k].get<double>()) << what << ": " << k;
 }
 
 TEST(CacheLobeRender, CameraRaysAndUvTexelsKeepThePapersCone) {
   const std::string dir = test::temp_dir();
   // One surface hit per path: no bounce, nothing to widen.
-  const Render a = render(dir, "direct0", "--cache-lobe-spread 0", "solid_materials.mtlx", 1);
-  const Render b = render(dir, "direct1", "--cache-lobe-spread 0.25", "solid_materials.mtlx", 1);
+  const Render a = render(dir, "direct0", "--threads 1 --cache-lobe-spread 0", "solid_materials.mtlx", 1);
+  const Render b = render(dir, "direct1", "--threads 1 --cache-lobe-spread 0.25", "solid_materials.mtlx", 1);
   ASSERT_FALSE(a.image.pixels.empty());
   ASSERT_FALSE(b.image.pixels.empty());
   EXPECT_GT(a.cache["lookups"].get<uint64_t>(), 0u);
   EXPECT_TRUE(a.image.pixels == b.image.pixels) << "camera hits must keep their cells";
   expect_same_cache_events(a.cache, b.cache, "camera hits");
   // The default scene on uv keys only: its texels never widen.
-  const Render u0 = render(dir, "uv0", "--cache-keys uv --cache-lobe-spread 0", "materials.mtlx");
-  const Render u1 = render(dir, "uv1", "--cache-keys uv --cache-lobe-spread 0.25", "materials.mtlx");
+  const Render u0 = render(dir, "uv0", "--threads 1 --cache-keys uv --cache-lobe-spread 0", "materials.mtlx");
+  const Render u1 =
+      render(dir, "uv1", "--threads 1 --cache-keys uv --cache-lobe-spread 0.25", "materials.mtlx");
   ASSERT_FALSE(u0.image.pixels.empty());
   ASSERT_FALSE(u1.image.pixels.empty());
   EXPECT_GT(u0.cache["lookups"].get<uint64_t>(), 0u);
