@@ -24,7 +24,13 @@ typedef struct PmcTextureSet {
   pmc_u32 count;
 } PmcTextureSet;
 
+/* i mod n in [0, n). The lookups' indices lie within one period of the
+ * range (pmc_reduce_coord), so they take the branches, not the division
+ * (an integer division cost about a tenth of a bilinear lookup). */
 PMC_FN int pmc_wrap_periodic(int i, int n) {
+  if (i >= 0 && i < n) return i;
+  if (i < 0 && i >= -n) return i + n;
+  if (i >= n && i - n < n) return i - n;
   int m = i % n;
   return m < 0 ? m + n : m;
 }
@@ -42,10 +48,10 @@ PMC_FN int pmc_address(int i, int n, pmc_u32 mode) {
 
 PMC_FN float4 pmc_texel_fetch(const PmcTextureSet* ts, pmc_u32 base, int w, int x, int y, int srgb) {
   pmc_u32 t = ts->texels[base + (pmc_u32)y * (pmc_u32)w + (pmc_u32)x];
-  float r = (float)(t & 255u), g = (float)((t >> 8) & 255u), b = (float)((t >> 16) & 255u);
+  const pmc_u32 r = t & 255u, g = (t >> 8) & 255u, b = (t >> 16) & 255u;
   float a = (float)(t >> 24) * (1.0f / 255.0f);
-  if (srgb) return make_float4(ts->srgb_lut[(int)r], ts->srgb_lut[(int)g], ts->srgb_lut[(int)b], a);
-  return make_float4(r * (1.0f / 255.0f), g * (1.0f / 255.0f), b * (1.0f / 255.0f), a);
+  if (srgb) return make_float4(ts->srgb_lut[r], ts->srgb_lut[g], ts->srgb_lut[b], a);
+  return make_float4((float)r * (1.0f / 255.0f), (float)g * (1.0f / 255.0f), (float)b * (1.0f / 255.0f), a);
 }
 
 /* Map a coordinate into a range where float texel math is exact enough for
