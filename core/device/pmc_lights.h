@@ -15,7 +15,7 @@
  *     random number rescaled at each level.
  * pmc_light_pick_pmf(p, n, light) gives the probability that the pick took
  * a light; the tree's part walks the light's trail from the root. A path
- * keeps the normal it picked with (octahedral) and its ray's origin is p,
+ * keeps the normal it picked with (PmcPathState.light_normal) and its ray's origin is p,
  * so when a BSDF ray meets an emitter the weight uses the exact probability
  * with which that vertex would have picked it.
  * The shade kernel uses three entry points:
@@ -323,9 +323,11 @@ PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float co
   return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
 }
 
-/* How much of a normal-encoding error (pmc_oct_decode: below 1e-3 radians)
- * the receiver's cosine bound absorbs, so that a light the exact shading
- * normal sees is never given probability 0. */
+/* Slack on the receiver's cosine bounds (2e-3, about 0.1 degrees), so that a
+ * light at the horizon of the shading normal keeps a small probability
+ * instead of 0 under the bounds' float rounding. It was sized for the 32-bit
+ * octahedral normal that path states once stored (error below 1e-3
+ * radians); they now store the normal whole, and the slack stays. */
 #define PMC_PICK_NORMAL_SLACK 2e-3f
 
 /* Importance of a tree node for the point p with normal n (Conty Estevez &

@@ -85,7 +85,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   p->cone_width = 0.0f;
   p->cache_cone = 0u; /* bfloat16 zeros: no extra width or spread */
   p->bsdf_pdf = 0.0f;
-  p->light_normal = 0u;
+  for (int c = 0; c < 3; ++c) p->light_normal[c] = 0.0f;
   p->pixel = pixel;
   p->depth = 0u;
   p->cache_hits = 0u;
@@ -171,7 +171,7 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   const PmcLightSet* lights = &scene->light_set;
   if (lights->h.quad_end > 0) {
     float3 le = pmc_lights_seen(lights, hp->org, dir, hit.t, !hp->surface, path->bsdf_pdf,
-                                pmc_oct_decode(path->light_normal), path->flags & PMC_PATH_SPECULAR);
+                                pmc_load3(path->light_normal), path->flags & PMC_PATH_SPECULAR);
     float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * le;
     path->radiance[0] = radiance.x;
     path->radiance[1] = radiance.y;
@@ -406,7 +406,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
     float w = 1.0f;
     if (!(path->flags & PMC_PATH_SPECULAR)) {
       /* the probability that the previous vertex (the ray's origin) picked this triangle */
-      float pmf = pmc_light_pick_pmf(&scene->light_set, hp->org, pmc_oct_decode(path->light_normal),
+      float pmf = pmc_light_pick_pmf(&scene->light_set, hp->org, pmc_load3(path->light_normal),
                                      scene->tri_light[hp->prim]);
       float light_pdf = pmc_area_light_pdf(pmf, hp->t, 0.5f * hp->area2, dot(ng, dir));
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
@@ -429,11 +429,10 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
    * recompute the pick's probability from its ray's origin and that normal;
    * taken for the batch's lanes together after this (pmc_next_event_lanes). */
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
-  const uint light_normal = pmc_oct_encode(ns);
   nee->active = has_lobes;
   nee->mis = (int)depth < frame->max_depth;
   nee->origin = origin;
-  nee->pick_normal = pmc_oct_decode(light_normal);
+  nee->pick_normal = ns;
   nee->ng = ng;
   nee->t = t;
   nee->b = b;
@@ -469,7 +468,9 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       out->next_org = crossed ? pmc_offset_ray(pos, -ng, hp->hit_scale) : origin; /* light samples' */
       out->next_dir = wi_world;
       path->bsdf_pdf = pdf;
-      path->light_normal = light_normal;
+      path->light_normal[0] = ns.x;
+      path->light_normal[1] = ns.y;
+      path->light_normal[2] = ns.z;
       path->flags = crossed ? PMC_PATH_SPECULAR : 0u;
       path->cone_width = hp->cone_width;
       if (frame->cache_lobe_spread > 0.0f)
@@ -514,10 +515,8 @@ static inline void pmc_touch_triangle(const PmcSceneData* scene, __global const 
     PMC_TOUCH(r); /* its two cache lines */
     PMC_TOUCH(r + 16);
   }
-  /* a path state's first and last word: it can straddle two cache lines */
-  __global const PmcPathState* path = &paths[rays[i].id];
-  PMC_TOUCH(&path->throughput[0]);
-  PMC_TOUCH(&path->light_normal);
+  /* a path state: one cache line (64 bytes, in a buffer aligned to them) */
+  PMC_TOUCH(&paths[rays[i].id].throughput[0]);
 }
 
 /* The numbers of a batch's hits (PmcHitNumbers), one array per dimension. */
