@@ -28,16 +28,16 @@ PMC_FN float pmc_snorm16(pmc_u32 bits) {
   return (float)(v >= 32768 ? v - 65536 : v) * (1.0f / 32767.0f);
 }
 
-/* The unit vector of pmc_oct_encode's word. */
+/* The unit vector of pmc_oct_encode's word. Straight-line code (selects, and
+ * normalize's arithmetic without its guards for tiny and huge vectors: the
+ * unfolded vector's length is at least 1/sqrt(3)), so that a hit's three
+ * corner tangents decode side by side; the same floats as normalize(). */
 PMC_FN float3 pmc_oct_decode(pmc_u32 w) {
-  float x = pmc_snorm16(w), y = pmc_snorm16(w >> 16);
+  const float x = pmc_snorm16(w), y = pmc_snorm16(w >> 16);
   const float z = 1.0f - fabs(x) - fabs(y);
-  if (z < 0.0f) {
-    const float ox = (1.0f - fabs(y)) * pmc_sign_nz(x), oy = (1.0f - fabs(x)) * pmc_sign_nz(y);
-    x = ox;
-    y = oy;
-  }
-  return normalize(make_float3(x, y, z));
+  const float ox = (1.0f - fabs(y)) * pmc_sign_nz(x), oy = (1.0f - fabs(x)) * pmc_sign_nz(y);
+  const float3 v = make_float3(z < 0.0f ? ox : x, z < 0.0f ? oy : y, z);
+  return v * (1.0f / sqrt(dot(v, v)));
 }
 
 #endif /* PMC_OCTAHEDRAL_H */
