@@ -263,6 +263,17 @@ void constant_emission(const Graph& g, float out[3]) {
         linked_emission ? 0.0f : std::max(0.0f, params[PMC_P_EMISSION] * params[PMC_P_EMISSION_COLOR + k]);
 }
 
+// Whether a program (its words from its first instruction) filters an image
+// by the ray cone's footprint: the only instructions that read it.
+bool reads_footprint(const std::vector<uint32_t>& code) {
+  for (size_t pc = 0; pc < code.size(); pc += 2 + pmc_op_nargs(code[pc])) {
+    const uint32_t op = pmc_op_code(code[pc]);
+    if (op == PMC_OP_END) return false;
+    if (op == PMC_OP_IMAGE || op == PMC_OP_HEXIMAGE || op == PMC_OP_HEXNORMALMAP) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, MaterialProgram& program,
@@ -282,6 +293,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   cm.entry = uint32_t(program.code.size());
   std::vector<uint32_t> code = emit.emitter().finish(cm.entry);
   cm.code_words = uint32_t(code.size());
+  cm.reads_footprint = reads_footprint(code);
   cm.instructions = emit.emitter().instructions();
   cm.peak_stack = emit.peak_stack();
   program.code.insert(program.code.end(), code.begin(), code.end());

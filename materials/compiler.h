@@ -60,8 +60,9 @@ struct CompiledMaterial {
   std::vector<PassStat> passes;
   std::vector<std::pair<std::string, uint32_t>> param_dependencies;  // surface input -> dep bits
   bool has_cutout = false;                                           // opacity depends on the shading point
-  float constant_emission[3] = {0, 0, 0};                            // for light sampling
-  CachePlan cache_plan;  // the cache points emitted when the cache is on
+  bool reads_footprint = false;  // an instruction filters an image by the ray cone (PMC_MAT_FOOTPRINT)
+  float constant_emission[3] = {0, 0, 0};  // for light sampling
+  CachePlan cache_plan;                    // the cache points emitted when the cache is on
 };
 
 struct MaterialProgram {

@@ -159,6 +159,10 @@ typedef struct PmcTexture {
  * its program looks up (0 with the cache off), and which of them are keyed on
  * the position cell rather than the uv texel. */
 #define PMC_MAT_CUTOUT 1u
+#define PMC_MAT_FOOTPRINT                                               \
+  2u /* its program filters images by the ray cone's footprint (image,  \
+      * hex-tiled image or normal map): only then does the shade kernel \
+      * compute the footprint's width and ellipse at its hits */
 typedef struct PmcMaterialInfo {
   pmc_u32 entry;
   pmc_u32 flags;

@@ -295,8 +295,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
 }
 
 /* The material's shading inputs and, with the cache, its cache context at
- * one hit. */
-static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitPoint* hp,
+ * one hit. The footprint only for a material that filters images
+ * (PMC_MAT_FOOTPRINT): no other instruction reads it. */
+static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitPoint* hp, int footprint,
                                        __global volatile ulong* cache_entries, PmcShadingInputs* sp,
                                        PmcCacheContext* cache) {
   sp->uv = hp->uv;
@@ -304,7 +305,13 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
   sp->normal = hp->ns;
   sp->tangent = hp->tangent;
   sp->bitangent = cross(hp->ns, hp->tangent);
-  pmc_shading_footprint(sp, hp->g1, hp->g2); /* width and ellipse */
+  if (footprint) {
+    pmc_shading_footprint(sp, hp->g1, hp->g2); /* width and ellipse */
+  } else {
+    sp->footprint = 0.0f;
+    sp->footprint_axis = make_float2(0.0f, 0.0f);
+    sp->footprint_minor = 0.0f;
+  }
   if (cache) {
     cache->table = pmc_frame_cache_table(frame, cache_entries);
     cache->g1 = hp->g1;
@@ -752,8 +759,9 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
     PmcShadingInputs sp[PMC_LANES];
     PmcCacheContext cache[PMC_LANES];
     const int cached = frame->cache_on && hp[first].cache_points > 0u;
+    const int footprint = (md.materials[material].flags & PMC_MAT_FOOTPRINT) != 0u;
     for (int j = 0; j < m; ++j)
-      pmc_material_inputs(frame, &hp[lane[j]], cache_entries, &sp[j], cached ? &cache[j] : 0);
+      pmc_material_inputs(frame, &hp[lane[j]], footprint, cache_entries, &sp[j], cached ? &cache[j] : 0);
     PmcBsdf bsdf[PMC_LANES];
     pmc_eval_material_lanes(&md, material, sp, m, cached ? cache : 0, bsdf);
     PmcNeeInput nee[PMC_LANES];

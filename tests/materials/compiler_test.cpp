@@ -14,7 +14,10 @@
 //  * evaluate_constant() (constant folding) computes the right values;
 //  * the disassembly names the opcodes;
 //  * the host interpreter running a compiled material gives the analytic
-//    answer (ramplr at a uv), with the cache blocks on or off.
+//    answer (ramplr at a uv), with the cache blocks on or off;
+//  * a program reads the ray cone's footprint (PMC_MAT_FOOTPRINT: the shade
+//    kernel computes it only then) exactly when it filters an image, inside
+//    the cache group or outside it, and for hex-tiled images and normal maps.
 #include "materials/compiler.h"
 
 #include <gtest/gtest.h>
@@ -29,10 +32,13 @@
 #include "core/device/pmc_interp.h"
 #include "core/error.h"
 #include "core/texture.h"
+#include "materials/mtlx_reader.h"
 #include "materials/node_graph.h"
 #include "materials/node_table.h"
+#include "tests/hard_cases/hard_support.h"
 #include "tests/support/graph_builder.h"
 #include "tests/support/material_eval.h"
+#include "tests/support/test_support.h"
 
 namespace pmc {
 namespace {
@@ -331,6 +337,48 @@ TEST(Compiler, DisassemblyNamesTheOpcodes) {
     EXPECT_NE(text.find(s), std::string::npos) << s << " in\n" << text;
   // Constant inputs equal to the interpreter's defaults emit nothing.
   EXPECT_EQ(text.find("param[10]"), std::string::npos) << text;
+}
+
+TEST(Compiler, OnlyImageFilteringProgramsReadTheFootprint) {
+  const std::string png = test::temp_dir() + "/checker.png";
+  hard::write_checker_png(png);
+  TexturePool tex;
+  MaterialProgram prog;
+  Graph chain = unary_chain(3);
+  EXPECT_FALSE(compile_material(chain, tex, prog).reads_footprint) << "position and sin read no footprint";
+  Graph ramp = ramp_material("M_ramp", make_float3(0, 0, 0), make_float3(1, 1, 1));
+  EXPECT_FALSE(compile_material(ramp, tex, prog).reads_footprint) << "texcoord alone reads no footprint";
+
+  // texcoord * 4 -> image -> base_color, plain and with the image in the cache group.
+  for (const bool cache : {false, true}) {
+    Graph g = new_graph(cache ? "M_image_cached" : "M_image");
+    int tc = add(g, "uv", "texcoord", VT::Vector2);
+    int m = add(g, "tile", "multiply", VT::Vector2, {{"in1", link(tc)}, {"in2", value(VT::Vector2, 4, 4)}});
+    int img = add(g, "img", "image", VT::Color3, {{"file", text(png, VT::Filename)}, {"texcoord", link(m)}});
+    int s = img;
+    for (int i = 0; i < 8; ++i) s = add(g, "s" + std::to_string(i), "sin", VT::Color3, {{"in", link(s)}});
+    add_surface(g, {{"base_color", link(s)}});
+    CompileOptions options;
+    options.cache = cache;
+    options.cache_min_nodes = 2;
+    const CompiledMaterial& cm = compile_material(g, tex, prog, options);
+    EXPECT_EQ(cm.cache_plan.points.empty(), !cache);
+    EXPECT_TRUE(cm.reads_footprint) << (cache ? "cached" : "plain");
+  }
+
+  for (const std::string node : {"hextiledimage", "hextilednormalmap"}) {
+    const bool normal = node == "hextilednormalmap";
+    const std::string type = normal ? "vector3" : "color3";
+    const std::string doc =
+        R"(<?xml version="1.0"?><materialx version="1.39"><)" + node + R"( name="n" type=")" + type +
+        R"("><input name="file" type="filename" value=")" + png + R"("/></)" + node +
+        R"(><standard_surface name="S" type="surfaceshader"><input name=")" +
+        (normal ? "normal" : "base_color") + R"(" type=")" + type + R"(" nodename="n"/></standard_surface>
+<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S"/></surfacematerial></materialx>)";
+    std::vector<Graph> graphs = read_mtlx_string(doc, "mem.mtlx");
+    ASSERT_EQ(graphs.size(), 1u);
+    EXPECT_TRUE(compile_material(graphs[0], tex, prog).reads_footprint) << node;
+  }
 }
 
 }  // namespace
