@@ -234,11 +234,16 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
   r->x1 = r->x0 + lu;
   r->y1 = r->y0 + lv;
   float z0 = r->z0, z2 = z0 * z0;
-  /* the normals of the four great circles through the edges, inward */
-  float3 n0 = make_float3(0.0f, z0, -r->y0) * (1.0f / sqrt(z2 + r->y0 * r->y0));
-  float3 n1 = make_float3(-z0, 0.0f, r->x1) * (1.0f / sqrt(z2 + r->x1 * r->x1));
-  float3 n2 = make_float3(0.0f, -z0, r->y1) * (1.0f / sqrt(z2 + r->y1 * r->y1));
-  float3 n3 = make_float3(z0, 0.0f, -r->x0) * (1.0f / sqrt(z2 + r->x0 * r->x0));
+  /* the normals of the four great circles through the edges, inward; their
+   * four lengths in one vector square root and division (four scalar ones
+   * waited on each other) */
+  const float4 len =
+      sqrt(make_float4(z2 + r->y0 * r->y0, z2 + r->x1 * r->x1, z2 + r->y1 * r->y1, z2 + r->x0 * r->x0));
+  const float4 inv = 1.0f / len;
+  float3 n0 = make_float3(0.0f, z0, -r->y0) * inv.x;
+  float3 n1 = make_float3(-z0, 0.0f, r->x1) * inv.y;
+  float3 n2 = make_float3(0.0f, -z0, r->y1) * inv.z;
+  float3 n3 = make_float3(z0, 0.0f, -r->x0) * inv.w;
   /* the four angles between them in one call (a vector acos costs about what one scalar call does) */
   const float4 g = acos(make_float4(clamp(-dot(n0, n1), -1.0f, 1.0f), clamp(-dot(n1, n2), -1.0f, 1.0f),
                                     clamp(-dot(n2, n3), -1.0f, 1.0f), clamp(-dot(n3, n0), -1.0f, 1.0f)));
