@@ -320,12 +320,9 @@ PMC_FN int pmc_sun_contains(PMC_GLOBAL const PmcLight* l, float3 d) {
 
 /* --- the pick ------------------------------------------------------------ */
 
-/* cos(a - b) and sin(a - b) of angles a, b in [0, pi], 1 and 0 when a < b. */
+/* cos(a - b) of angles a, b in [0, pi], 1 when a < b. */
 PMC_FN float pmc_cos_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
   return cos_a > cos_b ? 1.0f : cos_a * cos_b + sin_a * sin_b;
-}
-PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float cos_b) {
-  return cos_a > cos_b ? 0.0f : sin_a * cos_b - cos_a * sin_b;
 }
 
 /* Slack on the receiver's cosine bounds (2e-3, about 0.1 degrees), so that a
@@ -335,11 +332,69 @@ PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float co
  * radians); they now store the normal whole, and the slack stays. */
 #define PMC_PICK_NORMAL_SLACK 2e-3f
 
+/* The importance's arithmetic, one source for two forms: F is float (the
+ * scalar pmc_tree_importance below) or float8 (eight lanes of a batch at
+ * once, the shade kernel's pmc_tree_importance8), I its integer type (a
+ * comparison's result), SEL(c, a, b) its select. Straight-line: each bound
+ * that rules the node out selects 0 at the end instead of returning early,
+ * and both forms run the same operations in the same order, so every lane
+ * of the float8 form equals the scalar value bit for bit: a pick and its
+ * recomputation for MIS (pmc_light_pick_pmf) must agree exactly. Dot
+ * products are written out for the same reason. two_sided: a comparison's
+ * result, true where PMC_TREE_TWO_SIDED is set. */
+#define PMC_TREE_IMPORTANCE(NAME, F, I, SEL)                                                                \
+  PMC_FN F NAME(F lox, F loy, F loz, F hix, F hiy, F hiz, F ax, F ay, F az, F energy, F cos_o, F cos_e_max, \
+                I two_sided, F px, F py, F pz, F nx, F ny, F nz) {                                          \
+    const F zero = (F)(0.0f), one = (F)(1.0f), one_half = (F)(0.5f);                                        \
+    const F tx = px - (lox + hix) * one_half, ty = py - (loy + hiy) * one_half,                             \
+            tz = pz - (loz + hiz) * one_half;                                                               \
+    const F dx = hix - lox, dy = hiy - loy, dz = hiz - loz;                                                 \
+    const F r2 = (F)(0.25f) * (dx * dx + dy * dy + dz * dz);                                                \
+    const F d2 = tx * tx + ty * ty + tz * tz;                                                               \
+    /* theta_b: pi when p is inside the bounding sphere */                                                  \
+    const I far = d2 > r2;                                                                                  \
+    const F sin2_b = r2 / d2;                                                                               \
+    const F sin_b = SEL(far, sqrt(sin2_b), zero);                                                           \
+    const F cos_b = SEL(far, sqrt(fmax(zero, one - sin2_b)), -one);                                         \
+    /* the box's highest point above the plane through p, less the normal's slack */                        \
+    const F ex = dx * one_half, ey = dy * one_half, ez = dz * one_half;                                     \
+    const F above = -(nx * tx + ny * ty + nz * tz) + fabs(nx) * ex + fabs(ny) * ey + fabs(nz) * ez;         \
+    const F dist = sqrt(d2), radius = sqrt(r2);                                                             \
+    I dead = above + (F)(PMC_PICK_NORMAL_SLACK) * (dist + radius) <= zero;                                  \
+    /* max over the box of axis . (p - e), plus |n_e - axis| <= sqrt(2 (1 - cos theta_o)) times |p - e|,    \
+     * bounds n_e . (p - e) from above for every emitter point e and normal n_e */                          \
+    const F ahead = (ax * tx + ay * ty + az * tz) + fabs(ax) * ex + fabs(ay) * ey + fabs(az) * ez;          \
+    const F spread = sqrt(fmax(zero, (F)(2.0f) * (one - cos_o))) + (F)(1e-5f); /* + the float axis */       \
+    dead = dead | ((two_sided == 0) & (cos_e_max >= zero) & (ahead + spread * (dist + radius) <= zero));    \
+    const I beside = d2 > zero;                                                                             \
+    const F inv = one / dist;                                                                               \
+    const F wx = SEL(beside, tx * inv, zero), wy = SEL(beside, ty * inv, zero),                             \
+            wz = SEL(beside, tz * inv, one);                                                                \
+    F cos_w = ax * wx + ay * wy + az * wz;                                                                  \
+    cos_w = SEL(two_sided, fabs(cos_w), cos_w);                                                             \
+    const F sin_w = sqrt(fmax(zero, one - cos_w * cos_w));                                                  \
+    const F sin_o = sqrt(fmax(zero, one - cos_o * cos_o));                                                  \
+    /* pmc_cos_sub_clamped and pmc_sin_sub_clamped, written out */                                          \
+    const I within = cos_w > cos_o;                                                                         \
+    const F cos_x = SEL(within, one, cos_w * cos_o + sin_w * sin_o);                                        \
+    const F sin_x = SEL(within, zero, sin_w * cos_o - cos_w * sin_o);                                       \
+    const F cos_e = SEL(cos_x > cos_b, one, cos_x * cos_b + sin_x * sin_b);                                 \
+    dead = dead | (cos_e <= cos_e_max);                                                                     \
+    const F cos_i = -(nx * wx + ny * wy + nz * wz);                                                         \
+    const F sin_i = sqrt(fmax(zero, one - cos_i * cos_i));                                                  \
+    const F cos_r = SEL(cos_i > cos_b, one, cos_i * cos_b + sin_i * sin_b) + (F)(PMC_PICK_NORMAL_SLACK);    \
+    dead = dead | !(cos_r > zero);                                                                          \
+    const F importance = energy * cos_e * fmin(cos_r, one) / fmax(fmax(d2, r2), (F)(1e-30f));               \
+    return SEL(dead, zero, fmin(importance, (F)(1e30f))); /* a point light at p: large, but finite */       \
+  }
+#define PMC_SEL_SCALAR(c, a, b) ((c) ? (a) : (b))
+PMC_TREE_IMPORTANCE(pmc_tree_importance_at, float, int, PMC_SEL_SCALAR)
+
 /* Importance of a tree node for the point p with normal n (Conty Estevez &
  * Kulla 2018, as pbrt-v4's LightBounds::Importance): intensity bound x the
  * cosine at the emitters (the angle to p less the cone's spread theta_o and
  * the box's angular radius theta_b; 0 beyond theta_e) x the cosine at the
- * receiver (less theta_b) / squared distance to the box's centre (at least
+ * receiver (less theta_b) / squared distance to the box's one_half (at least
  * its bounding sphere's radius squared). One-sided at the receiver: light
  * sampling only takes directions above n, so a box wholly below the plane
  * through p (tested corner by corner, tighter than theta_b) gets 0. One-sided
@@ -349,47 +404,12 @@ PMC_FN float pmc_sin_sub_clamped(float sin_a, float cos_a, float sin_b, float co
  * such normal through e) gets 0. theta_b alone cannot say so when p is near
  * the box: a ceiling point just above a downward quad light was given most
  * of the picks against a point light in the room, and its light samples
- * all carried nothing. */
+ * all carried nothing. The arithmetic: PMC_TREE_IMPORTANCE. */
 PMC_FN float pmc_tree_importance(PMC_GLOBAL const PmcLightTreeNode* node, float3 p, float3 n) {
-  float3 lo = pmc_load3(node->lo), hi = pmc_load3(node->hi);
-  float3 to_p = p - (lo + hi) * 0.5f;
-  float3 diag = hi - lo;
-  float r2 = 0.25f * dot(diag, diag);
-  float d2 = dot(to_p, to_p);
-  float cos_b = -1.0f, sin_b = 0.0f; /* theta_b: pi when p is inside the bounding sphere */
-  if (d2 > r2) {
-    float sin2_b = r2 / d2;
-    sin_b = sqrt(sin2_b);
-    cos_b = sqrt(fmax(0.0f, 1.0f - sin2_b));
-  }
-  /* the box's highest point above the plane through p, less the normal's slack */
-  float3 extent = diag * 0.5f;
-  float above = -dot(n, to_p) + fabs(n.x) * extent.x + fabs(n.y) * extent.y + fabs(n.z) * extent.z;
-  if (above + PMC_PICK_NORMAL_SLACK * (sqrt(d2) + sqrt(r2)) <= 0.0f) return 0.0f;
-  float3 axis = pmc_load3(node->axis);
-  if (!(node->flags & PMC_TREE_TWO_SIDED) && node->cos_theta_e >= 0.0f) {
-    /* max over the box of axis . (p - e), plus |n_e - axis| <= sqrt(2 (1 - cos theta_o)) times |p - e|,
-     * bounds n_e . (p - e) from above for every emitter point e and normal n_e */
-    float ahead =
-        dot(axis, to_p) + fabs(axis.x) * extent.x + fabs(axis.y) * extent.y + fabs(axis.z) * extent.z;
-    float spread = sqrt(fmax(0.0f, 2.0f * (1.0f - node->cos_theta_o))) + 1e-5f; /* + the float axis */
-    if (ahead + spread * (sqrt(d2) + sqrt(r2)) <= 0.0f) return 0.0f;
-  }
-  float3 w = d2 > 0.0f ? to_p * (1.0f / sqrt(d2)) : make_float3(0.0f, 0.0f, 1.0f);
-  float cos_w = dot(axis, w);
-  if (node->flags & PMC_TREE_TWO_SIDED) cos_w = fabs(cos_w);
-  float sin_w = sqrt(fmax(0.0f, 1.0f - cos_w * cos_w));
-  float cos_o = node->cos_theta_o, sin_o = sqrt(fmax(0.0f, 1.0f - cos_o * cos_o));
-  float cos_x = pmc_cos_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-  float sin_x = pmc_sin_sub_clamped(sin_w, cos_w, sin_o, cos_o);
-  float cos_e = pmc_cos_sub_clamped(sin_x, cos_x, sin_b, cos_b);
-  if (cos_e <= node->cos_theta_e) return 0.0f;
-  float cos_i = -dot(n, w);
-  float sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
-  float cos_r = pmc_cos_sub_clamped(sin_i, cos_i, sin_b, cos_b) + PMC_PICK_NORMAL_SLACK;
-  if (!(cos_r > 0.0f)) return 0.0f;
-  float importance = node->energy * cos_e * fmin(cos_r, 1.0f) / fmax(fmax(d2, r2), 1e-30f);
-  return fmin(importance, 1e30f); /* a point light at p: large, but finite */
+  return pmc_tree_importance_at(node->lo[0], node->lo[1], node->lo[2], node->hi[0], node->hi[1], node->hi[2],
+                                node->axis[0], node->axis[1], node->axis[2], node->energy, node->cos_theta_o,
+                                node->cos_theta_e, (node->flags & PMC_TREE_TWO_SIDED) != 0u, p.x, p.y, p.z,
+                                n.x, n.y, n.z);
 }
 
 /* The probability of taking node a's first child (a interior), by the
@@ -397,13 +417,16 @@ PMC_FN float pmc_tree_importance(PMC_GLOBAL const PmcLightTreeNode* node, float3
  * bounds said it might), by their energy: the pick then lands on a light
  * that gives nothing, as it would have failed, but every probability stays
  * defined and they sum to one. */
+PMC_FN float pmc_first_share_of(float i0, float i1, float energy0, float energy1) {
+  if (!(i0 + i1 > 0.0f)) i0 = energy0, i1 = energy1;
+  float sum = i0 + i1;
+  return sum > 0.0f ? i0 / sum : 0.5f;
+}
 PMC_FN float pmc_tree_first_share(const PmcLightSet* ls, int a, float3 p, float3 n) {
   PMC_GLOBAL const PmcLightTreeNode* c0 = &ls->tree[a + 1];
   PMC_GLOBAL const PmcLightTreeNode* c1 = &ls->tree[ls->tree[a].second];
-  float i0 = pmc_tree_importance(c0, p, n), i1 = pmc_tree_importance(c1, p, n);
-  if (!(i0 + i1 > 0.0f)) i0 = c0->energy, i1 = c1->energy;
-  float sum = i0 + i1;
-  return sum > 0.0f ? i0 / sum : 0.5f;
+  return pmc_first_share_of(pmc_tree_importance(c0, p, n), pmc_tree_importance(c1, p, n), c0->energy,
+                            c1->energy);
 }
 
 /* Weight of light at infinity i at normal n: its irradiance at normal
@@ -436,6 +459,44 @@ PMC_FN float pmc_strategy_total(const PmcLightSet* ls, float3 p, float3 n, float
 /* Keeps a rescaled random number below 1. */
 PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f); }
 
+/* The pick among the lights at infinity and the tree (tree_weight, its
+ * root's importance): a light at infinity's index (-1: none) with its
+ * probability in *pmf, or PMC_PICK_TREE with the tree's share in *share and
+ * the random number rescaled to the tree's part in *u. */
+#define PMC_PICK_TREE (-2)
+PMC_FN int pmc_pick_distant(const PmcLightSet* ls, float3 p, float3 n, float tree_weight, float* u,
+                            float* share, float* pmf) {
+  float total = pmc_strategy_total(ls, p, n, tree_weight);
+  if (!(total > 0.0f)) return -1;
+  float x = *u * total, below = 0.0f;
+  for (int i = 0; i < ls->h.distant_end; ++i) {
+    float w = pmc_distant_weight(&ls->lights[i], n);
+    if (x < below + w) {
+      *pmf = w / total;
+      return i;
+    }
+    below += w;
+  }
+  if (!(tree_weight > 0.0f)) return -1; /* rounding ran past the last light at infinity */
+  *share = tree_weight / total;
+  *u = pmc_below_one((x - below) / tree_weight);
+  return PMC_PICK_TREE;
+}
+
+/* One level of the tree walk from interior node a whose first child takes
+ * the share `first`: the child u falls in, with u rescaled to it and its
+ * share multiplied into *share. */
+PMC_FN int pmc_tree_descend(const PmcLightSet* ls, int a, float first, float* u, float* share) {
+  if (*u < first) {
+    *share *= first;
+    *u = pmc_below_one(*u / first);
+    return a + 1;
+  }
+  *share *= 1.0f - first;
+  *u = pmc_below_one((*u - first) / (1.0f - first));
+  return (int)ls->tree[a].second;
+}
+
 /* Pick a light for the point p with normal n from one random number u;
  * returns its index (-1: none) and the probability in *pmf. */
 PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, float* pmf) {
@@ -457,35 +518,12 @@ PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, fl
   }
   float share = 1.0f; /* without lights at infinity the tree is the only strategy */
   if (ls->h.distant_end > 0) {
-    float tree_weight = pmc_tree_weight(ls, p, n);
-    float total = pmc_strategy_total(ls, p, n, tree_weight);
-    if (!(total > 0.0f)) return -1;
-    float x = u * total, below = 0.0f;
-    for (int i = 0; i < ls->h.distant_end; ++i) {
-      float w = pmc_distant_weight(&ls->lights[i], n);
-      if (x < below + w) {
-        *pmf = w / total;
-        return i;
-      }
-      below += w;
-    }
-    if (!(tree_weight > 0.0f)) return -1; /* rounding ran past the last light at infinity */
-    share = tree_weight / total;
-    u = pmc_below_one((x - below) / tree_weight);
+    const int picked = pmc_pick_distant(ls, p, n, pmc_tree_weight(ls, p, n), &u, &share, pmf);
+    if (picked != PMC_PICK_TREE) return picked;
   }
   int a = 0;
-  while (!(ls->tree[a].flags & PMC_TREE_LEAF)) {
-    float first = pmc_tree_first_share(ls, a, p, n);
-    if (u < first) {
-      share *= first;
-      u = pmc_below_one(u / first);
-      a = a + 1;
-    } else {
-      share *= 1.0f - first;
-      u = pmc_below_one((u - first) / (1.0f - first));
-      a = (int)ls->tree[a].second;
-    }
-  }
+  while (!(ls->tree[a].flags & PMC_TREE_LEAF))
+    a = pmc_tree_descend(ls, a, pmc_tree_first_share(ls, a, p, n), &u, &share);
   *pmf = share;
   return (int)ls->tree[a].second;
 }
@@ -550,17 +588,15 @@ PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, flo
 /* pmc_light_sample_begin's answers besides 0 (nothing) and 1 (done). */
 #define PMC_LIGHT_SAMPLE_RECT 2 /* a spherical rectangle to sample: pmc_light_sample_rect_end */
 
-/* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
- * (pick) normal n (u1, u2), except for one step: a quad sampled by solid
- * angle returns PMC_LIGHT_SAMPLE_RECT with its spherical rectangle in *r,
- * light index in *light and pick probability in *pmf, and its point is
+/* Sample light `picked` (picked with probability pmf; -1: none) from point
+ * p with (pick) normal n (u1, u2), except for one step: a quad sampled by
+ * solid angle returns PMC_LIGHT_SAMPLE_RECT with its spherical rectangle in
+ * *r, light index in *light and pick probability in *pmf, and its point is
  * pmc_sph_rect_sample(r, p, u1, u2), which the shade kernel computes for a
  * batch's lanes in one loop (straight-line, vectorised), then
  * pmc_light_sample_rect_end. */
-PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
-                                  PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
-  float pmf;
-  int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
+PMC_FN int pmc_light_sample_picked(const PmcLightSet* ls, int picked, float pmf, float3 p, float3 n, float u1,
+                                   float u2, PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   if (picked < 0 || !(pmf > 0.0f)) return 0;
   PMC_GLOBAL const PmcLight* l = &ls->lights[picked];
   pmc_u32 type = l->type;
@@ -626,6 +662,14 @@ PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, flo
     return 0;
   }
   return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
+}
+
+/* Pick a light (u_pick, pmc_light_pick), then pmc_light_sample_picked. */
+PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, float u_pick, float u1, float u2,
+                                  PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
+  float pmf;
+  const int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
+  return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, s, r, light, pmf_out);
 }
 
 /* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at point q of the rectangle. */

@@ -647,10 +647,126 @@ static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, fl
 }
 #endif
 
+#if PMC_LANES >= 8 && PMC_LANES % 8 == 0
+#define PMC_PICK_LANES 1
+/* The light tree's importance eight lanes at a time: the scalar form's
+ * arithmetic (PMC_TREE_IMPORTANCE, core/device/pmc_lights.h) on float8, so
+ * each lane's value is pmc_tree_importance's bit for bit. */
+#define PMC_SEL_VECTOR(c, a, b) select((b), (a), (c))
+PMC_TREE_IMPORTANCE(pmc_tree_importance8, float8, int8, PMC_SEL_VECTOR)
+
+/* The points and pick normals of a batch's lanes, one array per component. */
+typedef struct PmcPickLanes {
+  float px[PMC_LANES], py[PMC_LANES], pz[PMC_LANES], nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
+} PmcPickLanes;
+
+/* out[q] = the importance of tree node node[q] for lane act[q], q < count:
+ * the nodes' bounds gathered into arrays, then eight at a time. */
+static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPickLanes* pl, const int* act,
+                                             const int* node, int count, float* out) {
+  float lox[PMC_LANES], loy[PMC_LANES], loz[PMC_LANES], hix[PMC_LANES], hiy[PMC_LANES], hiz[PMC_LANES];
+  float ax[PMC_LANES], ay[PMC_LANES], az[PMC_LANES], energy[PMC_LANES], cos_o[PMC_LANES], cos_e[PMC_LANES];
+  float px[PMC_LANES], py[PMC_LANES], pz[PMC_LANES], nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
+  int two_sided[PMC_LANES];
+  for (int q = 0; q < ((count + 7) & ~7); ++q) { /* the last group's spare lanes repeat the first */
+    const int r = q < count ? q : 0;
+    __global const PmcLightTreeNode* t = &ls->tree[node[r]];
+    lox[q] = t->lo[0], loy[q] = t->lo[1], loz[q] = t->lo[2];
+    hix[q] = t->hi[0], hiy[q] = t->hi[1], hiz[q] = t->hi[2];
+    ax[q] = t->axis[0], ay[q] = t->axis[1], az[q] = t->axis[2];
+    energy[q] = t->energy, cos_o[q] = t->cos_theta_o, cos_e[q] = t->cos_theta_e;
+    two_sided[q] = (t->flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0;
+    const int j = act[r];
+    px[q] = pl->px[j], py[q] = pl->py[j], pz[q] = pl->pz[j];
+    nx[q] = pl->nx[j], ny[q] = pl->ny[j], nz[q] = pl->nz[j];
+  }
+  for (int q = 0; q < count; q += 8)
+    vstore8(pmc_tree_importance8(vload8(0, lox + q), vload8(0, loy + q), vload8(0, loz + q), vload8(0, hix + q),
+                                 vload8(0, hiy + q), vload8(0, hiz + q), vload8(0, ax + q), vload8(0, ay + q),
+                                 vload8(0, az + q), vload8(0, energy + q), vload8(0, cos_o + q),
+                                 vload8(0, cos_e + q), vload8(0, two_sided + q), vload8(0, px + q),
+                                 vload8(0, py + q), vload8(0, pz + q), vload8(0, nx + q), vload8(0, ny + q),
+                                 vload8(0, nz + q)),
+            0, out + q);
+}
+
+/* pmc_light_pick for lanes lane[0, m) of a batch (those with nee[j].active),
+ * the same picks and probabilities: with the light tree, the lanes descend
+ * it level by level together, each level's importances eight lanes at a
+ * time; otherwise lane by lane. picked[j] = -1: none. */
+static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput* nee, const int* lane, int m,
+                                        const PmcBatchNumbers* numbers, int* picked, float* pmf) {
+  if (ls->h.sampler != PMC_LIGHT_SAMPLER_TREE || ls->h.tree_nodes <= 0 || ls->h.count <= 0) {
+    for (int j = 0; j < m; ++j) {
+      pmf[j] = 0.0f;
+      picked[j] = nee[j].active ? pmc_light_pick(ls, nee[j].origin, nee[j].pick_normal,
+                                                 numbers->light_pick[lane[j]], &pmf[j])
+                                : -1;
+    }
+    return;
+  }
+  PmcPickLanes pl;
+  float u[PMC_LANES], share[PMC_LANES], i0[PMC_LANES], i1[PMC_LANES];
+  int a[PMC_LANES], act[PMC_LANES], node0[PMC_LANES], node1[PMC_LANES];
+  int count = 0;
+  for (int j = 0; j < m; ++j) {
+    picked[j] = -1;
+    pmf[j] = 0.0f;
+    if (!nee[j].active) continue;
+    pl.px[j] = nee[j].origin.x, pl.py[j] = nee[j].origin.y, pl.pz[j] = nee[j].origin.z;
+    pl.nx[j] = nee[j].pick_normal.x, pl.ny[j] = nee[j].pick_normal.y, pl.nz[j] = nee[j].pick_normal.z;
+    u[j] = numbers->light_pick[lane[j]];
+    share[j] = 1.0f;
+    a[j] = 0;
+    act[count++] = j;
+  }
+  if (ls->h.distant_end > 0 && count > 0) { /* the root's importance weighs the tree among the strategies */
+    for (int q = 0; q < count; ++q) node0[q] = 0;
+    pmc_tree_importance_lanes(ls, &pl, act, node0, count, i0);
+    int kept = 0;
+    for (int q = 0; q < count; ++q) {
+      const int j = act[q];
+      const int d = pmc_pick_distant(ls, nee[j].origin, nee[j].pick_normal, i0[q], &u[j], &share[j], &pmf[j]);
+      if (d == PMC_PICK_TREE)
+        act[kept++] = j;
+      else
+        picked[j] = d;
+    }
+    count = kept;
+  }
+  while (count > 0) {
+    int kept = 0;
+    for (int q = 0; q < count; ++q) {
+      const int j = act[q];
+      if (ls->tree[a[j]].flags & PMC_TREE_LEAF) {
+        picked[j] = (int)ls->tree[a[j]].second;
+        pmf[j] = share[j];
+      } else {
+        act[kept++] = j;
+      }
+    }
+    count = kept;
+    for (int q = 0; q < count; ++q) {
+      node0[q] = a[act[q]] + 1;
+      node1[q] = (int)ls->tree[a[act[q]]].second;
+    }
+    pmc_tree_importance_lanes(ls, &pl, act, node0, count, i0);
+    pmc_tree_importance_lanes(ls, &pl, act, node1, count, i1);
+    for (int q = 0; q < count; ++q) {
+      const int j = act[q];
+      const float first =
+          pmc_first_share_of(i0[q], i1[q], ls->tree[node0[q]].energy, ls->tree[node1[q]].energy);
+      a[j] = pmc_tree_descend(ls, a[j], first, &u[j], &share[j]);
+    }
+  }
+}
+#endif
+
 /* Next-event estimation for lanes lane[0, m) of a batch (their
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
- * light pick and the light's sample up to its last step (pmc_light_sample_begin:
- * scalar and branchy); the points on spherical rectangles (the quad lights'
+ * light pick (with the light tree, its levels' importances eight lanes at
+ * a time where PMC_LANES allows: pmc_light_pick_lanes) and the light's
+ * sample up to its last step (pmc_light_sample_picked: scalar and branchy); the points on spherical rectangles (the quad lights'
  * sampling by solid angle: about ten dependent square roots and divisions),
  * from arrays of the lanes' values, eight lanes at a time in float8 where
  * PMC_LANES >= 8 (pmc_sph_rect_sample_xy8); then the light sample's end, the
@@ -670,13 +786,25 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   float x0[PMC_LANES], x1[PMC_LANES], y0[PMC_LANES], y1[PMC_LANES], su[PMC_LANES], sv[PMC_LANES];
   float xu[PMC_LANES], yv[PMC_LANES];
   int rects = 0;
+#if PMC_PICK_LANES
+  int picked[PMC_LANES];
+  float pick_pmf[PMC_LANES];
+  pmc_light_pick_lanes(lights, nee, lane, m, numbers, picked, pick_pmf);
+#endif
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
+#if PMC_PICK_LANES
+    state[j] = nee[j].active ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
+                                                       nee[j].pick_normal, numbers->light_u[k],
+                                                       numbers->light_v[k], &ls[j], &rect[j], &light[j], &pmf[j])
+                             : 0;
+#else
     state[j] = nee[j].active
                    ? pmc_light_sample_begin(lights, nee[j].origin, nee[j].pick_normal, numbers->light_pick[k],
                                             numbers->light_u[k], numbers->light_v[k], &ls[j], &rect[j],
                                             &light[j], &pmf[j])
                    : 0;
+#endif
     const int r = state[j] == PMC_LIGHT_SAMPLE_RECT;
     rects += r;
     omega[j] = r ? rect[j].solid_angle : 0.0f;

@@ -7,7 +7,10 @@
 // bit-identical images with identical ray counts, with the cache off and on
 // (--cache-eval center: a stored value depends on its key alone; the batch
 // also decides which lanes run a cache group's misses together). The default
-// itself follows the materials' stack depth.
+// itself follows the materials' stack depth. With many lights (a light tree
+// several levels deep, beside a sky and a sun), batches of 16 and 64 pick
+// lights eight lanes at a time (pmc_light_pick_lanes) and batches of 1 one
+// by one: the picks, their probabilities and so the images are identical.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -20,8 +23,10 @@
 namespace pmc {
 namespace {
 
-RenderOutput render_default_scene(bool cache, int lanes, uint32_t min_stack = 0) {
+RenderOutput render_default_scene(bool cache, int lanes, uint32_t min_stack = 0,
+                                  const std::string& lights = "") {
   RenderConfig c = test::default_scene_config(48, 27, 2);
+  if (!lights.empty()) c.lights = test::source_path(lights);
   c.cache = cache;
   c.cache_cells = 4096;
   c.shade_lanes = lanes;
@@ -46,6 +51,20 @@ TEST(ShadeLanes, BatchSizesRenderIdenticalImages) {
       EXPECT_EQ(other.stats.rays, by_default.stats.rays);
       EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
     }
+  }
+}
+
+TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
+  const std::string lights = "data/default/many.lights.json";
+  const RenderOutput by_default = render_default_scene(false, 0, 0, lights);
+  EXPECT_GT(test::image_mean(by_default.image), 0.0);
+  for (int lanes : {1, 16}) {
+    SCOPED_TRACE("lanes " + std::to_string(lanes));
+    const RenderOutput other = render_default_scene(false, lanes, 0, lights);
+    ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
+    EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
+        << "of " << other.image.pixels.size() << " values";
+    EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
   }
 }
 
