@@ -374,7 +374,7 @@ PMC_FN float pmc_cos_sub_clamped(float sin_a, float cos_a, float sin_b, float co
     cos_w = SEL(two_sided, fabs(cos_w), cos_w);                                                             \
     const F sin_w = sqrt(fmax(zero, one - cos_w * cos_w));                                                  \
     const F sin_o = sqrt(fmax(zero, one - cos_o * cos_o));                                                  \
-    /* pmc_cos_sub_clamped and pmc_sin_sub_clamped, written out */                                          \
+    /* cos and sin of theta_w - theta_o, clamped as pmc_cos_sub_clamped */                                  \
     const I within = cos_w > cos_o;                                                                         \
     const F cos_x = SEL(within, one, cos_w * cos_o + sin_w * sin_o);                                        \
     const F sin_x = SEL(within, zero, sin_w * cos_o - cos_w * sin_o);                                       \
@@ -394,7 +394,7 @@ PMC_TREE_IMPORTANCE(pmc_tree_importance_at, float, int, PMC_SEL_SCALAR)
  * Kulla 2018, as pbrt-v4's LightBounds::Importance): intensity bound x the
  * cosine at the emitters (the angle to p less the cone's spread theta_o and
  * the box's angular radius theta_b; 0 beyond theta_e) x the cosine at the
- * receiver (less theta_b) / squared distance to the box's one_half (at least
+ * receiver (less theta_b) / squared distance to the box's centre (at least
  * its bounding sphere's radius squared). One-sided at the receiver: light
  * sampling only takes directions above n, so a box wholly below the plane
  * through p (tested corner by corner, tighter than theta_b) gets 0. One-sided
