@@ -307,7 +307,9 @@ PMC_FN float pmc_bsdf_pdf(const PmcLobes* l, float3 wo, float3 wi) {
   return pdf;
 }
 
-/* Cosine-weighted hemisphere direction (concentric mapping). */
+/* Cosine-weighted hemisphere direction (concentric mapping). The shade
+ * kernel's pmc_sample_cosine8 (gpu/kernels/pmc_kernels.cl) is its float8
+ * twin, the same operations in the same order: keep the two alike. */
 PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
   float a = 2.0f * u1 - 1.0f;
   float c = 2.0f * u2 - 1.0f;
@@ -324,9 +326,12 @@ PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
 }
 
 /* Sample wi; returns 0 (and leaves *wi undefined) when the sample is invalid.
- * On success *pdf is the mixture pdf and *weight = f |cos| / pdf. */
-PMC_FN int pmc_bsdf_sample(const PmcLobes* l, float3 wo, float ulobe, float u1, float u2, float3* wi,
-                           float* pdf, float3* weight) {
+ * On success *pdf is the mixture pdf and *weight = f |cos| / pdf. The
+ * diffuse lobe's direction is pmc_sample_cosine(u1, u2), or *cosine_wi where
+ * the caller computed it already (the shade kernel, for a batch's lanes
+ * together; null: here). */
+PMC_FN int pmc_bsdf_sample_from(const PmcLobes* l, float3 wo, float ulobe, float u1, float u2,
+                                const float3* cosine_wi, float3* wi, float* pdf, float3* weight) {
   if (wo.z <= 0.0f) return 0;
   if (ulobe < l->c_spec) {
     const float3 h = pmc_ggx_sample_vndf2(wo, l->ax, l->ay, u1, u2);
@@ -353,13 +358,17 @@ PMC_FN int pmc_bsdf_sample(const PmcLobes* l, float3 wo, float ulobe, float u1, 
       return 0;
     }
   } else {
-    *wi = pmc_sample_cosine(u1, u2);
+    *wi = cosine_wi ? *cosine_wi : pmc_sample_cosine(u1, u2);
   }
   if ((*wi).z == 0.0f || (ulobe < l->c_coat && (*wi).z < 0.0f)) return 0;
   const float3 f = pmc_bsdf_eval_pdf(l, wo, *wi, pdf);
   if (!(*pdf > 0.0f)) return 0;
   *weight = f * (fabs((*wi).z) / *pdf);
   return 1;
+}
+PMC_FN int pmc_bsdf_sample(const PmcLobes* l, float3 wo, float ulobe, float u1, float u2, float3* wi,
+                           float* pdf, float3* weight) {
+  return pmc_bsdf_sample_from(l, wo, ulobe, u1, u2, 0, wi, pdf, weight);
 }
 
 /* Power heuristic (beta = 2) for two strategies. */

@@ -393,7 +393,7 @@ typedef struct PmcNeeInput {
  * with absorption) has its throughput multiplied by exp(-absorption t). */
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
-                                     const PmcHitNumbers* u, __global PmcPathState* paths,
+                                     const PmcHitNumbers* u, const float3* cosine_wi, __global PmcPathState* paths,
                                      __global PmcPathPasses* passes, PmcShadeOut* out, PmcNeeInput* nee) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
@@ -452,7 +452,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   if (alive) {
     float3 wi, weight;
     float pdf;
-    alive = pmc_bsdf_sample(&lobes, wo, u->lobe, u->bsdf_u, u->bsdf_v, &wi, &pdf, &weight);
+    alive = pmc_bsdf_sample_from(&lobes, wo, u->lobe, u->bsdf_u, u->bsdf_v, cosine_wi, &wi, &pdf, &weight);
     float3 wi_world = make_float3(0.0f, 0.0f, 1.0f);
     if (alive) {
       wi_world = pmc_to_world(wi, t, b, ns);
@@ -607,6 +607,14 @@ static inline void pmc_prefetch_ahead(const PmcSceneData* scene, __global const 
 }
 #endif
 
+/* Batches whose lanes split into groups of eight run parts of their work in
+ * float8, eight lanes at a time (PoCL does not vectorise those loops itself). */
+#if PMC_LANES >= 8 && PMC_LANES % 8 == 0
+#define PMC_LANES8 1
+#else
+#define PMC_LANES8 0
+#endif
+
 #if PMC_LANES >= 8
 /* pmc_sincos_turns and pmc_sph_rect_sample_xy (core/abi/pmc_vec.h,
  * core/device/pmc_lights.h), eight lanes at a time: the same operations in
@@ -625,6 +633,26 @@ static inline void pmc_sincos_turns8(float8 t, float8* s, float8* c) {
   *s = k == 0 ? sn : (k == 1 ? cs : (k == 2 ? -sn : -cs));
   *c = k == 0 ? cs : (k == 1 ? -sn : (k == 2 ? -cs : sn));
 }
+
+#if PMC_LANES8
+/* pmc_sample_cosine (core/device/pmc_bsdf.h) for eight lanes: the same
+ * operations in the same order, selects for its branches. */
+static inline void pmc_sample_cosine8(float8 u1, float8 u2, float8* x_out, float8* y_out, float8* z_out) {
+  const float8 a = 2.0f * u1 - 1.0f;
+  const float8 c = 2.0f * u2 - 1.0f;
+  const int8 wide = fabs(a) > fabs(c);
+  const float8 r = select(c, a, wide);
+  const float8 turns = select(0.25f - 0.125f * (a / c), 0.125f * (c / a), wide); /* the angle, in turns */
+  float8 sin_phi, cos_phi;
+  pmc_sincos_turns8(turns, &sin_phi, &cos_phi);
+  const float8 x = r * cos_phi, y = r * sin_phi;
+  const float8 z = sqrt(fmax((float8)(0.0f), 1.0f - x * x - y * y));
+  const int8 centre = (a == 0.0f) & (c == 0.0f); /* the scalar form's (0, 0, 1) */
+  *x_out = select(x, (float8)(0.0f), centre);
+  *y_out = select(y, (float8)(0.0f), centre);
+  *z_out = select(z, (float8)(1.0f), centre);
+}
+#endif
 
 static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, float8 b1, float8 z0, float8 x0,
                                            float8 x1, float8 y0, float8 y1, float8 u, float8 v,
@@ -647,8 +675,7 @@ static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, fl
 }
 #endif
 
-#if PMC_LANES >= 8 && PMC_LANES % 8 == 0
-#define PMC_PICK_LANES 1
+#if PMC_LANES8
 /* The light tree's importance eight lanes at a time: the scalar form's
  * arithmetic (PMC_TREE_IMPORTANCE, core/device/pmc_lights.h) on float8, so
  * each lane's value is pmc_tree_importance's bit for bit. */
@@ -786,14 +813,14 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   float x0[PMC_LANES], x1[PMC_LANES], y0[PMC_LANES], y1[PMC_LANES], su[PMC_LANES], sv[PMC_LANES];
   float xu[PMC_LANES], yv[PMC_LANES];
   int rects = 0;
-#if PMC_PICK_LANES
+#if PMC_LANES8
   int picked[PMC_LANES];
   float pick_pmf[PMC_LANES];
   pmc_light_pick_lanes(lights, nee, lane, m, numbers, picked, pick_pmf);
 #endif
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
-#if PMC_PICK_LANES
+#if PMC_LANES8
     state[j] = nee[j].active ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
                                                        nee[j].pick_normal, numbers->light_u[k],
                                                        numbers->light_v[k], &ls[j], &rect[j], &light[j], &pmf[j])
@@ -875,6 +902,20 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
   PmcMaterialData md = pmc_material_data(scene);
   int done[PMC_LANES];
   for (int k = 0; k < n; ++k) done[k] = !hp[k].surface;
+#if PMC_LANES8
+  /* every lane's cosine-weighted direction, in case its BSDF sample takes
+   * the diffuse lobe: eight lanes cost about what one does */
+  float3 cosine_wi[PMC_LANES];
+  for (int k = 0; k < n; k += 8) {
+    float8 x, y, z;
+    pmc_sample_cosine8(vload8(0, numbers->bsdf_u + k), vload8(0, numbers->bsdf_v + k), &x, &y, &z);
+    float xs[8], ys[8], zs[8];
+    vstore8(x, 0, xs);
+    vstore8(y, 0, ys);
+    vstore8(z, 0, zs);
+    for (int i = 0; i < 8 && k + i < n; ++i) cosine_wi[k + i] = make_float3(xs[i], ys[i], zs[i]);
+  }
+#endif
   for (int first = 0; first < n; ++first) {
     if (done[first]) continue;
     const int material = hp[first].material;
@@ -900,7 +941,12 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
         for (int c = 0; c < PMC_CSTAT_COUNT; ++c) cache_counts[c] += cache[j].counts[c];
       }
       const PmcHitNumbers u = pmc_load_hit_numbers(numbers, k);
-      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, paths, passes, &out[k], &nee[j]);
+#if PMC_LANES8
+      const float3* cosine = &cosine_wi[k];
+#else
+      const float3* cosine = 0;
+#endif
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, cosine, paths, passes, &out[k], &nee[j]);
     }
     pmc_next_event_lanes(frame, scene, nee, lane, m, numbers, out);
   }
