@@ -456,6 +456,11 @@ PMC_FN float pmc_strategy_total(const PmcLightSet* ls, float3 p, float3 n, float
   return total + tree_weight;
 }
 
+/* The weights of the first PMC_DISTANT_KEPT lights at infinity, kept by the
+ * pick between its total (pmc_strategy_total's sum, in its order) and its
+ * choice, so that a sun's cosine bound is computed once. */
+#define PMC_DISTANT_KEPT 4
+
 /* Keeps a rescaled random number below 1. */
 PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f); }
 
@@ -464,13 +469,20 @@ PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f)
  * probability in *pmf, or PMC_PICK_TREE with the tree's share in *share and
  * the random number rescaled to the tree's part in *u. */
 #define PMC_PICK_TREE (-2)
-PMC_FN int pmc_pick_distant(const PmcLightSet* ls, float3 p, float3 n, float tree_weight, float* u,
-                            float* share, float* pmf) {
-  float total = pmc_strategy_total(ls, p, n, tree_weight);
+PMC_FN int pmc_pick_distant(const PmcLightSet* ls, float3 n, float tree_weight, float* u, float* share,
+                            float* pmf) {
+  float kept[PMC_DISTANT_KEPT];
+  float total = 0.0f;
+  for (int i = 0; i < ls->h.distant_end; ++i) {
+    const float w = pmc_distant_weight(&ls->lights[i], n);
+    if (i < PMC_DISTANT_KEPT) kept[i] = w;
+    total += w;
+  }
+  total += tree_weight; /* pmc_strategy_total's sum, in its order */
   if (!(total > 0.0f)) return -1;
   float x = *u * total, below = 0.0f;
   for (int i = 0; i < ls->h.distant_end; ++i) {
-    float w = pmc_distant_weight(&ls->lights[i], n);
+    const float w = i < PMC_DISTANT_KEPT ? kept[i] : pmc_distant_weight(&ls->lights[i], n);
     if (x < below + w) {
       *pmf = w / total;
       return i;
@@ -518,7 +530,7 @@ PMC_FN int pmc_light_pick(const PmcLightSet* ls, float3 p, float3 n, float u, fl
   }
   float share = 1.0f; /* without lights at infinity the tree is the only strategy */
   if (ls->h.distant_end > 0) {
-    const int picked = pmc_pick_distant(ls, p, n, pmc_tree_weight(ls, p, n), &u, &share, pmf);
+    const int picked = pmc_pick_distant(ls, n, pmc_tree_weight(ls, p, n), &u, &share, pmf);
     if (picked != PMC_PICK_TREE) return picked;
   }
   int a = 0;

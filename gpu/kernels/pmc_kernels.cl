@@ -753,7 +753,7 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
     int kept = 0;
     for (int q = 0; q < count; ++q) {
       const int j = act[q];
-      const int d = pmc_pick_distant(ls, nee[j].origin, nee[j].pick_normal, i0[q], &u[j], &share[j], &pmf[j]);
+      const int d = pmc_pick_distant(ls, nee[j].pick_normal, i0[q], &u[j], &share[j], &pmf[j]);
       if (d == PMC_PICK_TREE)
         act[kept++] = j;
       else
