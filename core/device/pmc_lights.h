@@ -449,17 +449,24 @@ PMC_FN float pmc_tree_weight(const PmcLightSet* ls, float3 p, float3 n) {
   return ls->h.tree_nodes > 0 ? pmc_tree_importance(&ls->tree[0], p, n) : 0.0f;
 }
 
-/* Sum of the strategies' weights at (p, n), added in table order then the tree. */
-PMC_FN float pmc_strategy_total(const PmcLightSet* ls, float3 p, float3 n, float tree_weight) {
+/* The weights of the first PMC_DISTANT_KEPT lights at infinity, which the
+ * pick keeps between its total and its choice, so that a sun's cosine bound
+ * is computed once. */
+#define PMC_DISTANT_KEPT 4
+
+/* Sum of the strategies' weights at normal n, added in table order then the
+ * tree's; the first PMC_DISTANT_KEPT weights into kept[] unless it is null.
+ * The pick and its recomputation (pmc_light_pick_pmf) both add them here, so
+ * their totals agree bit for bit. */
+PMC_FN float pmc_strategy_sum(const PmcLightSet* ls, float3 n, float tree_weight, float* kept) {
   float total = 0.0f;
-  for (int i = 0; i < ls->h.distant_end; ++i) total += pmc_distant_weight(&ls->lights[i], n);
+  for (int i = 0; i < ls->h.distant_end; ++i) {
+    const float w = pmc_distant_weight(&ls->lights[i], n);
+    if (kept && i < PMC_DISTANT_KEPT) kept[i] = w;
+    total += w;
+  }
   return total + tree_weight;
 }
-
-/* The weights of the first PMC_DISTANT_KEPT lights at infinity, kept by the
- * pick between its total (pmc_strategy_total's sum, in its order) and its
- * choice, so that a sun's cosine bound is computed once. */
-#define PMC_DISTANT_KEPT 4
 
 /* Keeps a rescaled random number below 1. */
 PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f); }
@@ -472,13 +479,7 @@ PMC_FN float pmc_below_one(float u) { return fmin(fmax(u, 0.0f), 0x1.fffffep-1f)
 PMC_FN int pmc_pick_distant(const PmcLightSet* ls, float3 n, float tree_weight, float* u, float* share,
                             float* pmf) {
   float kept[PMC_DISTANT_KEPT];
-  float total = 0.0f;
-  for (int i = 0; i < ls->h.distant_end; ++i) {
-    const float w = pmc_distant_weight(&ls->lights[i], n);
-    if (i < PMC_DISTANT_KEPT) kept[i] = w;
-    total += w;
-  }
-  total += tree_weight; /* pmc_strategy_total's sum, in its order */
+  const float total = pmc_strategy_sum(ls, n, tree_weight, kept);
   if (!(total > 0.0f)) return -1;
   float x = *u * total, below = 0.0f;
   for (int i = 0; i < ls->h.distant_end; ++i) {
@@ -547,7 +548,7 @@ PMC_FN float pmc_light_pick_pmf(const PmcLightSet* ls, float3 p, float3 n, int k
   float share = 1.0f; /* as pmc_light_pick: the tree alone without lights at infinity */
   if (ls->h.distant_end > 0) {
     float tree_weight = pmc_tree_weight(ls, p, n);
-    float total = pmc_strategy_total(ls, p, n, tree_weight);
+    float total = pmc_strategy_sum(ls, n, tree_weight, 0);
     if (!(total > 0.0f)) return 0.0f;
     if (k < ls->h.distant_end) return pmc_distant_weight(&ls->lights[k], n) / total;
     if (!(tree_weight > 0.0f)) return 0.0f;
