@@ -152,6 +152,18 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
   X(adaptive_min_spp, "adaptive_min_spp", "--adaptive-min-spp", int, 16, 1, settings_table::kNone,          \
     "must be at least 1, got {}", Image, TAG("adaptive_min"), S(adaptive_min_spp), NONE, "adaptive_min_spp", \
     "N", "with --adaptive-threshold: samples every pixel draws before its first check, and between checks") \
+  X(clamp_direct, "clamp_direct", "--clamp-direct", float, 0.0f, 0, settings_table::kNone,                 \
+    "must be at least 0, got {}", Image, TAG("clamp_direct"), S(clamp_direct), K(clamp_direct, AS_IS),      \
+    "clamp_direct", "L",                                                                                    \
+    "largest radiance one light sample may add to a pixel sample through the camera's first hit (an "       \
+    "emitter seen directly, or light reaching that hit): a larger contribution keeps its hue and is "       \
+    "scaled down to L in its largest channel. Removes fireflies at the cost of energy (biased); 0: off")    \
+  X(clamp_indirect, "clamp_indirect", "--clamp-indirect", float, 0.0f, 0, settings_table::kNone,           \
+    "must be at least 0, got {}", Image, TAG("clamp_indirect"), S(clamp_indirect),                          \
+    K(clamp_indirect, AS_IS), "clamp_indirect", "L",                                                        \
+    "as --clamp-direct, for light reaching the path's second or a later hit (indirect light: caustics "     \
+    "from glossy surfaces, the usual fireflies). Biased: a bright surface seen through another loses "      \
+    "energy; 0: off")                                                                                       \
   X(cache, "cache", "--cache", bool, true, 0, 0, "", CacheSwitch, FIXED, S(cache.on), K(cache_on, AS_IS),   \
     "enabled", "off|on",                                                                                    \
     "progressive material cache")                                                                           \

@@ -110,6 +110,9 @@ struct RenderSettings {
   // standard error of its mean is below the threshold, checked every adaptive_min_spp samples.
   double adaptive_threshold = 0.0;
   int adaptive_min_spp = 16;
+  // Largest radiance one light sample may add to a sample (0: off), through
+  // the first hit (direct) and later hits (indirect): pmc_clamp_light.
+  float clamp_direct = 0.0f, clamp_indirect = 0.0f;
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave (several samples of each pixel when it can)

@@ -153,6 +153,31 @@ typedef struct PmcShadeOut {
   int next, shadow;
 } PmcShadeOut;
 
+/* Light sample clamping (the clamp_direct and clamp_indirect settings): the
+ * largest radiance one light sample may add to a path, chosen by the hit that
+ * receives the light (`receiver`: 0 is the camera ray's hit, which also stands
+ * for the camera when it sees an emitter itself; 1 and up: later hits). 0: no
+ * limit. */
+static inline float pmc_clamp_limit(__constant PmcFrame* frame, uint receiver) {
+  return receiver == 0u ? frame->clamp_direct : frame->clamp_indirect;
+}
+
+/* Contribution c scaled so that its largest channel is at most `limit` (its
+ * hue kept); c itself when limit is 0 or c is within it (or not finite: the
+ * film counts that sample as bad). */
+static inline float3 pmc_clamp_light(float3 c, float limit) {
+  const float m = pmc_max3(c);
+  return limit > 0.0f && m > limit ? c * (limit / m) : c;
+}
+
+/* radiance + a * b, the contribution a * b clamped to `limit`; unclamped, the
+ * very expression of an unclamped renderer (which the compiler may fuse into
+ * one multiply-add), so that images without clamping keep their bits. */
+static inline float3 pmc_add_light(float3 radiance, float3 a, float3 b, float limit) {
+  const float3 c = a * b;
+  return limit > 0.0f && pmc_max3(c) > limit ? radiance + c * (limit / pmc_max3(c)) : radiance + a * b;
+}
+
 /* Pass 1: the lights the ray met (quads before its hit; the environment and
  * sun disks if it escaped), then the hit's geometry, shading frame, ray cone
  * and (with the cache) texel. */
@@ -172,7 +197,9 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   if (lights->h.quad_end > 0) {
     float3 le = pmc_lights_seen(lights, hp->org, dir, hit.t, !hp->surface, path->bsdf_pdf,
                                 pmc_load3(path->light_normal), path->flags & PMC_PATH_SPECULAR);
-    float3 radiance = pmc_load3(path->radiance) + pmc_load3(path->throughput) * le;
+    /* light met by a ray from hit depth - 1 (from the camera at depth 0) */
+    const float limit = pmc_clamp_limit(frame, hp->depth > 0u ? hp->depth - 1u : 0u);
+    float3 radiance = pmc_add_light(pmc_load3(path->radiance), pmc_load3(path->throughput), le, limit);
     path->radiance[0] = radiance.x;
     path->radiance[1] = radiance.y;
     path->radiance[2] = radiance.z;
@@ -379,6 +406,7 @@ typedef struct PmcNeeInput {
   float3 throughput;          /* the path's, before this hit's BSDF sample */
   int active;                 /* the BSDF scatters */
   int mis;                    /* not the last vertex: weigh against the BSDF sample */
+  float clamp;                /* the light sample's largest radiance (pmc_clamp_light; 0: none) */
 } PmcNeeInput;
 
 /* After the material: emission, what next-event estimation needs (`nee`:
@@ -393,8 +421,9 @@ typedef struct PmcNeeInput {
  * with absorption) has its throughput multiplied by exp(-absorption t). */
 static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneData* scene,
                                      const PmcHitPoint* hp, const PmcBsdf* bsdf_in, float3 shading_normal,
-                                     const PmcHitNumbers* u, const float3* cosine_wi, __global PmcPathState* paths,
-                                     __global PmcPathPasses* passes, PmcShadeOut* out, PmcNeeInput* nee) {
+                                     const PmcHitNumbers* u, const float3* cosine_wi,
+                                     __global PmcPathState* paths, __global PmcPathPasses* passes,
+                                     PmcShadeOut* out, PmcNeeInput* nee) {
   __global PmcPathState* path = &paths[hp->path];
   float3 throughput = pmc_load3(path->throughput);
   float3 radiance = pmc_load3(path->radiance);
@@ -418,7 +447,8 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       float light_pdf = pmc_area_light_pdf(pmf, hp->t, 0.5f * hp->area2, dot(ng, dir));
       w = pmc_mis_power(path->bsdf_pdf, light_pdf);
     }
-    radiance += throughput * bsdf->emission * w;
+    radiance = pmc_add_light(radiance, throughput * bsdf->emission, w,
+                             pmc_clamp_limit(frame, depth > 0u ? depth - 1u : 0u));
   }
 
   depth += 1u;
@@ -446,6 +476,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   nee->ns = ns;
   nee->wo = wo;
   nee->throughput = throughput;
+  nee->clamp = pmc_clamp_limit(frame, depth - 1u);
   nee->lobes = lobes;
 
   int alive = has_lobes && (int)depth < frame->max_depth;
@@ -708,12 +739,12 @@ static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPic
     nx[q] = pl->nx[j], ny[q] = pl->ny[j], nz[q] = pl->nz[j];
   }
   for (int q = 0; q < count; q += 8)
-    vstore8(pmc_tree_importance8(vload8(0, lox + q), vload8(0, loy + q), vload8(0, loz + q), vload8(0, hix + q),
-                                 vload8(0, hiy + q), vload8(0, hiz + q), vload8(0, ax + q), vload8(0, ay + q),
-                                 vload8(0, az + q), vload8(0, energy + q), vload8(0, cos_o + q),
-                                 vload8(0, cos_e + q), vload8(0, two_sided + q), vload8(0, px + q),
-                                 vload8(0, py + q), vload8(0, pz + q), vload8(0, nx + q), vload8(0, ny + q),
-                                 vload8(0, nz + q)),
+    vstore8(pmc_tree_importance8(vload8(0, lox + q), vload8(0, loy + q), vload8(0, loz + q),
+                                 vload8(0, hix + q), vload8(0, hiy + q), vload8(0, hiz + q),
+                                 vload8(0, ax + q), vload8(0, ay + q), vload8(0, az + q),
+                                 vload8(0, energy + q), vload8(0, cos_o + q), vload8(0, cos_e + q),
+                                 vload8(0, two_sided + q), vload8(0, px + q), vload8(0, py + q),
+                                 vload8(0, pz + q), vload8(0, nx + q), vload8(0, ny + q), vload8(0, nz + q)),
             0, out + q);
 }
 
@@ -793,13 +824,14 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
  * light pick (with the light tree, its levels' importances eight lanes at
  * a time where PMC_LANES allows: pmc_light_pick_lanes) and the light's
- * sample up to its last step (pmc_light_sample_picked: scalar and branchy); the points on spherical rectangles (the quad lights'
- * sampling by solid angle: about ten dependent square roots and divisions),
- * from arrays of the lanes' values, eight lanes at a time in float8 where
- * PMC_LANES >= 8 (pmc_sph_rect_sample_xy8); then the light sample's end, the
- * BSDF's value for its
- * direction, MIS and the shadow ray. Lanes without a rectangle run the middle
- * loop on zeros and ignore what it gives (a batch without one skips it). */
+ * sample up to its last step (pmc_light_sample_picked: scalar and branchy);
+ * the points on spherical rectangles (the quad lights' sampling by solid
+ * angle: about ten dependent square roots and divisions), from arrays of the
+ * lanes' values, eight lanes at a time in float8 where PMC_LANES >= 8
+ * (pmc_sph_rect_sample_xy8); then the light sample's end, the BSDF's value
+ * for its direction, light sample clamping (pmc_clamp_light), MIS and the
+ * shadow ray. Lanes without a rectangle run the middle loop on zeros and
+ * ignore what it gives (a batch without one skips it). */
 static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSceneData* scene,
                                         const PmcNeeInput* nee, const int* lane, int m,
                                         const PmcBatchNumbers* numbers, PmcShadeOut* out) {
@@ -821,10 +853,11 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
 #if PMC_LANES8
-    state[j] = nee[j].active ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
-                                                       nee[j].pick_normal, numbers->light_u[k],
-                                                       numbers->light_v[k], &ls[j], &rect[j], &light[j], &pmf[j])
-                             : 0;
+    state[j] = nee[j].active
+                   ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
+                                             nee[j].pick_normal, numbers->light_u[k], numbers->light_v[k],
+                                             &ls[j], &rect[j], &light[j], &pmf[j])
+                   : 0;
 #else
     state[j] = nee[j].active
                    ? pmc_light_sample_begin(lights, nee[j].origin, nee[j].pick_normal, numbers->light_pick[k],
@@ -880,7 +913,7 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     /* MIS against the BSDF sample, unless this is the last vertex (whose
      * continuation is not traced, so light sampling alone covers it). */
     float w = ls[j].pdf > 0.0f && in->mis ? pmc_mis_power(ls[j].pdf, bsdf_pdf) : 1.0f;
-    float3 c = in->throughput * f * ls[j].weight * (wi.z * w);
+    float3 c = pmc_clamp_light(in->throughput * f * ls[j].weight * (wi.z * w), in->clamp);
     if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
       PmcShadeOut* o = &out[lane[j]];
       o->shadow = 1;
@@ -946,7 +979,8 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
 #else
       const float3* cosine = 0;
 #endif
-      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, cosine, paths, passes, &out[k], &nee[j]);
+      pmc_shade_surface(frame, scene, &hp[k], &bsdf[j], sp[j].normal, &u, cosine, paths, passes, &out[k],
+                        &nee[j]);
     }
     pmc_next_event_lanes(frame, scene, nee, lane, m, numbers, out);
   }

@@ -7,6 +7,8 @@
 //     diffuse sphere, whose walls then have one radiance known in closed form;
 //   * a constant map renders like --env; a map's orientation (what a camera
 //     looking along -Z / +X sees, which side of a ball it lights, rotation);
+//   * light sample clamping: the capped value and its hue under a point
+//     light, and the closed sphere split into its direct and indirect light;
 //   * importance sampling of a sun-like map beats uniform sampling at equal
 //     samples (relMSE against the exact image), and the HDR maps in
 //     ../shared/scenes/envmaps load and light a plane as their texels say.
@@ -286,18 +288,24 @@ TEST(LightsRender, QuadLightEmitsFromOneSideUnlessTwoSided) {
   }
 }
 
-// Inside a closed sphere of albedo a whose walls all receive the same direct
-// irradiance E, every wall point has radiance L = (a/pi) (E + pi L f), f the
-// fraction of the cosine-weighted hemisphere that sees walls.
-TEST(LightsRender, PointLightAndSphereLightInClosedDiffuseSphere) {
-  const std::string dir = test::temp_dir();
-  const double a = 0.5;
+// A camera inside the unit sphere, away from its centre, looking at its wall.
+RenderSettings inside_sphere_view() {
   RenderSettings s;
   s.width = 32;
   s.height = 24;
   s.spp = 32;
   s.max_depth = 100;
   set_camera(s, {0, 0, 0.5}, {0.3, 0.1, 1.0}, {0, 1, 0}, 70.0f);
+  return s;
+}
+
+// Inside a closed sphere of albedo a whose walls all receive the same direct
+// irradiance E, every wall point has radiance L = (a/pi) (E + pi L f), f the
+// fraction of the cosine-weighted hemisphere that sees walls.
+TEST(LightsRender, PointLightAndSphereLightInClosedDiffuseSphere) {
+  const std::string dir = test::temp_dir();
+  const double a = 0.5;
+  RenderSettings s = inside_sphere_view();
   const std::string mtl =
       "newmtl wall\nKd 0.5 0.5 0.5\nKs 0 0 0\nnewmtl bulb\nKd 0 0 0\nKs 0 0 0\nKe 25 25 25\n";
   // Point light of intensity pi at the centre of a unit sphere: E = pi, L = a / (1 - a) = 1.
@@ -325,6 +333,98 @@ TEST(LightsRender, PointLightAndSphereLightInClosedDiffuseSphere) {
                    std::to_string(test::image_mean(out.image) / expected));
     EXPECT_NEAR(test::image_mean(out.image), expected, 0.02 * expected);
   }
+}
+
+// Light sample clamping (clamp_direct): under a point light a sample's only
+// contribution is its next-event estimate, rho/pi I cos / d^2 at its plane
+// point, so the clamped pixel is the average of that value capped at the
+// limit in its largest channel, the other channels scaled alike (the light's
+// colour 4 : 2 : 1 kept). The plane has no indirect light, so clamp_indirect
+// alone changes no bit.
+TEST(LightsRender, DirectClampCapsEachSampleAndKeepsItsHue) {
+  const std::string dir = test::temp_dir();
+  RenderSettings s = top_view(32, 64);
+  const D3 light{0.5, 1.5, -0.3};
+  LightSpec l = point_spec(light, 4.0f);
+  l.rgb[1] = 2.0f, l.rgb[2] = 1.0f;
+  s.lights.lights.push_back(l);
+  const float limit = 0.15f;  // below the brightest third of the pixels (0.28 under the light)
+  auto red = [&](D3 q) {
+    D3 d = light - q;
+    double d2 = dot3(d, d);
+    return 0.5 / kPi * 4.0 * (d.y / std::sqrt(d2)) / d2;
+  };
+  RenderSettings clamped = s;
+  clamped.clamp_direct = limit;
+  const RenderOutput out = render_files(dir, plane_obj(4.0, "scene"), kGreyMtl, clamped);
+  double worst = 0.0;
+  int capped = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const double expected =
+          pixel_expectation(s, x, y, [&](D3 q) { return std::min(red(q), double(limit)); });
+      const float* px = &out.image.pixels[3 * (size_t(y) * s.width + x)];
+      worst = std::max(worst, std::fabs(px[0] / expected - 1.0));
+      EXPECT_NEAR(px[1], 0.5 * px[0], 1e-5 * px[0]) << x << "," << y;
+      EXPECT_NEAR(px[2], 0.25 * px[0], 1e-5 * px[0]) << x << "," << y;
+      EXPECT_LE(px[0], limit * (1.0f + 1e-6f)) << x << "," << y;
+      capped += px[0] > 0.99f * limit;
+    }
+  EXPECT_LT(worst, 0.025);
+  EXPECT_GT(capped, 20);  // the limit did cut: the check can fail
+
+  RenderSettings indirect_only = s;
+  indirect_only.clamp_indirect = 1e-6f;
+  const RenderOutput plain = render_files(dir, plane_obj(4.0, "scene"), kGreyMtl, s);
+  const RenderOutput same = render_files(dir, plane_obj(4.0, "scene"), kGreyMtl, indirect_only);
+  EXPECT_EQ(plain.image.pixels, same.image.pixels);
+}
+
+// In the closed sphere of albedo a around a point light of intensity pi, the
+// walls' direct radiance is a and their whole radiance a / (1 - a) (the test
+// above). A tiny clamp_indirect leaves the direct light alone (light reaching
+// the camera ray's hit: its next-event estimates); a tiny clamp_direct leaves
+// the indirect light alone. a = 0.75 tells the two apart: 0.75 against 2.25.
+// Emitters that BSDF samples hit are checked below.
+TEST(LightsRender, ClampsSplitTheClosedSphereIntoItsDirectAndIndirectLight) {
+  const std::string dir = test::temp_dir();
+  const double a = 0.75;
+  RenderSettings s = inside_sphere_view();
+  s.lights.lights.push_back(point_spec({0, 0, 0}, float(kPi)));
+  const std::string obj = "mtllib scene.mtl\n" + sphere_obj({0, 0, 0}, 1.0, 48, 96, "wall");
+  const std::string mtl = "newmtl wall\nKd 0.75 0.75 0.75\nKs 0 0 0\n";
+  RenderSettings direct_only = s, indirect_only = s;
+  direct_only.clamp_indirect = 1e-9f;
+  indirect_only.clamp_direct = 1e-9f;
+  const double direct = test::image_mean(render_files(dir, obj, mtl, direct_only).image);
+  const double indirect = test::image_mean(render_files(dir, obj, mtl, indirect_only).image);
+  RecordProperty("direct", std::to_string(direct));
+  RecordProperty("indirect", std::to_string(indirect));
+  EXPECT_NEAR(direct, a, 0.01 * a);
+  EXPECT_NEAR(indirect, a / (1.0 - a) - a, 0.03 * a / (1.0 - a));
+
+  // Light that BSDF samples reach counts by the hit it lights, too. Walls
+  // that emit Le = 1 themselves have radiance Le / (1 - a) = 4: Le seen
+  // directly and a Le reaching the first hit (much of it, by MIS, through
+  // BSDF rays that hit a wall) are direct, the rest indirect.
+  RenderSettings glow = direct_only;
+  glow.lights.lights.clear();
+  const std::string glow_mtl = "newmtl wall\nKd 0.75 0.75 0.75\nKs 0 0 0\nKe 1 1 1\n";
+  const double glow_direct = test::image_mean(render_files(dir, obj, glow_mtl, glow).image);
+  RecordProperty("glowing_walls_direct", std::to_string(glow_direct));
+  EXPECT_NEAR(glow_direct, 1.0 + a, 0.01 * (1.0 + a));
+}
+
+// ... and so does the sky: a grey plane under a constant environment of
+// radiance 1 has radiance a = 0.5, most of it (by MIS) from BSDF rays that
+// escape. Counted as indirect light, a tiny clamp would take it away.
+TEST(LightsRender, IndirectClampKeepsTheSkyThatTheFirstHitsBsdfRaysSee) {
+  const std::string dir = test::temp_dir();
+  RenderSettings s = top_view(16, 32);
+  s.env[0] = s.env[1] = s.env[2] = 1.0f;
+  s.clamp_indirect = 1e-9f;
+  const RenderOutput out = render_files(dir, plane_obj(4.0, "scene"), kGreyMtl, s);
+  EXPECT_NEAR(test::image_mean(out.image), 0.5, 0.01);
 }
 
 // Thirty-two lights (points, spots, one-sided quads) above a grey plane: both

@@ -30,7 +30,8 @@ RenderConfig valid() {
   return c;
 }
 
-// A valid value other than the default: a number at the far end of its range,
+// A valid value other than the default: a number at the far end of its range
+// (one above the default when that is the lower end of an unbounded range),
 // a word setting's next word.
 template <typename T>
 T other_value(const SettingInfo<T>& info) {
@@ -39,7 +40,8 @@ T other_value(const SettingInfo<T>& info) {
     return frame_value<T>((frame_value<int>(info.dflt) + 1) % n);
   } else {
     if (std::isfinite(info.hi) && T(info.hi) != info.dflt) return T(info.hi);
-    return T(info.lo);
+    if (T(info.lo) != info.dflt) return T(info.lo);
+    return T(info.dflt + 1);  // unbounded above, the default at its lower end
   }
 }
 
