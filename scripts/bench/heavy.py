@@ -28,6 +28,12 @@ Method:
      in its worst 16x16 tile (pmc compare's metrics.json, as bench.cache and
      bench.cache_position read them), and the worst tile with each tile's 2
      largest pixel errors left out;
+  3a. one more `pmc compare` of the default cache with another seed, which
+     parts the cache's bias from the noise (bias_estimate): the two cacheless
+     renders' difference is noise alone (the noise floor of any same-seed
+     figure), and the mean of (on_1 - off_1)(on_2 - off_2) over a tile is an
+     unbiased estimate of its squared bias, the noise of the two seeds being
+     independent: the same PSNR, worst tile included, with the noise taken out;
   3b. with --supersample K,...: per K one more `pmc compare` at the PSNR size with
      `--cache-supersample K` (0: auto): PSNR, worst tile and trimmed worst tile, and
      the compare's own off/on time ratio (one run each: the speed at those samples,
@@ -146,6 +152,15 @@ class Measure:
                     worst_trimmed_tile=m.get("worst_trimmed_tile"), speed_ratio=metrics.get("speed_ratio"),
                     hit_rate=metrics.get("hit_rate"))
 
+    def second_seed(self):
+        """The default cache's compare with seed 1: bias_estimate's second pair."""
+        progress(f"pmc compare --seed 1 at {self.a.psnr_width}x{self.a.psnr_height}, {self.a.psnr_spp} spp")
+        d = f"{self.out}/compare_on_seed1"
+        common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d, "--seed", "1",
+                    *common.size_args(self.a.psnr_width, self.a.psnr_height, self.a.psnr_spp)],
+                   self.log, "compare on, seed 1", append=True)
+        return bias_estimate(f"{self.out}/compare_on", d)
+
     def supersample(self):
         """{K: compare result} of --cache-supersample K at the PSNR size (0: auto)."""
         return {str(k): self.compare(f"supersample_{k}", ["--cache", "on", "--cache-supersample", str(k)])
@@ -175,6 +190,7 @@ class Measure:
                                                             "lookups", "position_lookups", "bypassed")},
                                 memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
                                 **self.compare(name, extra))
+        two_seeds = self.second_seed()
         supersampled = self.supersample()
         plan = common.run([self.a.pmc, "info", "--scene", *SCENE, "--dump-cache-plan"], self.log, "cache plan",
                           append=True).output
@@ -184,7 +200,54 @@ class Measure:
                     runs=self.a.runs, psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height,
                     psnr_spp=self.a.psnr_spp, times=times, t_off=common.median(times["off"]),
                     t_free=common.median(times["free"]), ratios_free=common.round_ratios(times["off"], times["free"]),
-                    cached=cached, supersample=supersampled, plan=parse_plan(plan))
+                    cached=cached, two_seeds=two_seeds, supersample=supersampled, plan=parse_plan(plan))
+
+
+TILE = 16  # pmc compare's tile (core/image_metrics.h kMetricTile)
+
+
+def tile_means(x):
+    """Means of a per-pixel array over TILE x TILE tiles (partial tiles at the edges included),
+    with each tile's top-left corner."""
+    h, w = x.shape
+    return [(float(x[y:y + TILE, c:c + TILE].mean()), c, y) for y in range(0, h, TILE) for c in range(0, w, TILE)]
+
+
+def psnr_db(mse):
+    import math
+    return 10.0 * math.log10(1.0 / mse) if mse > 0 else IDENTICAL_DB
+
+
+def bias_estimate(dir1, dir2):
+    """bias_figures of two `pmc compare` runs with different seeds (their cache_off.exr and cache_on.exr)."""
+    from bench.peers import read_exr
+    return bias_figures(*(read_exr(f"{d}/cache_{k}.exr") for d in (dir1, dir2) for k in ("off", "on")))
+
+
+def bias_figures(off1, on1, off2, on2):
+    """The cache's bias with the noise taken out, from cacheless and cached renders with two seeds
+    (H x W x 3+ arrays), on pmc compare's scale (linear values clamped to [0, 1], PSNR with peak 1,
+    squared errors averaged over the channels):
+      noise floor: the two cacheless renders against each other (noise alone, both renders' noise);
+      bias: the mean over the image (a tile) of (on1 - off1)(on2 - off2), whose expectation is the
+      squared bias, as each seed's noise is independent of the other's. An estimate: where the bias is
+      far below the noise it can come out negative (then reported as 999 dB, none measurable). The
+      worst tile's range is the estimate +- 2 standard errors of its pixels' products (a tile in
+      fireflies is estimated loosely)."""
+    import numpy as np
+    off1, on1, off2, on2 = (np.clip(np.asarray(x, dtype=np.float64)[:, :, :3], 0.0, 1.0)
+                            for x in (off1, on1, off2, on2))
+    noise = ((off1 - off2) ** 2).mean(axis=2)
+    bias2 = ((on1 - off1) * (on2 - off2)).mean(axis=2)
+    worst_noise, worst_bias = max(tile_means(noise)), max(tile_means(bias2))
+    x, y = worst_bias[1], worst_bias[2]
+    products = ((on1 - off1) * (on2 - off2))[y:y + TILE, x:x + TILE].ravel()
+    stderr = float(products.std() / np.sqrt(products.size))  # the estimate's own noise in that tile
+    return dict(noise_psnr=psnr_db(float(noise.mean())), noise_worst_tile_psnr=psnr_db(worst_noise[0]),
+                noise_worst_tile=[worst_noise[1], worst_noise[2], TILE],
+                bias_psnr=psnr_db(float(bias2.mean())), bias_worst_tile_psnr=psnr_db(worst_bias[0]),
+                bias_worst_tile=[x, y, TILE], bias_worst_tile_range=[psnr_db(worst_bias[0] + 2 * stderr),
+                                                                   psnr_db(worst_bias[0] - 2 * stderr)])
 
 
 def pct(x):
@@ -272,6 +335,40 @@ texel instead of its centre's value; auto is per key kind, at {d['psnr_spp']} sp
 """
 
 
+def tile_range(b):
+    """ (lo-hi dB): the worst tile's bias estimate +- 2 standard errors, when known."""
+    r = b.get("bias_worst_tile_range")
+    if not r:
+        return ""
+    hi = "none measurable" if r[1] >= IDENTICAL_DB else f"{r[1]:.1f}"
+    return f" ({r[0]:.1f} to {hi} dB)"
+
+
+def two_seeds_text(d, psnr_size):
+    """The bias against the noise (bias_estimate; empty for results before it was measured)."""
+    b = d.get("two_seeds")
+    if not b:
+        return ""
+    on = cached_results(d)["on"]
+    cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR2", "--seed", "1",
+                    *common.size_args(d["psnr_width"], d["psnr_height"], d["psnr_spp"])])
+    return f"""
+Bias against noise at {psnr_size}: the same-seed figures above hold the noise of paths that part
+(a cached value that differs in its last bits sends a path elsewhere, and in this room, lit by a low sun,
+a diffuse bounce that reaches a glossy surface mirroring the sun is a firefly). A second compare with
+another seed separates the two (`bias_estimate` in scripts/bench/heavy.py: the mean of
+(on_1 - off_1)(on_2 - off_2) estimates the squared bias):
+
+    {cmd}
+
+| | over the image | worst 16x16 tile |
+|---|---|---|
+| noise floor: cacheless seed 0 against cacheless seed 1 | {b['noise_psnr']:.1f} dB | {b['noise_worst_tile_psnr']:.1f} dB at {tuple(b['noise_worst_tile'])} |
+| cached against cacheless, same seed (the table) | {on['psnr']:.1f} dB | {on['worst_tile_psnr']:.1f} dB at {tuple(on['worst_tile'])} |
+| the cache's bias, noise taken out (two seeds) | {b['bias_psnr']:.1f} dB | {b['bias_worst_tile_psnr']:.1f} dB at {tuple(b['bias_worst_tile'])}{tile_range(b)} |
+"""
+
+
 def goals_text(d, cached, size, psnr_size):
     """The issue's goals for the default cache ("on"), and whether this run measured them."""
     on = cached["on"]
@@ -283,6 +380,10 @@ def goals_text(d, cached, size, psnr_size):
     tile = f"{on['worst_tile_psnr']:.1f} dB at {psnr_size}"
     if d["psnr_spp"] == GOAL_PSNR_SPP:
         tile_goal = goal(on["worst_tile_psnr"] >= GOAL_WORST_TILE) + f" ({tile})"
+        b = d.get("two_seeds")
+        if b:
+            tile_goal += (f"; the bias alone (two seeds, noise taken out): {b['bias_worst_tile_psnr']:.1f} dB, "
+                          + goal(b["bias_worst_tile_psnr"] >= GOAL_WORST_TILE))
     else:
         tile_goal = f"not measured here ({tile})"
     return (f"Goals (issue 39), for the default cache: cache on at least {GOAL_SPEEDUP:.1f}x at 640x360, 16 spp: "
@@ -367,7 +468,7 @@ Cache plan (`pmc info --scene data/heavy/room.obj --mtlx data/heavy/materials.mt
 
 {plan}
 
-{notes_text(d, cached)}{supersample_text(d, psnr_size)}
+{notes_text(d, cached)}{two_seeds_text(d, psnr_size)}{supersample_text(d, psnr_size)}
 {goals_text(d, cached, size, psnr_size)}
 """
     on = cached["on"]

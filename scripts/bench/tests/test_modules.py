@@ -73,6 +73,29 @@ class CommandLines(unittest.TestCase):
         self.assertIn("`--cache-supersample 0` (auto) | 1.47x", text)
         self.assertEqual(heavy.supersample_text(dict(psnr_spp=256), "x"), "")
 
+    def test_heavy_parts_the_caches_bias_from_the_noise(self):
+        import numpy as np
+        from bench import heavy
+        rng = np.random.default_rng(7)
+        truth = np.full((32, 48, 3), 0.5)
+        biased = truth.copy()
+        biased[16:32, 16:32] += 0.01  # one tile off by 0.01: 40 dB there
+        noisy = lambda x: x + rng.normal(0.0, 0.02, x.shape)  # noise twice the bias, 34 dB per render
+        f = heavy.bias_figures(noisy(truth), noisy(biased), noisy(truth), noisy(biased))
+        self.assertEqual(f["bias_worst_tile"], [16, 16, 16])
+        self.assertAlmostEqual(f["bias_worst_tile_psnr"], 40.0, delta=1.5)
+        lo, hi = f["bias_worst_tile_range"]
+        self.assertTrue(lo < 40.0 < hi, (lo, hi))
+        self.assertAlmostEqual(f["noise_psnr"], 10 * np.log10(1 / (2 * 0.02 ** 2)), delta=0.5)
+        self.assertLess(f["noise_worst_tile_psnr"], 32.0)
+        self.assertIn("| the cache's bias, noise taken out (two seeds) |", heavy.two_seeds_text(
+            dict(two_seeds=f, psnr_width=320, psnr_height=180, psnr_spp=256,
+                 cached={"on": dict(psnr=36.0, worst_tile_psnr=21.0, worst_tile=[0, 0, 16])}), "x"))
+        self.assertGreater(f["bias_psnr"], 45.0)  # a sixth of the image at 40 dB, the rest unbiased
+        # No bias at all: the estimate stays far below the noise (or none is measurable).
+        f = heavy.bias_figures(noisy(truth), noisy(truth), noisy(truth), noisy(truth))
+        self.assertGreater(f["bias_worst_tile_psnr"], 40.0)
+
     def test_bad_values_are_usage_errors(self):
         for module, argv in (("cache", ["--only", "nosuchpart"]), ("cache", ["--spp", "0"]),
                              ("cache_policy", ["--fractions", "1,0"]), ("cache_policy", ["--fractions", "a"]),
