@@ -178,6 +178,11 @@ PMC_FN void pmc_basis(float3 n, float3* t, float3* b) {
   *b = make_float3(bb, sign + n.y * n.y * a, -n.y);
 }
 
+/* c ? a : b, the scalar twin of OpenCL's select(b, a, c) for arithmetic
+ * written once for float and float8 (PMC_TREE_IMPORTANCE,
+ * PMC_RAY_CONE_GRADIENTS: their SEL). */
+#define PMC_SEL_SCALAR(c, a, b) ((c) ? (a) : (b))
+
 PMC_FN float3 pmc_to_local(float3 v, float3 t, float3 b, float3 n) {
   return make_float3(dot(v, t), dot(v, b), dot(v, n));
 }

@@ -387,7 +387,6 @@ PMC_FN float pmc_cos_sub_clamped(float sin_a, float cos_a, float sin_b, float co
     const F importance = energy * cos_e * fmin(cos_r, one) / fmax(fmax(d2, r2), (F)(1e-30f));               \
     return SEL(dead, zero, fmin(importance, (F)(1e30f))); /* a point light at p: large, but finite */       \
   }
-#define PMC_SEL_SCALAR(c, a, b) ((c) ? (a) : (b))
 PMC_TREE_IMPORTANCE(pmc_tree_importance_at, float, int, PMC_SEL_SCALAR)
 
 /* Importance of a tree node for the point p with normal n (Conty Estevez &

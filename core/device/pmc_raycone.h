@@ -9,51 +9,79 @@
  * level from the same g1, g2. Guards: a ray along the normal (a1 would be 0:
  * any tangent direction serves, the footprint is a circle), grazing angles
  * (the projection is clamped), zero-area position or uv triangles (g = 0).
+ * The shade kernel computes the gradients of a batch's hits eight at a time
+ * (PMC_RAY_CONE_GRADIENTS: one source for the scalar and the float8 form).
  */
 #ifndef PMC_RAYCONE_H
 #define PMC_RAYCONE_H
 
 #include "../abi/pmc_vec.h"
 
+/* The gradients' arithmetic, one source for two forms: F is float (the
+ * scalar pmc_ray_cone_gradients_at below) or float8 (eight lanes of a batch
+ * at once, the shade kernel's pmc_ray_cone_gradients8), I its integer type
+ * (a comparison's result), SEL(c, a, b) its select (pmc_vec.h). Straight-line,
+ * the dot and cross products written out, so that every lane of the float8
+ * form equals the scalar value bit for bit (a batch of 1 and a batch of 64
+ * render the same image). In: the unit ray direction d, the unit geometric
+ * normal n, the cone radius at the hit, the triangle's edges e1 = p1 - p0 and
+ * e2 = p2 - p0 and its uv edges (d1u, d1v) = t1 - t0, (d2u, d2v) = t2 - t0.
+ * Out: the gradients g1 = (g1u, g1v), g2 = (g2u, g2v); 0 without a cone, for
+ * a triangle without area, and where they would not be finite. */
+#define PMC_RAY_CONE_GRADIENTS(NAME, F, I, SEL)                                                            \
+  PMC_FN void NAME(F dx, F dy, F dz, F nx, F ny, F nz, F radius, F e1x, F e1y, F e1z, F e2x, F e2y, F e2z, \
+                   F d1u, F d1v, F d2u, F d2v, F* g1u, F* g1v, F* g2u, F* g2v) {                           \
+    const F zero = (F)(0.0f), one = (F)(1.0f);                                                             \
+    const F cos_n = nx * dx + ny * dy + nz * dz;                                                           \
+    F a1x = dx - nx * cos_n, a1y = dy - ny * cos_n, a1z = dz - nz * cos_n;                                 \
+    const F l1 = sqrt(a1x * a1x + a1y * a1y + a1z * a1z);                                                  \
+    /* looking straight down the normal: any tangent axis (pmc_basis's first) */                           \
+    const F sign = SEL(nz >= zero, one, -one);                                                             \
+    const F ba = -one / (sign + nz);                                                                       \
+    const I tilted = l1 > (F)(1e-6f);                                                                      \
+    const F inv_l1 = one / l1;                                                                             \
+    a1x = SEL(tilted, a1x * inv_l1, one + sign * nx * nx * ba);                                            \
+    a1y = SEL(tilted, a1y * inv_l1, sign * (nx * ny * ba));                                                \
+    a1z = SEL(tilted, a1z * inv_l1, -sign * nx);                                                           \
+    /* a2 = n x a1, unit: a1 is a unit vector orthogonal to n */                                           \
+    F a2x = ny * a1z - nz * a1y, a2y = nz * a1x - nx * a1z, a2z = nx * a1y - ny * a1x;                     \
+    const F stretch = radius / fmax((F)(1e-4f), fabs(cos_n));                                              \
+    a1x = a1x * stretch, a1y = a1y * stretch, a1z = a1z * stretch;                                         \
+    a2x = a2x * radius, a2y = a2y * radius, a2z = a2z * radius;                                            \
+    const F area =                                                                                         \
+        nx * (e1y * e2z - e1z * e2y) + ny * (e1z * e2x - e1x * e2z) + nz * (e1x * e2y - e1y * e2x);        \
+    /* Barycentric rates of an in-plane offset a: n.(a x e2) / area and                                    \
+     * n.(e1 x a) / area, as dot products with c_u = (e2 x n) / area and                                   \
+     * c_v = (n x e1) / area. */                                                                           \
+    const F inv = one / area;                                                                              \
+    const F cux = (e2y * nz - e2z * ny) * inv, cuy = (e2z * nx - e2x * nz) * inv,                          \
+            cuz = (e2x * ny - e2y * nx) * inv;                                                             \
+    const F cvx = (ny * e1z - nz * e1y) * inv, cvy = (nz * e1x - nx * e1z) * inv,                          \
+            cvz = (nx * e1y - ny * e1x) * inv;                                                             \
+    const F du1 = a1x * cux + a1y * cuy + a1z * cuz, dv1 = a1x * cvx + a1y * cvy + a1z * cvz;              \
+    const F du2 = a2x * cux + a2y * cuy + a2z * cuz, dv2 = a2x * cvx + a2y * cvy + a2z * cvz;              \
+    const F r1u = d1u * du1 + d2u * dv1, r1v = d1v * du1 + d2v * dv1;                                      \
+    const F r2u = d1u * du2 + d2u * dv2, r2v = d1v * du2 + d2v * dv2;                                      \
+    const I ok = (radius > zero) & isfinite(radius) & (fabs(area) > (F)(1e-30f)) & isfinite(area);         \
+    const I ok1 = ok & isfinite(r1u) & isfinite(r1v), ok2 = ok & isfinite(r2u) & isfinite(r2v);            \
+    *g1u = SEL(ok1, r1u, zero);                                                                            \
+    *g1v = SEL(ok1, r1v, zero);                                                                            \
+    *g2u = SEL(ok2, r2u, zero);                                                                            \
+    *g2v = SEL(ok2, r2v, zero);                                                                            \
+  }
+PMC_RAY_CONE_GRADIENTS(pmc_ray_cone_gradients_at, float, int, PMC_SEL_SCALAR)
+
 /* uv gradients along the footprint's axes. `ng` is the unit geometric normal,
  * `dir` the unit ray direction, `radius` the cone radius at the hit. */
 PMC_FN void pmc_ray_cone_gradients(float3 dir, float3 ng, float radius, float3 p0, float3 p1, float3 p2,
                                    float2 t0, float2 t1, float2 t2, float2* g1, float2* g2) {
-  *g1 = make_float2(0.0f, 0.0f);
-  *g2 = make_float2(0.0f, 0.0f);
-  if (!(radius > 0.0f) || !isfinite(radius)) return;
-  const float cos_n = dot(ng, dir);
-  float3 a1 = dir - ng * cos_n;
-  float l1 = length(a1);
-  if (!(l1 > 1e-6f)) { /* looking straight down the normal: any tangent axis */
-    float3 t, b;
-    pmc_basis(ng, &t, &b);
-    a1 = t;
-  } else {
-    a1 = a1 * (1.0f / l1);
-  }
-  /* Each unit axis is stretched by the inverse of its projection onto the
-   * plane orthogonal to dir (grazing angles elongate the ellipse), clamped.
-   * dir lies in the plane of ng and a1, so that projection of a1 has length
-   * |cos_n| (dir . a1 = sin) and a2 = ng x a1, orthogonal to both, keeps
-   * its length 1. */
-  float3 a2 = cross(ng, a1); /* unit: a1 is a unit vector orthogonal to ng */
-  a1 = a1 * (radius / fmax(1e-4f, fabs(cos_n)));
-  a2 = a2 * radius;
-  float3 e1 = p1 - p0, e2 = p2 - p0;
-  float area = dot(ng, cross(e1, e2));
-  if (!(fabs(area) > 1e-30f) || !isfinite(area)) return;
-  /* Barycentric rates of an in-plane offset a: ng.(a x e2) / area and
-   * ng.(e1 x a) / area, as dot products with two vectors built once. */
-  const float inv = 1.0f / area;
-  const float3 c_u = cross(e2, ng) * inv, c_v = cross(ng, e1) * inv;
-  float du1 = dot(a1, c_u), dv1 = dot(a1, c_v);
-  float du2 = dot(a2, c_u), dv2 = dot(a2, c_v);
-  float2 d1 = t1 - t0, d2 = t2 - t0;
-  float2 r1 = d1 * du1 + d2 * dv1;
-  float2 r2 = d1 * du2 + d2 * dv2;
-  if (isfinite(r1.x) && isfinite(r1.y)) *g1 = r1;
-  if (isfinite(r2.x) && isfinite(r2.y)) *g2 = r2;
+  const float3 e1 = p1 - p0, e2 = p2 - p0;
+  const float2 d1 = t1 - t0, d2 = t2 - t0;
+  float g1u, g1v, g2u, g2v; /* (OpenCL C takes no address of a vector's component) */
+  pmc_ray_cone_gradients_at(dir.x, dir.y, dir.z, ng.x, ng.y, ng.z, radius, e1.x, e1.y, e1.z, e2.x, e2.y, e2.z,
+                            d1.x, d1.y, d2.x, d2.y, &g1u, &g1v, &g2u, &g2v);
+  *g1 = make_float2(g1u, g1v);
+  *g2 = make_float2(g2u, g2v);
 }
 
 /* The footprint's ellipse in uv. g1, g2 are the images of the cone's

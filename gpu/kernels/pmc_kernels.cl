@@ -33,6 +33,17 @@
 /* After the headers: it uses their types. */
 #include "material_network.cl"
 
+/* Batches whose lanes split into groups of eight run parts of their work in
+ * float8, eight lanes at a time (PoCL does not vectorise those loops itself),
+ * with the arithmetic written once for float and float8 where a scalar form
+ * must agree bit for bit; SEL of those macros is this, OpenCL's select. */
+#if PMC_LANES >= 8 && PMC_LANES % 8 == 0
+#define PMC_LANES8 1
+#else
+#define PMC_LANES8 0
+#endif
+#define PMC_SEL_VECTOR(c, a, b) select((b), (a), (c))
+
 /* A wave holds wave_samples samples of wave_pixels pixels of the window:
  * path i is sample frame->sample + i / wave_pixels of the window's pixel
  * frame->pixel_offset + i % wave_pixels (so the paths of one pixel are
@@ -178,12 +189,32 @@ static inline float3 pmc_add_light(float3 radiance, float3 a, float3 b, float li
   return limit > 0.0f && pmc_max3(c) > limit ? radiance + c * (limit / pmc_max3(c)) : radiance + a * b;
 }
 
+/* What the ray cone's uv gradients need of a batch's hits, one array per
+ * component (PMC_RAY_CONE_GRADIENTS' inputs, core/device/pmc_raycone.h):
+ * filled by pmc_hit_point, read by pmc_ray_cone_lanes. */
+typedef struct PmcConeLanes {
+  float dx[PMC_LANES], dy[PMC_LANES], dz[PMC_LANES], nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
+  float radius[PMC_LANES], e1x[PMC_LANES], e1y[PMC_LANES], e1z[PMC_LANES], e2x[PMC_LANES], e2y[PMC_LANES];
+  float e2z[PMC_LANES], d1u[PMC_LANES], d1v[PMC_LANES], d2u[PMC_LANES], d2v[PMC_LANES];
+} PmcConeLanes;
+
+/* Lane k's inputs: a hit's, or zeros (an escaped ray; gradients 0). */
+static inline void pmc_cone_lane_set(PmcConeLanes* c, int k, float3 dir, float3 ng, float radius, float3 e1,
+                                     float3 e2, float2 d1, float2 d2) {
+  c->dx[k] = dir.x, c->dy[k] = dir.y, c->dz[k] = dir.z, c->nx[k] = ng.x, c->ny[k] = ng.y, c->nz[k] = ng.z;
+  c->radius[k] = radius, c->e1x[k] = e1.x, c->e1y[k] = e1.y, c->e1z[k] = e1.z;
+  c->e2x[k] = e2.x, c->e2y[k] = e2.y, c->e2z[k] = e2.z;
+  c->d1u[k] = d1.x, c->d1v[k] = d1.y, c->d2u[k] = d2.x, c->d2v[k] = d2.y;
+}
+
 /* Pass 1: the lights the ray met (quads before its hit; the environment and
- * sun disks if it escaped), then the hit's geometry, shading frame, ray cone
- * and (with the cache) texel. */
+ * sun disks if it escaped), then the hit's geometry and shading frame, and
+ * lane k of `cone`: what its ray cone's gradients need (pmc_ray_cone_lanes
+ * computes them for the batch, then pmc_hit_cache_keys finds its texels). */
 static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData* scene,
                                  __global const PmcRay* rays, __global const PmcHit* hits,
-                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp) {
+                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp, PmcConeLanes* cone,
+                                 int k) {
   PmcRay ray = rays[i];
   PmcHit hit = hits[i];
   hp->path = ray.id;
@@ -204,7 +235,11 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     path->radiance[1] = radiance.y;
     path->radiance[2] = radiance.z;
   }
-  if (!hp->surface) return;
+  if (!hp->surface) {
+    const float3 o = make_float3(0.0f, 0.0f, 0.0f);
+    pmc_cone_lane_set(cone, k, o, o, 0.0f, o, o, make_float2(0.0f, 0.0f), make_float2(0.0f, 0.0f));
+    return;
+  }
 
   __global const PmcTriangleRecord* tri = &scene->triangles[hit.prim];
   float3 p0 = pmc_corner(tri->p, 0);
@@ -242,11 +277,10 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
 
   /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
   float cone_width = path->cone_width + hit.t * frame->cam_spread;
-  float2 g1, g2;
-  pmc_ray_cone_gradients(dir, ng, 0.5f * cone_width, p0, p1, p2, t0, t1, t2, &g1, &g2);
+  float2 d1 = t1 - t0, d2 = t2 - t0;
+  pmc_cone_lane_set(cone, k, dir, ng, 0.5f * cone_width, p1 - p0, p2 - p0, d1, d2);
 
   /* Tangent frame from the uv parameterisation (dp/du), orthonormalised to ns. */
-  float2 d1 = t1 - t0, d2 = t2 - t0;
   float det = d1.x * d2.y - d1.y * d2.x;
   float3 tangent = (p1 - p0) * d2.y - (p2 - p0) * d1.y;
   tangent = tangent - ns * dot(ns, tangent);
@@ -272,8 +306,6 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->ns = ns;
   hp->tangent = tangent;
   hp->uv = uv;
-  hp->g1 = g1;
-  hp->g2 = g2;
   hp->t = hit.t;
   hp->hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
   hp->area2 = area2;
@@ -286,38 +318,86 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cache_points = 0u;
   hp->cache_position_mask = 0u;
   hp->cache_extra = 0.0f;
-  if (frame->cache_on) {
-    __global const PmcMaterialInfo* info = &scene->materials[tri->material];
-    hp->cache_points = info->cache_points;
-    /* The position cells' cone: wider than the texture's after rough bounces
-     * (uv texels keep the texture's: docs/DESIGN.md, "The cache's cone"). */
-    if (frame->cache_lobe_spread > 0.0f) {
-      const uint cone = path->cache_cone;
-      hp->cache_extra = fmin(pmc_cone_width(cone) + hit.t * pmc_cone_spread(cone), 1e30f);
-    }
-    hp->cache_position_mask = info->cache_position_mask;
-    if (frame->cache_bilinear && hp->cache_points > 0u) {
-      const float2 j = pmc_rand2(pmc_path_sampler(frame, hp->pixel, hp->path), hp->depth + 1u,
-                                 PMC_DIM_CACHE_U, PMC_DIM_CACHE_V);
-      hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
-    }
-    const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
-    if ((all & ~hp->cache_position_mask) != 0u)
-      hp->texel = pmc_cache_texel_floored(
-          uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
-          (uint)tri->material, info->cache_level_floor_uv, frame->cache_max_refine);
-    if (hp->cache_position_mask != 0u) {
-      /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
-       * the widening coarsens cells down to a floor at most, and a point is
-       * bypassed exactly where it would be without the widening. */
-      int max_refine = frame->cache_max_refine;
-      if (hp->cache_extra > 0.0f)
-        max_refine += pmc_cache_level(0.5f * cone_width, frame->mip_bias) -
-                      pmc_cache_level(0.5f * (cone_width + hp->cache_extra), frame->mip_bias);
-      hp->cell = pmc_cache_cell_floored(pos, 0.5f * (cone_width + hp->cache_extra), frame->mip_bias,
-                                        pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
-                                        (uint)tri->material, info->cache_level_floor_position, max_refine);
-    }
+}
+
+/* The uv gradients of a batch's n hits (their cones' footprints, from the
+ * lanes pmc_hit_point filled) into hp[k].g1, g2: eight at a time in float8
+ * where PMC_LANES allows (pmc_ray_cone_gradients8, the scalar form's twin),
+ * else hit by hit. */
+#if PMC_LANES8
+PMC_RAY_CONE_GRADIENTS(pmc_ray_cone_gradients8, float8, int8, PMC_SEL_VECTOR)
+#endif
+static inline void pmc_ray_cone_lanes(PmcConeLanes* c, int n, PmcHitPoint* hp) {
+  float g1u[PMC_LANES], g1v[PMC_LANES], g2u[PMC_LANES], g2v[PMC_LANES];
+#if PMC_LANES8
+  for (int k = n; k < ((n + 7) & ~7); ++k) /* the last group's spare lanes: no cone */
+    pmc_cone_lane_set(c, k, make_float3(0.0f, 0.0f, 1.0f), make_float3(0.0f, 0.0f, 1.0f), 0.0f,
+                      make_float3(0.0f, 0.0f, 0.0f), make_float3(0.0f, 0.0f, 0.0f), make_float2(0.0f, 0.0f),
+                      make_float2(0.0f, 0.0f));
+  for (int q = 0; q < n; q += 8) {
+    float8 a, b, d, e;
+    pmc_ray_cone_gradients8(vload8(0, c->dx + q), vload8(0, c->dy + q), vload8(0, c->dz + q),
+                            vload8(0, c->nx + q), vload8(0, c->ny + q), vload8(0, c->nz + q),
+                            vload8(0, c->radius + q), vload8(0, c->e1x + q), vload8(0, c->e1y + q),
+                            vload8(0, c->e1z + q), vload8(0, c->e2x + q), vload8(0, c->e2y + q),
+                            vload8(0, c->e2z + q), vload8(0, c->d1u + q), vload8(0, c->d1v + q),
+                            vload8(0, c->d2u + q), vload8(0, c->d2v + q), &a, &b, &d, &e);
+    vstore8(a, 0, g1u + q);
+    vstore8(b, 0, g1v + q);
+    vstore8(d, 0, g2u + q);
+    vstore8(e, 0, g2v + q);
+  }
+#else
+  for (int k = 0; k < n; ++k)
+    pmc_ray_cone_gradients_at(c->dx[k], c->dy[k], c->dz[k], c->nx[k], c->ny[k], c->nz[k], c->radius[k],
+                              c->e1x[k], c->e1y[k], c->e1z[k], c->e2x[k], c->e2y[k], c->e2z[k], c->d1u[k],
+                              c->d1v[k], c->d2u[k], c->d2v[k], &g1u[k], &g1v[k], &g2u[k], &g2v[k]);
+#endif
+  for (int k = 0; k < n; ++k) {
+    hp[k].g1 = make_float2(g1u[k], g1v[k]);
+    hp[k].g2 = make_float2(g2u[k], g2v[k]);
+  }
+}
+
+/* Pass 1's end, with the cache: the texel and cell of a hit's cache points
+ * (after its gradients). */
+static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                      __global PmcPathState* paths, PmcHitPoint* hp) {
+  if (!hp->surface) return;
+  __global PmcPathState* path = &paths[hp->path];
+  const float2 uv = hp->uv, g1 = hp->g1, g2 = hp->g2;
+  const float3 pos = hp->pos, ng = hp->ng;
+  const float cone_width = hp->cone_width;
+  __global const PmcMaterialInfo* info = &scene->materials[hp->material];
+  hp->cache_points = info->cache_points;
+  /* The position cells' cone: wider than the texture's after rough bounces
+   * (uv texels keep the texture's: docs/DESIGN.md, "The cache's cone"). */
+  if (frame->cache_lobe_spread > 0.0f) {
+    const uint cone = path->cache_cone;
+    hp->cache_extra = fmin(pmc_cone_width(cone) + hp->t * pmc_cone_spread(cone), 1e30f);
+  }
+  hp->cache_position_mask = info->cache_position_mask;
+  if (frame->cache_bilinear && hp->cache_points > 0u) {
+    const float2 j = pmc_rand2(pmc_path_sampler(frame, hp->pixel, hp->path), hp->depth + 1u, PMC_DIM_CACHE_U,
+                               PMC_DIM_CACHE_V);
+    hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
+  }
+  const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
+  if ((all & ~hp->cache_position_mask) != 0u)
+    hp->texel = pmc_cache_texel_floored(
+        uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y), (uint)hp->material,
+        info->cache_level_floor_uv, frame->cache_max_refine);
+  if (hp->cache_position_mask != 0u) {
+    /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
+     * the widening coarsens cells down to a floor at most, and a point is
+     * bypassed exactly where it would be without the widening. */
+    int max_refine = frame->cache_max_refine;
+    if (hp->cache_extra > 0.0f)
+      max_refine += pmc_cache_level(0.5f * cone_width, frame->mip_bias) -
+                    pmc_cache_level(0.5f * (cone_width + hp->cache_extra), frame->mip_bias);
+    hp->cell = pmc_cache_cell_floored(pos, 0.5f * (cone_width + hp->cache_extra), frame->mip_bias,
+                                      pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
+                                      (uint)hp->material, info->cache_level_floor_position, max_refine);
   }
 }
 
@@ -638,14 +718,6 @@ static inline void pmc_prefetch_ahead(const PmcSceneData* scene, __global const 
 }
 #endif
 
-/* Batches whose lanes split into groups of eight run parts of their work in
- * float8, eight lanes at a time (PoCL does not vectorise those loops itself). */
-#if PMC_LANES >= 8 && PMC_LANES % 8 == 0
-#define PMC_LANES8 1
-#else
-#define PMC_LANES8 0
-#endif
-
 #if PMC_LANES >= 8
 /* pmc_sincos_turns and pmc_sph_rect_sample_xy (core/abi/pmc_vec.h,
  * core/device/pmc_lights.h), eight lanes at a time: the same operations in
@@ -710,7 +782,6 @@ static inline void pmc_sph_rect_sample_xy8(float8 omega, float8 k, float8 b0, fl
 /* The light tree's importance eight lanes at a time: the scalar form's
  * arithmetic (PMC_TREE_IMPORTANCE, core/device/pmc_lights.h) on float8, so
  * each lane's value is pmc_tree_importance's bit for bit. */
-#define PMC_SEL_VECTOR(c, a, b) select((b), (a), (c))
 PMC_TREE_IMPORTANCE(pmc_tree_importance8, float8, int8, PMC_SEL_VECTOR)
 
 /* The points and pick normals of a batch's lanes, one array per component. */
@@ -1048,8 +1119,11 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
 #endif
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
   PmcHitPoint hp[PMC_LANES];
-  for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k]);
+  PmcConeLanes cone;
+  for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k], &cone, k);
+  pmc_ray_cone_lanes(&cone, n, hp);
   if (frame->cache_on) {
+    for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
     const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
     for (int k = 0; k < n; ++k)
       if (hp[k].surface && hp[k].cache_points > 0u) {
