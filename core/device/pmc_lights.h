@@ -212,46 +212,62 @@ typedef struct PmcSphRect {
  * point and the light, so the sampler and the MIS weight agree. */
 #define PMC_SPH_RECT_MIN_SOLID_ANGLE 1e-3f
 
+/* The set-up's arithmetic, one source for two forms (as PMC_TREE_IMPORTANCE):
+ * F is float (pmc_sph_rect_init below) or float8 (eight lanes of a batch at
+ * once in the shade kernel), I its comparison type, SEL(c, a, b) its select,
+ * ACOS4(a, b, c, d, ga, gb, gc, gd) the four angles' arc cosines: one float4
+ * call in the scalar form, four float8 calls in the vector one (PoCL's
+ * float4 and float8 acos agree bit for bit; its scalar acos does not).
+ * Straight-line, the products written out, so that both forms give the same
+ * bits: a light sample's solid angle and its MIS recomputation
+ * (pmc_quad_light_pdf) must agree exactly. In: the quad's edges eu, ev and
+ * d = corner - p. Declares the frame's axes (xx, xy, xz), (yx, yy, yz),
+ * (zx, zy, zz), the extents z0, x0, x1, y0, y1, the sampling terms b0, b1,
+ * k and the solid angle omega (0 where p is in the quad's plane). */
+#define PMC_SPH_RECT_SETUP(F, I, SEL, ACOS4, eux, euy, euz, evx, evy, evz, dx, dy, dz)                     \
+  const F one_ = (F)(1.0f), zero_ = (F)(0.0f);                                                             \
+  const F lu = sqrt(eux * eux + euy * euy + euz * euz), lv = sqrt(evx * evx + evy * evy + evz * evz);      \
+  const F iu = one_ / lu, iv = one_ / lv;                                                                  \
+  const F xx = eux * iu, xy = euy * iu, xz = euz * iu, yx = evx * iv, yy = evy * iv, yz = evz * iv;        \
+  /* z = x cross y, turned toward p's side (z0 <= 0) */                                                    \
+  const F cx_ = xy * yz - xz * yy, cy_ = xz * yx - xx * yz, cz_ = xx * yy - xy * yx;                       \
+  const F c0_ = dx * cx_ + dy * cy_ + dz * cz_;                                                            \
+  const I flip_ = c0_ > zero_;                                                                             \
+  const F zx = SEL(flip_, -cx_, cx_), zy = SEL(flip_, -cy_, cy_), zz = SEL(flip_, -cz_, cz_);              \
+  const F z0 = SEL(flip_, -c0_, c0_);                                                                      \
+  const F x0 = dx * xx + dy * xy + dz * xz, y0 = dx * yx + dy * yy + dz * yz;                              \
+  const F x1 = x0 + lu, y1 = y0 + lv, z2_ = z0 * z0;                                                       \
+  /* the inward normals of the great circles through the edges, n0 = (0, z0, -y0) i0, n1 = (-z0, 0,        \
+   * x1) i1, n2 = (0, -z0, y1) i2, n3 = (z0, 0, -x0) i3, and the angles between them: acos(-n0.n1) ...  */ \
+  const F i0_ = one_ / sqrt(z2_ + y0 * y0), i1_ = one_ / sqrt(z2_ + x1 * x1);                              \
+  const F i2_ = one_ / sqrt(z2_ + y1 * y1), i3_ = one_ / sqrt(z2_ + x0 * x0);                              \
+  F g0_, g1_, g2_, g3_;                                                                                    \
+  ACOS4(clamp((y0 * i0_) * (x1 * i1_), -1.0f, 1.0f), clamp(-((x1 * i1_) * (y1 * i2_)), -1.0f, 1.0f),       \
+        clamp((y1 * i2_) * (x0 * i3_), -1.0f, 1.0f), clamp(-((x0 * i3_) * (y0 * i0_)), -1.0f, 1.0f), g0_,  \
+        g1_, g2_, g3_);                                                                                    \
+  const F b0 = -y0 * i0_, b1 = y1 * i2_;                                                                   \
+  const F k = (F)(2.0f * PMC_PI) - g2_ - g3_;                                                              \
+  const F omega = SEL(z0 < zero_, fmax(zero_, g0_ + g1_ - k), zero_);
+#define PMC_ACOS4_SCALAR(a, b, c, d, ga, gb, gc, gd)  \
+  do {                                                \
+    const float4 g4_ = acos(make_float4(a, b, c, d)); \
+    ga = g4_.x, gb = g4_.y, gc = g4_.z, gd = g4_.w;   \
+  } while (0)
+
 /* The spherical rectangle of rectangular quad l seen from p; returns its
  * solid angle (0 when l is not a rectangle or p is in its plane). */
 PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRect* r) {
   r->solid_angle = 0.0f;
   if (!(l->flags & PMC_LIGHT_RECTANGLE)) return 0.0f;
-  float3 eu = pmc_load3(l->axis), ev = pmc_load3(l->edge_v);
-  float lu = length(eu), lv = length(ev);
-  r->x = eu * (1.0f / lu);
-  r->y = ev * (1.0f / lv);
-  r->z = cross(r->x, r->y);
-  float3 d = pmc_load3(l->pos) - p;
-  r->z0 = dot(d, r->z);
-  if (r->z0 > 0.0f) {
-    r->z = -r->z;
-    r->z0 = -r->z0;
-  }
-  if (!(r->z0 < 0.0f)) return 0.0f;
-  r->x0 = dot(d, r->x);
-  r->y0 = dot(d, r->y);
-  r->x1 = r->x0 + lu;
-  r->y1 = r->y0 + lv;
-  float z0 = r->z0, z2 = z0 * z0;
-  /* the normals of the four great circles through the edges, inward; their
-   * four lengths in one vector square root and division (four scalar ones
-   * waited on each other) */
-  const float4 len =
-      sqrt(make_float4(z2 + r->y0 * r->y0, z2 + r->x1 * r->x1, z2 + r->y1 * r->y1, z2 + r->x0 * r->x0));
-  const float4 inv = 1.0f / len;
-  float3 n0 = make_float3(0.0f, z0, -r->y0) * inv.x;
-  float3 n1 = make_float3(-z0, 0.0f, r->x1) * inv.y;
-  float3 n2 = make_float3(0.0f, -z0, r->y1) * inv.z;
-  float3 n3 = make_float3(z0, 0.0f, -r->x0) * inv.w;
-  /* the four angles between them in one call (a vector acos costs about what one scalar call does) */
-  const float4 g = acos(make_float4(clamp(-dot(n0, n1), -1.0f, 1.0f), clamp(-dot(n1, n2), -1.0f, 1.0f),
-                                    clamp(-dot(n2, n3), -1.0f, 1.0f), clamp(-dot(n3, n0), -1.0f, 1.0f)));
-  r->b0 = n0.z;
-  r->b1 = n2.z;
-  r->k = 2.0f * PMC_PI - g.z - g.w;
-  r->solid_angle = fmax(0.0f, g.x + g.y - r->k);
-  return r->solid_angle;
+  const float3 eu = pmc_load3(l->axis), ev = pmc_load3(l->edge_v), d = pmc_load3(l->pos) - p;
+  PMC_SPH_RECT_SETUP(float, int, PMC_SEL_SCALAR, PMC_ACOS4_SCALAR, eu.x, eu.y, eu.z, ev.x, ev.y, ev.z, d.x,
+                     d.y, d.z)
+  r->x = make_float3(xx, xy, xz);
+  r->y = make_float3(yx, yy, yz);
+  r->z = make_float3(zx, zy, zz);
+  r->z0 = z0, r->x0 = x0, r->x1 = x1, r->y0 = y0, r->y1 = y1;
+  r->b0 = b0, r->b1 = b1, r->k = k, r->solid_angle = omega;
+  return omega;
 }
 
 /* The point in direction (u, v) of the unit square, mapped uniformly over
@@ -598,7 +614,16 @@ PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, flo
 }
 
 /* pmc_light_sample_begin's answers besides 0 (nothing) and 1 (done). */
-#define PMC_LIGHT_SAMPLE_RECT 2 /* a spherical rectangle to sample: pmc_light_sample_rect_end */
+#define PMC_LIGHT_SAMPLE_RECT 2  /* a spherical rectangle to sample: pmc_light_sample_rect_end */
+#define PMC_LIGHT_SAMPLE_SETUP 3 /* (defer_rect) a rectangle quad whose set-up the caller computes */
+
+/* Quad l's sample by area at (u1, u2), where its spherical rectangle (of
+ * solid angle omega) is too small to sample. */
+PMC_FN int pmc_quad_sample_by_area(PMC_GLOBAL const PmcLight* l, float pmf, float omega, float3 p, float u1,
+                                   float u2, PmcLightSample* s) {
+  const float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
+  return pmc_area_light_sample_at(l, pmf, omega, p, q, s);
+}
 
 /* Sample light `picked` (picked with probability pmf; -1: none) from point
  * p with (pick) normal n (u1, u2), except for one step: a quad sampled by
@@ -606,9 +631,14 @@ PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, flo
  * *r, light index in *light and pick probability in *pmf, and its point is
  * pmc_sph_rect_sample(r, p, u1, u2), which the shade kernel computes for a
  * batch's lanes in one loop (straight-line, vectorised), then
- * pmc_light_sample_rect_end. */
+ * pmc_light_sample_rect_end. With defer_rect, a rectangle quad returns
+ * PMC_LIGHT_SAMPLE_SETUP (*light and *pmf set) before its set-up, which the
+ * caller computes (the shade kernel: for a batch's lanes in float8), then
+ * samples by solid angle or, below PMC_SPH_RECT_MIN_SOLID_ANGLE,
+ * pmc_quad_sample_by_area. */
 PMC_FN int pmc_light_sample_picked(const PmcLightSet* ls, int picked, float pmf, float3 p, float3 n, float u1,
-                                   float u2, PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
+                                   float u2, int defer_rect, PmcLightSample* s, PmcSphRect* r, int* light,
+                                   float* pmf_out) {
   if (picked < 0 || !(pmf > 0.0f)) return 0;
   PMC_GLOBAL const PmcLight* l = &ls->lights[picked];
   pmc_u32 type = l->type;
@@ -620,14 +650,12 @@ PMC_FN int pmc_light_sample_picked(const PmcLightSet* ls, int picked, float pmf,
     float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * bc.y + pmc_load3(l->edge_v) * (1.0f - bc.x - bc.y);
     return pmc_area_light_sample_at(l, pmf, 0.0f, p, q, s);
   } else if (type == PMC_LIGHT_QUAD) {
+    *light = picked;
+    *pmf_out = pmf;
+    if (defer_rect && (l->flags & PMC_LIGHT_RECTANGLE)) return PMC_LIGHT_SAMPLE_SETUP;
     const float omega = pmc_sph_rect_init(l, p, r);
-    if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) {
-      *light = picked;
-      *pmf_out = pmf;
-      return PMC_LIGHT_SAMPLE_RECT;
-    }
-    float3 q = pmc_load3(l->pos) + pmc_load3(l->axis) * u1 + pmc_load3(l->edge_v) * u2;
-    return pmc_area_light_sample_at(l, pmf, omega, p, q, s);
+    if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) return PMC_LIGHT_SAMPLE_RECT;
+    return pmc_quad_sample_by_area(l, pmf, omega, p, u1, u2, s);
   } else if (type == PMC_LIGHT_POINT || type == PMC_LIGHT_SPOT) {
     float3 d = pmc_load3(l->pos) - p;
     float dist2 = dot(d, d);
@@ -681,7 +709,7 @@ PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, flo
                                   PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   float pmf;
   const int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
-  return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, s, r, light, pmf_out);
+  return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, 0, s, r, light, pmf_out);
 }
 
 /* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at point q of the rectangle. */

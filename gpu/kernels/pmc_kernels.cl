@@ -891,6 +891,72 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
 }
 #endif
 
+#if PMC_LANES8
+/* The set-ups of the rectangle quads that lanes [0, m) picked (state
+ * PMC_LIGHT_SAMPLE_SETUP), eight at a time in float8: PMC_SPH_RECT_SETUP
+ * (core/device/pmc_lights.h), the scalar pmc_sph_rect_init's twin bit for
+ * bit. Each becomes PMC_LIGHT_SAMPLE_RECT, its rectangle in rect[j] and in
+ * the sampling loop's arrays (s_*), or, below PMC_SPH_RECT_MIN_SOLID_ANGLE,
+ * is sampled by area there and then. Returns the number of rectangles. */
+#define PMC_ACOS4_VECTOR(a, b, c, d, ga, gb, gc, gd) (ga = acos(a), gb = acos(b), gc = acos(c), gd = acos(d))
+static inline int pmc_sph_rect_setup_lanes(const PmcLightSet* lights, const PmcNeeInput* nee, int m,
+                                           const PmcBatchNumbers* numbers, const int* lane, int* state,
+                                           const int* light, const float* pmf, PmcSphRect* rect,
+                                           PmcLightSample* ls, float* s_omega, float* s_k, float* s_b0,
+                                           float* s_b1, float* s_z0, float* s_x0, float* s_x1, float* s_y0,
+                                           float* s_y1) {
+  int at[PMC_LANES], count = 0;
+  for (int j = 0; j < m; ++j)
+    if (state[j] == PMC_LIGHT_SAMPLE_SETUP) at[count++] = j;
+  if (count == 0) return 0;
+  float eux[PMC_LANES], euy[PMC_LANES], euz[PMC_LANES], evx[PMC_LANES], evy[PMC_LANES], evz[PMC_LANES];
+  float dx[PMC_LANES], dy[PMC_LANES], dz[PMC_LANES];
+  for (int q = 0; q < ((count + 7) & ~7); ++q) { /* the last group's spare lanes repeat the first */
+    const int j = at[q < count ? q : 0];
+    __global const PmcLight* l = &lights->lights[light[j]];
+    const float3 d = pmc_load3(l->pos) - nee[j].origin;
+    eux[q] = l->axis[0], euy[q] = l->axis[1], euz[q] = l->axis[2];
+    evx[q] = l->edge_v[0], evy[q] = l->edge_v[1], evz[q] = l->edge_v[2];
+    dx[q] = d.x, dy[q] = d.y, dz[q] = d.z;
+  }
+  float o[18][PMC_LANES]; /* the set-up's values (their order: the stores below) */
+  for (int q = 0; q < count; q += 8) {
+    PMC_SPH_RECT_SETUP(float8, int8, PMC_SEL_VECTOR, PMC_ACOS4_VECTOR, vload8(0, eux + q), vload8(0, euy + q),
+                       vload8(0, euz + q), vload8(0, evx + q), vload8(0, evy + q), vload8(0, evz + q),
+                       vload8(0, dx + q), vload8(0, dy + q), vload8(0, dz + q))
+    const float8 values[18] = {xx, xy, xz, yx, yy, yz, zx, zy, zz, z0, x0, x1, y0, y1, b0, b1, k, omega};
+    for (int v = 0; v < 18; ++v) vstore8(values[v], 0, o[v] + q);
+  }
+  int rects = 0;
+  for (int q = 0; q < count; ++q) {
+    const int j = at[q];
+    const float omega = o[17][q];
+    if (!(omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE)) {
+      const int k = lane[j];
+      state[j] = pmc_quad_sample_by_area(&lights->lights[light[j]], pmf[j], omega, nee[j].origin,
+                                         numbers->light_u[k], numbers->light_v[k], &ls[j]);
+      continue;
+    }
+    PmcSphRect* r = &rect[j];
+    r->x = make_float3(o[0][q], o[1][q], o[2][q]);
+    r->y = make_float3(o[3][q], o[4][q], o[5][q]);
+    r->z = make_float3(o[6][q], o[7][q], o[8][q]);
+    r->z0 = s_z0[j] = o[9][q];
+    r->x0 = s_x0[j] = o[10][q];
+    r->x1 = s_x1[j] = o[11][q];
+    r->y0 = s_y0[j] = o[12][q];
+    r->y1 = s_y1[j] = o[13][q];
+    r->b0 = s_b0[j] = o[14][q];
+    r->b1 = s_b1[j] = o[15][q];
+    r->k = s_k[j] = o[16][q];
+    r->solid_angle = s_omega[j] = omega;
+    state[j] = PMC_LIGHT_SAMPLE_RECT;
+    ++rects;
+  }
+  return rects;
+}
+#endif
+
 /* Next-event estimation for lanes lane[0, m) of a batch (their
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
  * light pick (with the light tree, its levels' importances eight lanes at
@@ -926,7 +992,7 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
 #if PMC_LANES8
     state[j] = nee[j].active
                    ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
-                                             nee[j].pick_normal, numbers->light_u[k], numbers->light_v[k],
+                                             nee[j].pick_normal, numbers->light_u[k], numbers->light_v[k], 1,
                                              &ls[j], &rect[j], &light[j], &pmf[j])
                    : 0;
 #else
@@ -950,6 +1016,10 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     su[j] = numbers->light_u[k];
     sv[j] = numbers->light_v[k];
   }
+#if PMC_LANES8
+  rects += pmc_sph_rect_setup_lanes(lights, nee, m, numbers, lane, state, light, pmf, rect, ls, omega, rk, b0,
+                                    b1, z0, x0, x1, y0, y1);
+#endif
 #if PMC_LANES >= 8
   for (int j = rects ? m : PMC_LANES; j < ((m + 7) & ~7); ++j) /* the last group's unused lanes */
     omega[j] = rk[j] = b0[j] = b1[j] = z0[j] = x0[j] = x1[j] = y0[j] = y1[j] = su[j] = sv[j] = 0.0f;
