@@ -145,7 +145,35 @@ def find_pmc(pmc, prog, setup="if-missing", extra_packages=()):
                 sys.exit(f"{prog}: scripts/setup failed")
     if not os.access(pmc, os.X_OK):
         sys.exit(f"{prog}: {pmc} is not an executable (run scripts/setup or pass --pmc)")
+    newer = newest_source_after(pmc)
+    if newer:
+        print(f"{prog}: warning: {pmc} is older than {newer}: it may not be this checkout's code "
+              "(rebuild it, e.g. scripts/setup, or pass --pmc)", file=sys.stderr, flush=True)
     return pmc
+
+
+SOURCE_DIRS = ("app", "core", "gpu", "materials")  # what a pmc binary is built from (its kernels included)
+
+
+def newest_source_after(binary, root=None):
+    """A source file under SOURCE_DIRS of `root` (default the checkout) modified after `binary`
+    was written, the newest one; None when there is none (or the binary cannot be read)."""
+    try:
+        built = os.path.getmtime(binary)
+    except OSError:
+        return None
+    newest, when = None, built
+    for top in SOURCE_DIRS:
+        for folder, _, files in os.walk(os.path.join(root or ROOT, top)):
+            for name in files:
+                path = os.path.join(folder, name)
+                try:
+                    t = os.path.getmtime(path)
+                except OSError:
+                    continue
+                if t > when:
+                    newest, when = path, t
+    return os.path.relpath(newest, root or ROOT) if newest else None
 
 
 # ---- the machine -------------------------------------------------------------------

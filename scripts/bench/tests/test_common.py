@@ -231,3 +231,19 @@ class Running(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class StaleBinary(unittest.TestCase):
+    def test_names_the_newest_source_written_after_the_binary(self):
+        with tempfile.TemporaryDirectory() as d:
+            for rel, t in (("core/a.h", 100), ("gpu/kernels/k.cl", 300), ("docs/x.md", 400), ("pmc", 200)):
+                path = os.path.join(d, rel)
+                os.makedirs(os.path.dirname(path), exist_ok=True)
+                open(path, "w").close()
+                os.utime(path, (t, t))
+            binary = os.path.join(d, "pmc")
+            self.assertEqual(common.newest_source_after(binary, d), os.path.join("gpu", "kernels", "k.cl"))
+            os.utime(binary, (350, 350))  # docs/ is not a source of the binary
+            self.assertIsNone(common.newest_source_after(binary, d))
+            self.assertIsNone(common.newest_source_after(os.path.join(d, "missing"), d))
+
