@@ -320,8 +320,8 @@ PMC_FN void pmc_cache_group_begin(PmcCacheGroup* g, int n, const PmcCacheContext
   g->replay_pc = 0u;
   for (int k = 0; k < PMC_BATCH(n); ++k) {
     g->missed[k] = 0u;
-    g->texel[k].ready = 0u;
-    g->cell[k].ready = 0u;
+    g->texel[k].ready = g->texel[k].bypass = 0u;
+    g->cell[k].ready = g->cell[k].bypass = 0u;
     if (cache) {
       g->texel[k] = cache[k].texel;
       g->cell[k] = cache[k].cell;
@@ -364,19 +364,33 @@ PMC_FN void pmc_lanes_place(PmcLanes* lanes, int j, int k, const PmcCacheGroup* 
   }
 }
 
-/* Packs the points that missed a lookup of the group into the first lanes,
- * reading their texel's and cell's centres (sub-samples) in cache_eval center. */
-PMC_FN void pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
-                                  const PmcCacheContext* cache) {
+/* The group's lookups of point k that were bypassed (a key too fine to pay:
+ * evaluated at the point's own inputs, never inserted): every uv point when
+ * its texel is bypassed, every position point when its cell is. */
+PMC_FN pmc_u32 pmc_group_bypassed(const PmcCacheGroup* g, int k) {
+  return (g->texel[k].ready && g->texel[k].bypass ? ~g->by_position : 0u) |
+         (g->cell[k].ready && g->cell[k].bypass ? g->by_position : 0u);
+}
+
+/* Packs the points that need pass g->pass of the group into the first lanes,
+ * reading their texel's and cell's centres (sub-samples) in cache_eval center:
+ * on the last pass every point that missed a lookup, before it only those
+ * with a miss that is not bypassed. A bypassed point keeps its last pass's
+ * value, so with sub-samples it joins the last pass alone and its sub-graphs
+ * run once, not once per sub-sample (at 256 spp, 4-8 times). Returns how many. */
+PMC_FN int pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
+                                 const PmcCacheContext* cache) {
+  const int last = g->pass + 1u >= g->passes;
   int nn = 0;
   (void)n; /* unused when PMC_LANES is 1 */
   for (int k = 0; k < PMC_BATCH(n); ++k)
-    if (g->missed[k] != 0u) {
+    if ((last ? g->missed[k] : g->missed[k] & ~pmc_group_bypassed(g, k)) != 0u) {
       pmc_lanes_set(lanes, nn, k, in);
       pmc_lanes_place(lanes, nn, k, g, cache);
       ++nn;
     }
   lanes->n = nn;
+  return nn;
 }
 
 /* CACHE_LOOKUP for every point of the batch. imm: node id (bits 0-13) |
@@ -425,7 +439,11 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
     g->passes = 1u;
     if (cache && cache[0].center)
       g->passes = g->samples_uv > g->samples_position ? g->samples_uv : g->samples_position;
-    pmc_lanes_pack_missed(lanes, g, in, n, cache);
+    /* only bypassed misses: straight to the last pass, the one they run in */
+    if (pmc_lanes_pack_missed(lanes, g, in, n, cache) == 0 && g->passes > 1u) {
+      g->pass = g->passes - 1u;
+      pmc_lanes_pack_missed(lanes, g, in, n, cache);
+    }
     if (lanes->n == 0) { /* every point hit: skip the sub-graphs and stores */
       pc += skip;
       lanes->n = n;
@@ -459,7 +477,7 @@ PMC_FN float4 pmc_cache_accumulate(float* row, pmc_u32 width, pmc_u32 pass, pmc_
  * in `dst` and, with a cache, is inserted (pmc_cache_point_store). With
  * sub-samples (g->passes > 1) the stores of all but the last pass only add
  * their values up, and the last pass's store inserts the mean (a bypassed
- * key, evaluated at its own point every pass, keeps its last value). Returns
+ * key, evaluated at its own point in the last pass only, keeps that value). Returns
  * the next pc: past this STORE, or back to the group's sub-graphs after the
  * last STORE of a pass that is not the last. After the group's last store
  * every point runs again in its own lane. */
@@ -489,10 +507,14 @@ PMC_FN pmc_u32 pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc
     if (width > 3u) row[3 * PMC_LANES] = v.w;
   }
   if (g->stores == g->lookups) {
-    if (!last_pass) { /* the next sub-sample: the same packed lanes, the sub-graphs again */
+    if (!last_pass) { /* the next sub-sample: the sub-graphs again */
       g->pass += 1u;
       g->stores = 0u;
-      for (int j = 0; j < PMC_BATCH(nn); ++j) pmc_lanes_place(lanes, j, lanes->lane_of[j], g, cache);
+      if (g->pass + 1u < g->passes) {
+        for (int j = 0; j < PMC_BATCH(nn); ++j) pmc_lanes_place(lanes, j, lanes->lane_of[j], g, cache);
+      } else {
+        pmc_lanes_pack_missed(lanes, g, in, n, cache); /* the last: with the bypassed points */
+      }
       return g->replay_pc;
     }
     pmc_lanes_all(lanes, in, n); /* the group is done: every point again */

@@ -12,6 +12,13 @@
 // uv stripes over the texel's 4 sub-sample points plus half its mean of the
 // x stripes over the cell's 16, evaluated on the host without a cache (the
 // independent answer), to float rounding and the device's sin.
+//
+// Bypassed keys (a level floor more than max_refine levels finer than the
+// footprint) are evaluated at the point's own inputs once, in the group's
+// last pass: a work-item whose odd lanes bypass their cells, and one whose
+// every lane bypasses both keys (no lane needs the sub-samples: the group
+// goes straight to its last pass), must give the reference at the point
+// itself for what they bypass and the sub-samples' mean for the rest.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -72,7 +79,8 @@ const char* kKernel = R"CL(
 #define PMC_LANES 8
 #include "pmc_interp.h"
 __kernel void shade(__global const uint* code, uint entry, __global const float* points,
-                    __global ulong* table, ulong cells, float texel, __global float* out, uint n) {
+                    __global ulong* table, ulong cells, float texel, __global float* out, uint n,
+                    uint floors) {
   const uint first = get_global_id(0) * PMC_LANES;
   if (first >= n) return;
   const int m = (int)min((uint)PMC_LANES, n - first);
@@ -100,9 +108,12 @@ __kernel void shade(__global const uint* code, uint entry, __global const float*
     c->bias = 0.0f;
     c->jitter = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
     c->radius = texel;
-    c->floors = 0u;
-    c->level_floor_uv = c->level_floor_position = PMC_LEVEL_NO_FLOOR;
-    c->max_refine = 0;
+    /* floors 1: work-item w % 3 == 1 bypasses its odd lanes' cells, 2 every key */
+    const uint mode = floors ? get_global_id(0) % 3u : 0u;
+    c->floors = mode != 0u ? 1u : 0u;
+    c->level_floor_uv = mode == 2u ? 9 : PMC_LEVEL_NO_FLOOR; /* the footprint's level is 6 */
+    c->level_floor_position = mode == 2u || (mode == 1u && (k & 1)) ? 9 : PMC_LEVEL_NO_FLOOR;
+    c->max_refine = 2;
     c->material = 1u;
     c->center = 1u;
     c->depth = 0u;
@@ -139,7 +150,10 @@ float reference(const MaterialProgram& prog, int material, float2 uv, float3 p) 
   return out[PMC_P_SPECULAR_ROUGHNESS];
 }
 
-TEST(CacheSupersampleDevice, BatchedMissesStoreTheMeanOfTheirSubSamples) {
+// The roughness every point gets: half the uv stripes, half the x stripes,
+// each the mean over its key's sub-samples or, where the point bypasses that
+// key (`floors`: the kernel's pattern), their value at the point itself.
+void expect_batched_means(bool floors) {
   TexturePool tex;
   MaterialProgram prog;
   CompileOptions on;
@@ -173,7 +187,7 @@ TEST(CacheSupersampleDevice, BatchedMissesStoreTheMeanOfTheirSubSamples) {
            table = cl.buffer(zeros.size() * 8, zeros.data()), out = cl.buffer(n * 4);
   cl_kernel k = kernel.kernel("shade");
   set_kernel_args(k, code, cl_uint(prog.materials[0].entry), in, table, cl_ulong(cells), kTexel, out,
-                  cl_uint(n));
+                  cl_uint(n), cl_uint(floors ? 1 : 0));
   enqueue_1d(cl.queue(), k, (n + 7) / 8);
   std::vector<float> got(n);
   cl.read(out, 0, n * 4, got.data());
@@ -199,9 +213,18 @@ TEST(CacheSupersampleDevice, BatchedMissesStoreTheMeanOfTheirSubSamples) {
           prog, 2, uv,
           make_float3(float(c.tx) * wc + o.x * wc, float(c.ty) * wc + o.y * wc, float(c.tz) * wc + o.z * wc));
     }
-    const double expected = 0.5 * mean_u / 4.0 + 0.5 * mean_x / 16.0;
-    ASSERT_NEAR(got[i], expected, 2e-5) << "point " << i;
+    const uint32_t mode = floors ? (i / 8) % 3 : 0;
+    const bool own_u = mode == 2, own_x = mode == 2 || (mode == 1 && i % 2 == 1);
+    const double u = own_u ? double(reference(prog, 1, uv, pos)) : mean_u / 4.0;
+    const double x = own_x ? double(reference(prog, 2, uv, pos)) : mean_x / 16.0;
+    ASSERT_NEAR(got[i], 0.5 * u + 0.5 * x, 2e-5) << "point " << i << ", floors " << floors;
   }
+}
+
+TEST(CacheSupersampleDevice, BatchedMissesStoreTheMeanOfTheirSubSamples) { expect_batched_means(false); }
+
+TEST(CacheSupersampleDevice, BypassedKeysAreEvaluatedAtThePointOnceInTheLastPass) {
+  expect_batched_means(true);
 }
 
 }  // namespace
