@@ -114,7 +114,7 @@ struct InfoArgs {
   // pmc render's defaults (gpu/render_settings_table.h).
   int cache_min_nodes = RenderConfig{}.cache_min_nodes;
   bool cache_position_keys = RenderConfig{}.cache_position_keys;
-  bool cache_bandwidth = RenderConfig{}.cache_bandwidth;
+  bool cache_bandwidth = RenderConfig{}.cache_bandwidth != CacheBandwidth::Off;
   double cache_feature_texels = RenderConfig{}.cache_feature_texels;
   int cache_supersample = RenderConfig{}.cache_supersample;
   // The cost model's frame and device (pmc render's defaults).
@@ -314,10 +314,10 @@ CommandRun add_info_command(CLI::App& pmc) {
       ->check(cli::one_of({"uv", "uv+position"}))
       ->default_str("uv+position");
   app->add_option_function<std::string>(
-         "--cache-bandwidth", [a](const std::string& v) { a->cache_bandwidth = v == "on"; },
-         "level floors from the patterns' feature sizes (see pmc render --help)")
-      ->type_name("on|off")
-      ->check(cli::one_of({"on", "off"}))
+         "--cache-bandwidth", [a](const std::string& v) { a->cache_bandwidth = v != "off"; },
+         "level floors from the patterns' feature sizes (see pmc render --help; camera: the same floors)")
+      ->type_name("on|camera|off")
+      ->check(cli::one_of({"on", "camera", "off"}))
       ->default_str("off");
   app->add_option("--cache-supersample", a->cache_supersample,
                   "sub-samples a cache miss averages over its texel, for the frame above (see pmc render "

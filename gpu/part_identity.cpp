@@ -105,11 +105,12 @@ std::string settings_hash(const RenderSettings& s) {
       h.word(0x666974ull);                          // "fit"
       add_floats(h, &c.fit_levels, 1);
     }
-    add_tagged_settings(h, s, true);  // cache_lobe_spread ("lobe") ...
-    if (c.bandwidth) {                // level floors change the image
-      h.word(0x62616e6477696474ull);  // "bandwidt(h)"
+    add_tagged_settings(h, s, true);           // cache_lobe_spread ("lobe") ...
+    if (c.bandwidth != CacheBandwidth::Off) {  // level floors change the image
+      h.word(0x62616e6477696474ull);           // "bandwidt(h)"
       h.word(uint64_t(c.max_refine));
       add_floats(h, &c.feature_texels, 1);
+      if (c.bandwidth == CacheBandwidth::Camera) h.word(0x63616d657261ull);  // "camera"
     }
   }
   add_tagged_settings(h, s, false);

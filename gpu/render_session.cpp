@@ -213,7 +213,8 @@ void RenderSession::prepare_scene(const std::function<void(double&)>& lap,
   mo.compile.cache = config_.cache;
   mo.compile.cache_min_nodes = config_.cache_min_nodes;
   mo.compile.cache_position_keys = config_.cache_position_keys;
-  mo.compile.cache_feature_texels = config_.cache_bandwidth ? config_.cache_feature_texels : 0.0;
+  mo.compile.cache_feature_texels =
+      config_.cache_bandwidth != CacheBandwidth::Off ? config_.cache_feature_texels : 0.0;
   if (config_.cache_eval == CacheEval::Center)  // hit mode stores the hit's value: nothing to average
     mo.compile.cache_supersample = cache_supersample_ =
         resolve_supersample(cache_frame(config_), config_.cache_supersample);

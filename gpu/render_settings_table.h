@@ -97,6 +97,11 @@ enum class CachePolicy { KeepFirst, Priority };
 // Where a path's numbers come from (core/device/pmc_rng.h): Owen-scrambled
 // Sobol points, or independent hashed numbers (the sampler before Sobol).
 enum class Sampler { Sobol, Random };
+// Where level floors (materials/bandwidth.h) apply: nowhere (texels follow the
+// footprint), at every hit, or at camera-ray hits only (deeper hits follow the
+// footprint: a camera hit's texel shows in its pixel, a deeper hit's value is
+// spread over the lobe that reached it).
+enum class CacheBandwidth { Off, On, Camera };
 // Which nodes become cache points: the node count alone (cache_min_nodes),
 // or also whether each pays on the device for the frame (materials/node_costs.h).
 enum class CacheModel { Nodes, Cost };
@@ -192,16 +197,18 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     "which sub-graphs become cache points: cost: those of at least --cache-min-nodes nodes that also pay "  \
     "on this device for this frame (sub-graph cost x expected hit rate against lookup and miss costs; "   \
     "'pmc info --dump-cache-plan' shows the figures); nodes: the node count alone")                         \
-  X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", bool, false, 0, 0, "", Cache, FIXED,           \
-    S(cache.bandwidth), NONE, "bandwidth", "off|on",                                                        \
+  X(cache_bandwidth, "cache_bandwidth", "--cache-bandwidth", CacheBandwidth, CacheBandwidth::Off, 0, 0,    \
+    "", Cache, FIXED, S(cache.bandwidth), K(cache_bandwidth, IF_CACHE), "bandwidth", "off|on|camera",       \
     "on: level floors: a cache point's texels are at most half its pattern's smallest feature (grid "       \
     "lines, tile gaps, a noise's finest octave; see 'pmc info --dump-cache-plan'), finer than the "         \
-    "footprint where needed; off: texels follow the footprint alone (the paper; faster: on the default "    \
-    "scene the floors cost most of the cache's speedup, docs/BENCHMARKS.md)")                               \
+    "footprint where needed; camera: the floors at camera-ray hits only, which show their texels in "       \
+    "the pixel, while later hits follow the footprint (sub-pixel detail exact where the camera sees it, "   \
+    "the cache's speed elsewhere); off: texels follow the footprint alone (the paper; faster: on the "      \
+    "default scene the floors cost most of the cache's speedup, docs/BENCHMARKS.md)")                       \
   X(cache_feature_texels, "cache_feature_texels", "--cache-feature-texels", double, 2.0, 0.125, 64,         \
     "must be 0.125..64, got {}", Cache, FIXED, S(cache.feature_texels), NONE, "feature_texels", "N",        \
-    "with --cache-bandwidth on: texels across a pattern's smallest feature (more: finer texels, less "      \
-    "aliasing, fewer hits)")                                                                                \
+    "with --cache-bandwidth on or camera: texels across a pattern's smallest feature (more: finer "        \
+    "texels, less aliasing, fewer hits)")                                                                   \
   X(cache_fit, "cache_fit", "--cache-fit", bool, false, 0, 0, "", Cache, NO, NONE, NONE, "", "off|on",      \
     "on: when the table holds fewer entries than the frame's expected keys need at load factor 1/2 (a "     \
     "--cache-cells below the automatic size, or a table the memory limit shrank), coarsen the texels "      \

@@ -216,6 +216,8 @@ PmcFrame make_frame(const RenderSettings& s, const SceneBuffers& scene) {
   static_assert(uint32_t(Sampler::Sobol) == PMC_SAMPLER_SOBOL &&
                 uint32_t(Sampler::Random) == PMC_SAMPLER_RANDOM);
   static_assert(uint32_t(false) == PMC_CACHE_KEEP_FIRST && uint32_t(true) == PMC_CACHE_PRIORITY);
+  static_assert(uint32_t(CacheBandwidth::On) == PMC_CACHE_FLOORS_EVERY_HIT &&
+                uint32_t(CacheBandwidth::Camera) == PMC_CACHE_FLOORS_CAMERA);
   frame.wave_pixels = 1u;  // set per wave
   frame.wave_samples = 1u;
   return frame;

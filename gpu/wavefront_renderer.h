@@ -44,10 +44,10 @@ struct CacheSettings {
   // the table (0 when they fit or with fit off); the kernels' level bias is
   // mip_bias - fit_levels.
   float fit_levels = 0.0f;
-  bool center = false;          // cache_eval center
-  bool bilinear = false;        // cache_filter bilinear (center mode)
-  bool priority = false;        // cache_policy priority: camera inserts may replace deeper entries
-  bool bandwidth = false;       // cache_bandwidth on: materials carry level floors (bandwidth.h)
+  bool center = false;    // cache_eval center
+  bool bilinear = false;  // cache_filter bilinear (center mode)
+  bool priority = false;  // cache_policy priority: camera inserts may replace deeper entries
+  CacheBandwidth bandwidth = CacheBandwidth::Off;  // on/camera: materials carry level floors (bandwidth.h)
   float feature_texels = 2.0f;  // cache_feature_texels: texels across a pattern's smallest feature
   std::string reason;           // why this size (printed, and written to stats)
   // Count the occupied entries by reading the table back after the render

@@ -285,6 +285,7 @@ typedef struct PmcLightHeader {
   M(A, pmc_u32, cache_policy)      /* PMC_CACHE_KEEP_FIRST or PMC_CACHE_PRIORITY (pmc_cache.h) */ \
   M(A, pmc_i32, cache_max_refine)  /* level floors above the footprint's before bypass */         \
   M(A, float, cache_lobe_spread)   /* position cells widen per bounce (pmc_lobe_spread) */        \
+  M(A, pmc_u32, cache_bandwidth)   /* level floors: 0 none, 1 at every hit, 2 at camera hits */   \
   M(A, pmc_u32, passes_on)         /* render passes: fill PmcPathPasses and the pass film */      \
   M(A, pmc_u32, wave_pixels)       /* path i of the wave: pixel pixel_offset + i % wave_pixels */ \
   M(A, pmc_u32, wave_samples)      /* of the window, sample `sample` + i / wave_pixels */         \
@@ -294,6 +295,11 @@ typedef struct PmcLightHeader {
   M(A, float, clamp_indirect)      /* through later hits (pmc_clamp_light) */
 /* clang-format on */
 #define PMC_FRAME_MEMBER_(unused, type, member) type member;
+
+/* PmcFrame.cache_bandwidth: where the materials' level floors apply
+ * (CacheBandwidth; 0: nowhere, their floors are not computed). */
+#define PMC_CACHE_FLOORS_EVERY_HIT 1u
+#define PMC_CACHE_FLOORS_CAMERA 2u
 
 /* Everything a wave's kernels need to know about the frame. */
 typedef struct PmcFrame {

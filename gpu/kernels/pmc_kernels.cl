@@ -383,10 +383,15 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
     hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
   }
   const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
+  /* level floors (none unless the cache_bandwidth setting computed them): at every hit,
+   * or with `camera` at camera-ray hits only */
+  const int floors = frame->cache_bandwidth != PMC_CACHE_FLOORS_CAMERA || hp->depth == 0u;
+  const int floor_uv = floors ? info->cache_level_floor_uv : PMC_LEVEL_NO_FLOOR;
+  const int floor_position = floors ? info->cache_level_floor_position : PMC_LEVEL_NO_FLOOR;
   if ((all & ~hp->cache_position_mask) != 0u)
     hp->texel = pmc_cache_texel_floored(
         uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y), (uint)hp->material,
-        info->cache_level_floor_uv, frame->cache_max_refine);
+        floor_uv, frame->cache_max_refine);
   if (hp->cache_position_mask != 0u) {
     /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
      * the widening coarsens cells down to a floor at most, and a point is
@@ -397,7 +402,7 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
                     pmc_cache_level(0.5f * (cone_width + hp->cache_extra), frame->mip_bias);
     hp->cell = pmc_cache_cell_floored(pos, 0.5f * (cone_width + hp->cache_extra), frame->mip_bias,
                                       pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
-                                      (uint)hp->material, info->cache_level_floor_position, max_refine);
+                                      (uint)hp->material, floor_position, max_refine);
   }
 }
 

@@ -13,9 +13,10 @@ Method:
   1. one 1-spp render of every configuration, not timed (they fill PoCL's
      kernel cache and the OS file cache; kernel compiles are never in
      render_seconds);
-  2. RUNS rounds of `pmc render --cache off`, `--cache on` and `--cache on
+  2. RUNS rounds of `pmc render --cache off`, `--cache on`, `--cache on
      --cache-bandwidth on` (texels no coarser than the patterns: the answer
-     to patterns finer than a pixel) at WIDTHxHEIGHT and SPP with --stats,
+     to patterns finer than a pixel) and `--cache-bandwidth camera` (those
+     floors at camera-ray hits only) at WIDTHxHEIGHT and SPP with --stats,
      and of the room with room.mtl's constant materials instead of the
      networks (--cache off: a free material, the ceiling of any cache), the
      order rotated every round; the median render_seconds of each, off / each
@@ -28,7 +29,8 @@ Method:
      in its worst 16x16 tile (pmc compare's metrics.json, as bench.cache and
      bench.cache_position read them), and the worst tile with each tile's 2
      largest pixel errors left out;
-  3a. one more `pmc compare` of the default cache with another seed, which
+  3a. one more `pmc compare` of the default cache and of `--cache-bandwidth
+     camera` with another seed, which
      parts the cache's bias from the noise (bias_estimate): the two cacheless
      renders' difference is noise alone (the noise floor of any same-seed
      figure), and the mean of (on_1 - off_1)(on_2 - off_2) over a tile is an
@@ -59,8 +61,12 @@ SCENE = ["data/heavy/room.obj", "--mtlx", "data/heavy/materials.mtlx"]
 # The cached ones (CACHED) are also compared with the cacheless render for their bias.
 CONFIGS = [("off", SCENE, ["--cache", "off"]), ("on", SCENE, ["--cache", "on"]),
            ("bandwidth", SCENE, ["--cache", "on", "--cache-bandwidth", "on"]),
+           ("camera", SCENE, ["--cache", "on", "--cache-bandwidth", "camera"]),
            ("free", SCENE[:1], ["--cache", "off"])]
-CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`"}
+CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`",
+          "camera": "cache on, `--cache-bandwidth camera`"}
+# The cached configurations whose bias is read apart from the noise with a second seed.
+TWO_SEEDS = ("on", "camera")
 GOAL_SPEEDUP = 2.0
 GOAL_WORST_TILE = 40.0
 IDENTICAL_DB = 999.0        # pmc compare's PSNR of identical images
@@ -152,14 +158,15 @@ class Measure:
                     worst_trimmed_tile=m.get("worst_trimmed_tile"), speed_ratio=metrics.get("speed_ratio"),
                     hit_rate=metrics.get("hit_rate"))
 
-    def second_seed(self):
-        """The default cache's compare with seed 1: bias_estimate's second pair."""
-        progress(f"pmc compare --seed 1 at {self.a.psnr_width}x{self.a.psnr_height}, {self.a.psnr_spp} spp")
-        d = f"{self.out}/compare_on_seed1"
-        common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d, "--seed", "1",
+    def second_seed(self, name, extra):
+        """A cached configuration's compare with seed 1: bias_estimate's second pair."""
+        progress(f"pmc compare {' '.join(extra)} --seed 1 at {self.a.psnr_width}x{self.a.psnr_height}, "
+                 f"{self.a.psnr_spp} spp")
+        d = f"{self.out}/compare_{name}_seed1"
+        common.run([self.a.pmc, "compare", *SCENE, "--out-dir", d, "--seed", "1", *extra[2:],
                     *common.size_args(self.a.psnr_width, self.a.psnr_height, self.a.psnr_spp)],
-                   self.log, "compare on, seed 1", append=True)
-        return bias_estimate(f"{self.out}/compare_on", d)
+                   self.log, f"compare {name}, seed 1", append=True)
+        return bias_estimate(f"{self.out}/compare_{name}", d)
 
     def supersample(self):
         """{K: compare result} of --cache-supersample K at the PSNR size (0: auto)."""
@@ -190,7 +197,8 @@ class Measure:
                                                             "lookups", "position_lookups", "bypassed")},
                                 memory=c.get("memory_bytes"), size_reason=c.get("size_reason", ""),
                                 **self.compare(name, extra))
-        two_seeds = self.second_seed()
+        extras = {name: extra for name, _, extra in CONFIGS}
+        biases = {name: self.second_seed(name, extras[name]) for name in TWO_SEEDS}
         supersampled = self.supersample()
         plan = common.run([self.a.pmc, "info", "--scene", *SCENE, "--dump-cache-plan"], self.log, "cache plan",
                           append=True).output
@@ -200,7 +208,8 @@ class Measure:
                     runs=self.a.runs, psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height,
                     psnr_spp=self.a.psnr_spp, times=times, t_off=common.median(times["off"]),
                     t_free=common.median(times["free"]), ratios_free=common.round_ratios(times["off"], times["free"]),
-                    cached=cached, two_seeds=two_seeds, supersample=supersampled, plan=parse_plan(plan))
+                    cached=cached, two_seeds=biases["on"], camera_bias=biases["camera"], supersample=supersampled,
+                    plan=parse_plan(plan))
 
 
 TILE = 16  # pmc compare's tile (core/image_metrics.h kMetricTile)
@@ -366,7 +375,17 @@ another seed separates the two (`bias_estimate` in scripts/bench/heavy.py: the m
 | noise floor: cacheless seed 0 against cacheless seed 1 | {b['noise_psnr']:.1f} dB | {b['noise_worst_tile_psnr']:.1f} dB at {tuple(b['noise_worst_tile'])} |
 | cached against cacheless, same seed (the table) | {on['psnr']:.1f} dB | {on['worst_tile_psnr']:.1f} dB at {tuple(on['worst_tile'])} |
 | the cache's bias, noise taken out (two seeds) | {b['bias_psnr']:.1f} dB | {b['bias_worst_tile_psnr']:.1f} dB at {tuple(b['bias_worst_tile'])}{tile_range(b)} |
-"""
+{camera_bias_row(d)}"""
+
+
+def camera_bias_row(d):
+    """The bias row of --cache-bandwidth camera (empty for results before it was measured)."""
+    b, r = d.get("camera_bias"), cached_results(d).get("camera")
+    if not b or not r:
+        return ""
+    return (f"| `--cache-bandwidth camera`: its bias, noise taken out ({d['t_off'] / r['t']:.2f}x at "
+            f"{d['width']}x{d['height']}, {d['spp']} spp) | {b['bias_psnr']:.1f} dB | "
+            f"{b['bias_worst_tile_psnr']:.1f} dB at {tuple(b['bias_worst_tile'])}{tile_range(b)} |\n")
 
 
 def goals_text(d, cached, size, psnr_size):
@@ -386,6 +405,10 @@ def goals_text(d, cached, size, psnr_size):
                           + goal(b["bias_worst_tile_psnr"] >= GOAL_WORST_TILE))
     else:
         tile_goal = f"not measured here ({tile})"
+    camera, cb = cached.get("camera"), d.get("camera_bias")
+    if camera and cb and d["psnr_spp"] == GOAL_PSNR_SPP:
+        tile_goal += (f". With `--cache-bandwidth camera` (level floors at camera hits): "
+                      f"{d['t_off'] / camera['t']:.2f}x, its bias's worst tile {cb['bias_worst_tile_psnr']:.1f} dB")
     return (f"Goals (issue 39), for the default cache: cache on at least {GOAL_SPEEDUP:.1f}x at 640x360, 16 spp: "
             f"{speed_goal}; the worst 16x16 tile at least {GOAL_WORST_TILE:.0f} dB at 256 spp: {tile_goal}.")
 

@@ -269,8 +269,9 @@ TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
   const nlohmann::json& c = floors.stats["cache"];
   EXPECT_GT(c["lookups"].get<uint64_t>(), 0u) << c.dump();
   EXPECT_GT(c["bypassed"].get<uint64_t>(), 0u) << c.dump();
-  EXPECT_TRUE(c["bandwidth"].get<bool>());
-  EXPECT_FALSE(paper.stats["cache"]["bandwidth"].get<bool>()) << "footprint texels are the default";
+  EXPECT_EQ(c["bandwidth"].get<std::string>(), "on");
+  EXPECT_EQ(paper.stats["cache"]["bandwidth"].get<std::string>(), "off")
+      << "footprint texels are the default";
   EXPECT_EQ(paper.stats["cache"]["bypassed"].get<uint64_t>(), 0u);
   const double p_floors = clamped_psnr(floors.image, off.image),
                p_paper = clamped_psnr(paper.image, off.image);
@@ -278,6 +279,40 @@ TEST(CacheRender, LevelFloorsKeepThinGridLinesFromAliasing) {
               p_paper);
   EXPECT_GT(p_floors, 25.0);
   EXPECT_LT(p_paper, 20.0) << "the check can fail: footprint-sized texels alias the lines";
+}
+
+// --cache-bandwidth camera: the same floors at camera-ray hits only. With one
+// surface hit per path only camera hits shade, and the render is `on`'s bit
+// for bit (the same floors and lookups; the footprint texels' render differs
+// there, so the check can fail). With bounces (the teapot's spout, handle and
+// lid see each other) later hits follow the footprint: fewer points are
+// bypassed than with `on`, and more lookups hit.
+TEST(CacheRender, CameraLevelFloorsApplyAtCameraHitsOnly) {
+  const std::string grid =
+      " --mtlx " + mtlx("linepattern.mtlx") + " --material test_grid --cache-min-nodes 1" + kByNodeCount;
+  std::string one_hit = kView;
+  one_hit.replace(one_hit.find("--max-depth 4"), 13, "--max-depth 1");
+  const Render& on1 = render("grid_floors_1", grid + one_hit + kFull + " --cache on --cache-bandwidth on");
+  const Render& camera1 =
+      render("grid_camera_1", grid + one_hit + kFull + " --cache on --cache-bandwidth camera");
+  const Render& paper1 = render("grid_paper_1", grid + one_hit + kFull + " --cache on");
+  ASSERT_FALSE(on1.image.pixels.empty());
+  ASSERT_FALSE(camera1.image.pixels.empty());
+  ASSERT_FALSE(paper1.image.pixels.empty());
+  EXPECT_EQ(camera1.image.pixels, on1.image.pixels) << "camera hits take the floors";
+  EXPECT_NE(paper1.image.pixels, on1.image.pixels) << "the check can fail";
+
+  const Render& on = render("grid_floors", grid + kView + kFull + " --cache on --cache-bandwidth on");
+  const Render& camera = render("grid_camera", grid + kView + kFull + " --cache on --cache-bandwidth camera");
+  ASSERT_FALSE(camera.image.pixels.empty());
+  const nlohmann::json &c = camera.stats["cache"], &o = on.stats["cache"];
+  EXPECT_EQ(c["bandwidth"].get<std::string>(), "camera");
+  EXPECT_GT(c["bypassed"].get<uint64_t>(), 0u) << c.dump();
+  EXPECT_LT(c["bypassed"].get<uint64_t>(), o["bypassed"].get<uint64_t>()) << "later hits are not bypassed";
+  EXPECT_GT(c["hits"].get<uint64_t>(), o["hits"].get<uint64_t>()) << "later hits use footprint texels";
+  EXPECT_EQ(c["camera_lookups"].get<uint64_t>(), o["camera_lookups"].get<uint64_t>())
+      << "camera hits bypass the same points (their hits differ: with `on`, later hits insert keys at "
+         "the camera's finer levels too)";
 }
 
 TEST(CacheRender, MarbleWithUvKeysOnlyHasNoHitsAnywhere) {

@@ -56,7 +56,7 @@ TEST(CachePolicy, PriorityHitsMoreOftenOnCameraRaysInSmallTables) {
   // The paper's texels (the default; said here because at 96x54 level
   // floors would send most points past the refinement limit, uncached, and
   // leave the table too empty to need a policy).
-  config.cache_bandwidth = false;
+  config.cache_bandwidth = CacheBandwidth::Off;
   config.cache_audit = true;  // occupied counted from the table itself, checked against inserts
   RenderSession session(config, test::cl());
   ASSERT_TRUE(session.settings().cache.on);

@@ -71,7 +71,7 @@ TEST(RenderSettingsTable, EverySettingHasItsFlagInRenderHelp) {
 
 TEST(RenderSettingsTable, HashedSettingsChangeThePartHashAndOthersDoNot) {
   RenderConfig base = valid();
-  base.cache_bandwidth = true;  // max_refine and feature_texels only matter with level floors
+  base.cache_bandwidth = CacheBandwidth::On;  // max_refine and feature_texels only matter with level floors
   const std::string base_hash = hash_of(base);
   int hashed = 0;
   visit_render_settings([&](const auto& info, auto config_field, auto) {

@@ -292,9 +292,11 @@ TEST(Numerical, HugeAndNegativeUvs) {
   RenderConfig s = hard::small_config(64, 20, 8, 4);
   hard::set_camera(s, 0, 0, 6, 0, 0, 0, 40.0f);
   s.env[0] = s.env[1] = s.env[2] = 1.0f;
-  for (bool floors : {true, false})    // level floors raise the level (and bypass); without them, lookups
+  // Level floors raise the level (and bypass) at every hit or at camera hits
+  // only; without them, lookups.
+  for (CacheBandwidth floors : {CacheBandwidth::On, CacheBandwidth::Camera, CacheBandwidth::Off})
     for (float bias : {0.0f, 8.0f}) {  // bias 8: finer levels, texel indices near 2^27
-      SCOPED_TRACE("mip bias " + std::to_string(bias) + (floors ? ", level floors" : ", no level floors"));
+      SCOPED_TRACE("mip bias " + std::to_string(bias) + ", level floors " + std::to_string(int(floors)));
       s.mip_bias = bias;
       s.cache_bandwidth = floors;
       render_all_clean(material_variants(dir + "/huge_uv.obj", dir), s);

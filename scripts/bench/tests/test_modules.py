@@ -91,6 +91,12 @@ class CommandLines(unittest.TestCase):
         self.assertIn("| the cache's bias, noise taken out (two seeds) |", heavy.two_seeds_text(
             dict(two_seeds=f, psnr_width=320, psnr_height=180, psnr_spp=256,
                  cached={"on": dict(psnr=36.0, worst_tile_psnr=21.0, worst_tile=[0, 0, 16])}), "x"))
+        camera = dict(two_seeds=f, camera_bias=f, psnr_width=320, psnr_height=180, psnr_spp=256, t_off=10.0,
+                      width=640, height=360, spp=16,
+                      cached={"on": dict(psnr=36.0, worst_tile_psnr=21.0, worst_tile=[0, 0, 16]),
+                              "camera": dict(t=8.0)})
+        self.assertIn("| `--cache-bandwidth camera`: its bias, noise taken out (1.25x at 640x360, 16 spp) |",
+                      heavy.two_seeds_text(camera, "x"))
         self.assertGreater(f["bias_psnr"], 45.0)  # a sixth of the image at 40 dB, the rest unbiased
         # No bias at all: the estimate stays far below the noise (or none is measurable).
         f = heavy.bias_figures(noisy(truth), noisy(truth), noisy(truth), noisy(truth))
