@@ -6,7 +6,12 @@
 // metrics.json and report.md into --out-dir. With --reference REF.exr (or
 // --reference-spp N, rendered cacheless with another seed) it also measures
 // each render against the reference, so the cache's bias can be told apart
-// from the noise both renders share. With --denoise the cached render is
+// from the noise both renders share. With --bias it renders both again with
+// a second seed and estimates the cache's bias with the noise taken out
+// (estimate_bias, core/image_metrics.h): what a CI gate should read, as a
+// same-seed comparison counts the fireflies of paths that part (a cached
+// value that differs in its last bits sends a path elsewhere) as error.
+// With --denoise the cached render is
 // also denoised (OIDN with its albedo and normal passes, core/denoiser.h)
 // and shown, and measured against the reference, in its own column.
 //
@@ -105,6 +110,12 @@ std::string report_markdown(const nlohmann::json& m, const std::string& obj, con
     << "| max abs error | " << m["max_abs_error"].get<double>() << " |\n"
     << "| cache hit rate | " << m["hit_rate"].get<double>() << " |\n"
     << "| cache memory (MiB) | " << m["cache_memory_bytes"].get<double>() / double(1 << 20) << " |\n";
+  if (m.contains("cache_bias")) {
+    const nlohmann::json& b = m["cache_bias"];
+    r << "| the cache's bias, noise taken out (two seeds; dB) | " << b["psnr"].get<double>() << " |\n"
+      << "| its worst 16x16 tile (dB) | " << b["worst_tile_psnr"].get<double>() << " |\n"
+      << "| noise floor: cacheless seed 1 vs seed 2 (dB) | " << b["noise_psnr"].get<double>() << " |\n";
+  }
   if (m.contains("reference")) {
     const nlohmann::json &on_ref = m["cached_vs_reference"], &off_ref = m["cacheless_vs_reference"];
     r << "| relMSE cached vs reference | " << on_ref["relmse"].get<double>() << " |\n"
@@ -133,7 +144,20 @@ struct CompareArgs {
   float diff_scale = 5.0f;
   bool quiet = false;
   bool denoise = false;
+  bool bias = false;  // also both renders with a second seed: the cache's bias apart from the noise
 };
+
+// The second seed of the bias estimate: independent of the first and of the
+// reference's (seed + 0x9e3779b9).
+uint32_t bias_seed(uint32_t seed) { return seed + 0x632be5abu; }
+
+nlohmann::json bias_json(const BiasEstimate& b, uint32_t seed2) {
+  return {{"seed2", seed2},
+          {"psnr", b.psnr},
+          {"worst_tile_psnr", b.worst_tile_psnr},
+          {"worst_tile", {b.worst_tile_x, b.worst_tile_y, kMetricTile}},
+          {"noise_psnr", b.noise_psnr}};
+}
 
 int run_compare(CompareArgs& a) {
   if (!a.reference.empty() && a.reference_spp > 0)
@@ -181,6 +205,13 @@ int run_compare(CompareArgs& a) {
     rs.seed = rs.seed + 0x9e3779b9u;  // independent noise
     reference = render(off_session, rs, "reference").image;
   }
+  RenderOutput off2, on2;  // --bias: the same renders with the second seed
+  if (a.bias) {
+    RenderSettings s_off = off_session.settings(), s_on = on_session.settings();
+    s_off.seed = s_on.seed = bias_seed(s_off.seed);
+    off2 = render(off_session, s_off, "cache off, seed 2");
+    on2 = render(on_session, s_on, "cache on,  seed 2");
+  }
 
   DenoiseResult clean;
   if (a.denoise) clean = denoise({&on.image, &on.passes.albedo, &on.passes.normal});
@@ -199,6 +230,10 @@ int run_compare(CompareArgs& a) {
   write_png_display(path("hitmap.png"), heatmap_with_colorbar(on.hitmap));
   write_exr(path("hitmap.exr"), on.hitmap);
   if (reference_spp > 0) write_exr(path("reference.exr"), reference);
+  if (a.bias) {
+    write_exr(path("cache_off_seed2.exr"), off2.image);
+    write_exr(path("cache_on_seed2.exr"), on2.image);
+  }
   if (a.denoise) {
     write_exr(path("cache_on_denoised.exr"), clean.image);
     write_png_display(path("cache_on_denoised.png"), tone_map_image(clean.image, a.tone_map));
@@ -240,6 +275,9 @@ int run_compare(CompareArgs& a) {
     m["cacheless_vs_reference"] = error_json(compare_images(off.image, reference));
     if (a.denoise) m["denoised_vs_reference"] = error_json(compare_images(clean.image, reference));
   }
+  if (a.bias)
+    m["cache_bias"] =
+        bias_json(estimate_bias(off.image, on.image, off2.image, on2.image), bias_seed(on_settings.seed));
   write_text_file(path("metrics.json"), m.dump(2) + "\n");
   write_text_file(path("report.md"), report_markdown(m, obj, on.stats.device));
   guard.commit();
@@ -284,6 +322,11 @@ CommandRun add_compare_command(CLI::App& pmc) {
       ->check(cli::positive())
       ->capture_default_str();
   add_quiet_flag(*app, a->quiet, "the summary and warnings still print");
+  app->add_flag("--bias", a->bias,
+                "also render both with a second seed and estimate the cache's bias with the noise taken "
+                "out (the mean of (on1 - off1)(on2 - off2) per tile, a same-seed comparison's fireflies "
+                "cancelled): metrics.json cache_bias, cache_off_seed2.exr, cache_on_seed2.exr; twice the "
+                "render time");
   app->add_flag("--denoise", a->denoise,
                 "also denoise the cached render (Intel Open Image Denoise with albedo and normal passes): "
                 "cache_on_denoised.exr/.png, its own column and, with a reference, its relMSE");

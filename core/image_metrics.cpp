@@ -96,6 +96,50 @@ ImageError compare_images(const Image& t, const Image& r) {
   return e;
 }
 
+BiasEstimate estimate_bias(const Image& off1, const Image& on1, const Image& off2, const Image& on2) {
+  for (const Image* im : {&on1, &off2, &on2})
+    if (im->width != off1.width || im->height != off1.height || im->channels != off1.channels ||
+        im->pixels.size() != off1.pixels.size())
+      fail("bias estimate: sizes differ (", im->width, "x", im->height, "x", im->channels, " vs ", off1.width,
+           "x", off1.height, "x", off1.channels, ")");
+  auto clamped = [](float v) { return std::isfinite(v) ? std::clamp(double(v), 0.0, 1.0) : 0.0; };
+  auto psnr = [](double mse) { return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 999.0; };
+  const int tiles_x = (off1.width + kMetricTile - 1) / kMetricTile,
+            tiles_y = (off1.height + kMetricTile - 1) / kMetricTile;
+  std::vector<double> tile_sum(size_t(tiles_x) * size_t(tiles_y), 0.0);
+  std::vector<size_t> tile_n(tile_sum.size(), 0);
+  double sum = 0.0, noise = 0.0;
+  const size_t c = size_t(off1.channels);
+  for (int y = 0; y < off1.height; ++y)
+    for (int x = 0; x < off1.width; ++x) {
+      const size_t tile = size_t(y / kMetricTile) * size_t(tiles_x) + size_t(x / kMetricTile);
+      for (size_t k = 0; k < c; ++k) {
+        const size_t i = (size_t(y) * size_t(off1.width) + size_t(x)) * c + k;
+        const double a = clamped(off1.pixels[i]), b = clamped(off2.pixels[i]);
+        const double product = (clamped(on1.pixels[i]) - a) * (clamped(on2.pixels[i]) - b);
+        tile_sum[tile] += product;
+        tile_n[tile] += 1;
+        sum += product;
+        noise += (a - b) * (a - b);
+      }
+    }
+  const size_t n = off1.pixels.size();
+  BiasEstimate e;
+  e.psnr = psnr(n ? sum / double(n) : 0.0);
+  e.noise_psnr = psnr(n ? noise / double(n) : 0.0);
+  double worst = 0.0;
+  for (size_t i = 0; i < tile_sum.size(); ++i) {
+    const double mean = tile_n[i] ? tile_sum[i] / double(tile_n[i]) : 0.0;
+    if (mean > worst) {
+      worst = mean;
+      e.worst_tile_x = int(i % size_t(tiles_x)) * kMetricTile;
+      e.worst_tile_y = int(i / size_t(tiles_x)) * kMetricTile;
+    }
+  }
+  e.worst_tile_psnr = psnr(worst);
+  return e;
+}
+
 Image difference_image(const Image& a, const Image& b, float scale) {
   if (a.pixels.size() != b.pixels.size()) fail("difference image: sizes differ");
   Image diff = tone_map_image(a);

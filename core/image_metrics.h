@@ -30,6 +30,25 @@ struct ImageError {
 
 // Throws pmc::Error if the sizes differ.
 ImageError compare_images(const Image& test, const Image& reference);
+
+// The cache's bias with the noise taken out, from a cacheless and a cached
+// render with one seed (off1, on1) and another pair with an independent seed
+// (off2, on2): each seed's noise is independent of the other's, so the mean
+// of (on1 - off1)(on2 - off2) over an area estimates the squared bias there,
+// where (on1 - off1)^2 also holds both renders' noise (a same-seed
+// comparison reads fireflies as error). On the clamped [0, 1] scale of the
+// PSNR above, averaged over the channels; where the bias is far below the
+// noise the estimate can come out negative, reported as 999 dB (none
+// measurable). The noise floor is the two cacheless renders against each
+// other: what a same-seed comparison cannot see below. A non-finite value
+// counts as 0 (pmc warns of such pixels).
+struct BiasEstimate {
+  double psnr = 0, worst_tile_psnr = 0;  // the squared bias's mean over the image, its worst tile
+  int worst_tile_x = 0, worst_tile_y = 0;
+  double noise_psnr = 0;  // off1 against off2
+};
+// Throws pmc::Error if the sizes differ.
+BiasEstimate estimate_bias(const Image& off1, const Image& on1, const Image& off2, const Image& on2);
 // |a - b| * scale of the tone-mapped display values, at most 1 (the paper's Fig. 1c).
 Image difference_image(const Image& a, const Image& b, float scale);
 

@@ -20,14 +20,23 @@ import tempfile
 from bench.common import ROOT
 
 HELP = """usage: scripts/ci-compare SCENE.obj [--mtlx F.mtlx ...] [--material NAME] --min-psnr DB
-                          [--max-relmse X] [--out-dir DIR] [--pmc PATH] [pmc compare options]
+                          [--max-relmse X] [--min-bias-psnr DB] [--min-bias-tile-psnr DB]
+                          [--out-dir DIR] [--pmc PATH] [pmc compare options]
 
 Renders SCENE with the material cache off and on at equal samples (pmc compare)
 and fails when the cached render differs too much from the cacheless one.
 
 options:
-  --min-psnr DB     fail when PSNR(cache on vs cache off) is below DB (required)
+  --min-psnr DB     fail when PSNR(cache on vs cache off) is below DB
   --max-relmse X    also fail when relMSE(cache on vs cache off) is above X
+  --min-bias-psnr DB
+                    fail when the cache's bias over the image, with the noise taken out,
+                    is below DB: pmc compare --bias renders both again with a second seed
+                    (twice the time), and the mean of (on1 - off1)(on2 - off2) cancels the
+                    fireflies of paths that part, which a same-seed PSNR counts as error
+  --min-bias-tile-psnr DB
+                    the same for the bias's worst 16x16 tile
+                    (at least one of --min-psnr, --min-bias-psnr, --min-bias-tile-psnr)
   --out-dir DIR     where images, metrics.json and report.md go (default: a new temp dir)
   --pmc PATH        pmc binary (default: $PMC, else build/pmc, else pmc on PATH)
   -h, --help        this text
@@ -35,7 +44,7 @@ options:
 
 exit status: 0 pass, 1 gate failed, 2 usage error, 3 pmc failed to render"""
 
-FLAGS = {"--quiet"}  # pmc compare options that take no value
+FLAGS = {"--quiet", "--bias", "--denoise"}  # pmc compare options that take no value
 
 
 def usage(msg):
@@ -66,13 +75,14 @@ def main(argv=None):
         sys.exit(0)
 
     scene = None
-    min_psnr = max_relmse = out_dir = pmc = None
+    min_psnr = max_relmse = out_dir = pmc = min_bias = min_bias_tile = None
     passthrough = []
     i = 0
     while i < len(args):
         a = args[i]
         name, eq, inline = a.partition("=")
-        if a.startswith("--") and name in ("--min-psnr", "--max-relmse", "--out-dir", "--pmc"):
+        if a.startswith("--") and name in ("--min-psnr", "--max-relmse", "--min-bias-psnr", "--min-bias-tile-psnr",
+                                           "--out-dir", "--pmc"):
             if eq:
                 value = inline
             elif i + 1 < len(args):
@@ -82,6 +92,10 @@ def main(argv=None):
                 usage(f"{name}: missing value")
             if name == "--min-psnr":
                 min_psnr = number(name, value)
+            elif name == "--min-bias-psnr":
+                min_bias = number(name, value)
+            elif name == "--min-bias-tile-psnr":
+                min_bias_tile = number(name, value)
             elif name == "--max-relmse":
                 max_relmse = number(name, value)
                 if max_relmse < 0:
@@ -107,8 +121,9 @@ def main(argv=None):
 
     if scene is None:
         usage("missing SCENE.obj")
-    if min_psnr is None:
-        usage("missing --min-psnr DB")
+    bias_gate = min_bias is not None or min_bias_tile is not None
+    if min_psnr is None and not bias_gate:
+        usage("missing a gate: --min-psnr DB (and/or --min-bias-psnr DB, --min-bias-tile-psnr DB)")
 
     given = {p.partition("=")[0] for p in passthrough if p.startswith("--")}
     defaults = [("--width", "160"), ("--height", "120"), ("--spp", "8")]
@@ -117,6 +132,8 @@ def main(argv=None):
             passthrough += [opt, val]
     if "--quiet" not in given:
         passthrough.append("--quiet")
+    if bias_gate and "--bias" not in given:
+        passthrough.append("--bias")
 
     if pmc is None:
         pmc = os.environ.get("PMC") or os.path.join(ROOT, "build", "pmc")
@@ -152,6 +169,8 @@ def main(argv=None):
             m = json.load(f)
         psnr = float(m["psnr"])
         relmse = float(m["relmse"])
+        bias = m["cache_bias"] if bias_gate else None
+        bias_psnr, bias_tile = (float(bias["psnr"]), float(bias["worst_tile_psnr"])) if bias else (None, None)
     except (OSError, ValueError, KeyError, TypeError) as e:
         print(f"ci-compare: ERROR: cannot read {metrics_path}: {e}", file=sys.stderr)
         sys.exit(3)
@@ -160,9 +179,16 @@ def main(argv=None):
     ratio = m.get("speed_ratio", t_off / t_on if t_on else 0.0)
     cache = m.get("cache", {})
     failures = []
-    psnr_ok = psnr >= min_psnr
+    psnr_ok = min_psnr is None or psnr >= min_psnr
     if not psnr_ok:
         failures.append(f"PSNR {psnr:.2f} dB is below --min-psnr {min_psnr:g} dB")
+    bias_ok = min_bias is None or bias_psnr >= min_bias
+    if not bias_ok:
+        failures.append(f"the cache's bias {bias_psnr:.2f} dB is below --min-bias-psnr {min_bias:g} dB")
+    bias_tile_ok = min_bias_tile is None or bias_tile >= min_bias_tile
+    if not bias_tile_ok:
+        failures.append(f"the cache's bias in its worst tile {bias_tile:.2f} dB is below --min-bias-tile-psnr "
+                        f"{min_bias_tile:g} dB")
     relmse_ok = max_relmse is None or relmse <= max_relmse
     if not relmse_ok:
         failures.append(f"relMSE {relmse:.4g} is above --max-relmse {max_relmse:g}")
@@ -171,7 +197,14 @@ def main(argv=None):
     print(f"  render time        cache off {t_off:.3f} s, cache on {t_on:.3f} s, speed-up {ratio:.2f}x "
           "(one run each: not a benchmark)")
     print(f"  PSNR on vs off     {psnr:.2f} dB" + ("  (identical images)" if psnr >= 999 else "") +
-          f"   min {min_psnr:g} dB: {verdict(psnr_ok)}")
+          (f"   min {min_psnr:g} dB: {verdict(psnr_ok)}" if min_psnr is not None else "   (no --min-psnr)"))
+    if bias:
+        tile = bias.get("worst_tile", [0, 0, 16])
+        print(f"  bias (two seeds)   {bias_psnr:.2f} dB" + ("  (none measurable)" if bias_psnr >= 999 else "") +
+              (f"   min {min_bias:g} dB: {verdict(bias_ok)}" if min_bias is not None else ""))
+        print(f"  bias, worst tile   {bias_tile:.2f} dB at ({tile[0]}, {tile[1]})" +
+              (f"   min {min_bias_tile:g} dB: {verdict(bias_tile_ok)}" if min_bias_tile is not None else "") +
+              f"; noise floor {float(bias.get('noise_psnr', 0)):.2f} dB")
     print(f"  relMSE on vs off   {relmse:.4g}" +
           (f"   max {max_relmse:g}: {verdict(relmse_ok)}" if max_relmse is not None else "   (no --max-relmse)"))
     print(f"  max abs error      {m.get('max_abs_error', float('nan')):.4g}")

@@ -9,6 +9,12 @@
 // mip level (--mip-bias -10 stores one value per cache point for the whole
 // teapot: the bricks disappear; 37.4 dB, relMSE 0.0082). Usage errors exit
 // with 2.
+//
+// The bias gates (pmc compare --bias: a second seed, the noise taken out):
+// measured on PoCL, the teapot's cache bias reads 46.5 dB over the image and
+// 37.4 dB in its worst tile (the two cacheless renders' noise floor: 35.9
+// dB); with --mip-bias -10, 36.5 and 28.2 dB. Gates of 42 and 33 dB pass the
+// first and fail the second on both counts.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -93,6 +99,26 @@ TEST(CiCompare, FailsOnADeliberatelyWrongMipLevelWithARealisticThreshold) {
   EXPECT_TRUE(has(bad.output, "above --max-relmse")) << bad.output;
 }
 
+TEST(CiCompare, BiasGatesPassTheTeapotAndFailAWrongMipLevel) {
+  const std::string gate = " --min-bias-psnr 42 --min-bias-tile-psnr 33", dir = test::temp_dir() + "/good";
+  Result good = ci_compare(teapot() + gate + " --out-dir " + dir);
+  EXPECT_EQ(good.code, 0) << good.output;
+  EXPECT_TRUE(has(good.output, "bias (two seeds)")) << good.output;
+  for (const char* f : {"cache_off_seed2.exr", "cache_on_seed2.exr"})
+    EXPECT_TRUE(test::file_exists(dir + "/" + f)) << f;
+  std::ifstream in(dir + "/metrics.json");
+  const nlohmann::json m = nlohmann::json::parse(in);
+  ASSERT_TRUE(m.contains("cache_bias")) << m.dump();
+  EXPECT_EQ(m["cache_bias"]["seed2"].get<uint32_t>(), m["seed"].get<uint32_t>() + 0x632be5abu);
+  EXPECT_LT(m["cache_bias"]["noise_psnr"].get<double>(), m["psnr"].get<double>())
+      << "the same-seed PSNR sits above the noise floor: the renders share their noise";
+
+  Result bad = ci_compare(teapot() + gate + " --mip-bias -10 --out-dir " + test::temp_dir() + "/bad");
+  EXPECT_EQ(bad.code, 1) << bad.output;
+  EXPECT_TRUE(has(bad.output, "below --min-bias-psnr 42")) << bad.output;
+  EXPECT_TRUE(has(bad.output, "below --min-bias-tile-psnr 33")) << bad.output;
+}
+
 TEST(CiCompare, UsageErrorsExitWith2) {
   const std::string scene = test::shared_scene("materialx/geometry/teapot.obj");
   const struct {
@@ -102,6 +128,7 @@ TEST(CiCompare, UsageErrorsExitWith2) {
       {scene, "--min-psnr"},                                                       // threshold missing
       {"--min-psnr 30", "SCENE"},                                                  // scene missing
       {scene + " --min-psnr abc", "--min-psnr"},                                   // not a number
+      {scene + " --min-bias-psnr x", "--min-bias-psnr"},                           // not a number
       {scene + " --min-psnr 30 --max-relmse -1", "--max-relmse"},                  // negative
       {scene + " --min-psnr 30 --cache on", "--cache"},                            // compare renders both
       {scene + " --min-psnr 30 --width 0", "--width"},                             // pmc's own check
