@@ -441,6 +441,13 @@ def notes_text(d, cached):
                   f"  the cacheless image at the cacheless speed ({d['t_off'] / bw['t']:.2f}x). What would help is",
                   "  a point cached at the footprint with its finest features filtered, or split so that the",
                   "  sub-pixel layers stay uncached and the coarse ones are cached."]
+    cam, cb = cached.get("camera"), d.get("camera_bias")
+    if cam and cb:
+        lines += ["  `--cache-bandwidth camera` applies those floors at camera-ray hits only: there every point is",
+                  "  evaluated without the cache, and later hits keep footprint texels, whose detail the bounce's",
+                  f"  lobe averages out: {d['t_off'] / cam['t']:.2f}x, and the cache's bias (two seeds, below) "
+                  f"{cb['bias_psnr']:.1f} dB over the image,",
+                  f"  {cb['bias_worst_tile_psnr']:.1f} dB in its worst tile."]
     elif bw:
         lines += ["  `--cache-bandwidth on` (texels no coarser than half the finest feature, or no cache where that",
                   f"  is more than 2 levels finer than the footprint) reads {bw['worst_tile_psnr']:.1f} dB in the worst "
@@ -462,8 +469,8 @@ def report(d):
     plan = common.md_table(["material", "nodes after pmc's passes", "cache points: sub-graph nodes (key)",
                             "nodes reading uv and position (not cacheable)"], plan_rows(d["plan"]))
     render_cmd = " ".join(["build/pmc", "render", *SCENE, "-o", "OUT.exr", "--stats", "OUT.json", "--cache",
-                           "off|on", "[--cache-bandwidth on]", *common.size_args(d["width"], d["height"], d["spp"])])
-    compare_cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR", "[--cache-bandwidth on]",
+                           "off|on", "[--cache-bandwidth on|camera]", *common.size_args(d["width"], d["height"], d["spp"])])
+    compare_cmd = " ".join(["build/pmc", "compare", *SCENE, "--out-dir", "DIR", "[--cache-bandwidth on|camera]",
                             *common.size_args(d["psnr_width"], d["psnr_height"], d["psnr_spp"])])
     section = f"""{SECTION}
 
