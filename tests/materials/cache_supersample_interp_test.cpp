@@ -207,6 +207,28 @@ TEST(CacheSupersample, SixteenSubSamplesAverageSubTexelStripes) {
   }
 }
 
+// A key bypassed by a level floor beyond the refinement limit has no texel
+// to average: with K = 16 sub-samples the point still gets its own value
+// (the group's last pass, run once, at the point's inputs), and nothing is
+// inserted. Batches of 1, as on GPUs and in this host build.
+TEST(CacheSupersample, ABypassedKeyGetsThePointsOwnValueOnce) {
+  for (bool by_position : {false, true}) {
+    Fixture f(16, by_position);
+    f.cx.floors = 1u;
+    f.cx.max_refine = 2;
+    f.cx.level_floor_uv = f.cx.level_floor_position = kLevel + 3;  // 3 levels finer: bypassed
+    for (int i = 0; i < 12; ++i) {
+      const float2 uv = uv_at(i);
+      const float3 p = p_at(i);
+      EXPECT_NEAR(f.eval(1, uv, p, true), f.eval(0, uv, p, false), 1e-6)
+          << "point " << i << ", position " << by_position;
+      EXPECT_EQ(f.cx.hits, 0u);
+    }
+    EXPECT_EQ(f.cx.counts[PMC_CSTAT_BYPASSED], 12u);
+    EXPECT_EQ(f.cx.counts[PMC_CSTAT_INSERTS], 0u);
+  }
+}
+
 TEST(CacheSupersample, OneSubSampleIsTheProgramAndValueOfBefore) {
   TexturePool tex;
   MaterialProgram before, one;
