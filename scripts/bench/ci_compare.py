@@ -169,7 +169,7 @@ def main(argv=None):
             m = json.load(f)
         psnr = float(m["psnr"])
         relmse = float(m["relmse"])
-        bias = m["cache_bias"] if bias_gate else None
+        bias = m["cache_bias"] if bias_gate else m.get("cache_bias")  # a --bias of its own: shown
         bias_psnr, bias_tile = (float(bias["psnr"]), float(bias["worst_tile_psnr"])) if bias else (None, None)
     except (OSError, ValueError, KeyError, TypeError) as e:
         print(f"ci-compare: ERROR: cannot read {metrics_path}: {e}", file=sys.stderr)
