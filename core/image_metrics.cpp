@@ -15,6 +15,12 @@
 #include "core/tone_map.h"
 
 namespace pmc {
+namespace {
+
+// PSNR with peak 1 of a mean squared error; identical images (0): 999 dB.
+double psnr_of(double mse) { return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 999.0; }
+
+}  // namespace
 
 ImageError compare_images(const Image& t, const Image& r) {
   if (t.width != r.width || t.height != r.height || t.channels != r.channels ||
@@ -40,7 +46,7 @@ ImageError compare_images(const Image& t, const Image& r) {
   e.rmse = n ? std::sqrt(se / double(n)) : 0.0;
   e.relmse = n ? rel / double(n) : 0.0;
   double mse_c = n ? se_clamped / double(n) : 0.0;
-  e.psnr = mse_c > 0 ? 10.0 * std::log10(1.0 / mse_c) : 999.0;  // identical images: reported as 999 dB
+  e.psnr = psnr_of(mse_c);
   // Per-tile clamped squared error; the worst tile has the largest mean.
   const int tiles_x = (t.width + kMetricTile - 1) / kMetricTile,
             tiles_y = (t.height + kMetricTile - 1) / kMetricTile;
@@ -68,7 +74,6 @@ ImageError compare_images(const Image& t, const Image& r) {
       for (size_t j = 0; j < top.size(); ++j)
         if (pixel_se > top[j]) std::swap(pixel_se, top[j]);  // insert, pushing the smaller ones down
     }
-  auto psnr = [](double mse) { return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 999.0; };
   double worst = 0.0, worst_trimmed = 0.0;
   for (size_t i = 0; i < tile_se.size(); ++i) {
     const int tx = int(i % size_t(tiles_x)) * kMetricTile, ty = int(i / size_t(tiles_x)) * kMetricTile;
@@ -91,8 +96,8 @@ ImageError compare_images(const Image& t, const Image& r) {
       e.worst_trimmed_tile_y = ty;
     }
   }
-  e.worst_tile_psnr = psnr(worst);
-  e.worst_trimmed_tile_psnr = psnr(worst_trimmed);
+  e.worst_tile_psnr = psnr_of(worst);
+  e.worst_trimmed_tile_psnr = psnr_of(worst_trimmed);
   return e;
 }
 
@@ -103,7 +108,6 @@ BiasEstimate estimate_bias(const Image& off1, const Image& on1, const Image& off
       fail("bias estimate: sizes differ (", im->width, "x", im->height, "x", im->channels, " vs ", off1.width,
            "x", off1.height, "x", off1.channels, ")");
   auto clamped = [](float v) { return std::isfinite(v) ? std::clamp(double(v), 0.0, 1.0) : 0.0; };
-  auto psnr = [](double mse) { return mse > 0 ? 10.0 * std::log10(1.0 / mse) : 999.0; };
   const int tiles_x = (off1.width + kMetricTile - 1) / kMetricTile,
             tiles_y = (off1.height + kMetricTile - 1) / kMetricTile;
   std::vector<double> tile_sum(size_t(tiles_x) * size_t(tiles_y), 0.0);
@@ -125,8 +129,8 @@ BiasEstimate estimate_bias(const Image& off1, const Image& on1, const Image& off
     }
   const size_t n = off1.pixels.size();
   BiasEstimate e;
-  e.psnr = psnr(n ? sum / double(n) : 0.0);
-  e.noise_psnr = psnr(n ? noise / double(n) : 0.0);
+  e.psnr = psnr_of(n ? sum / double(n) : 0.0);
+  e.noise_psnr = psnr_of(n ? noise / double(n) : 0.0);
   double worst = 0.0;
   for (size_t i = 0; i < tile_sum.size(); ++i) {
     const double mean = tile_n[i] ? tile_sum[i] / double(tile_n[i]) : 0.0;
@@ -136,7 +140,7 @@ BiasEstimate estimate_bias(const Image& off1, const Image& on1, const Image& off
       e.worst_tile_y = int(i / size_t(tiles_x)) * kMetricTile;
     }
   }
-  e.worst_tile_psnr = psnr(worst);
+  e.worst_tile_psnr = psnr_of(worst);
   return e;
 }
 
