@@ -276,6 +276,37 @@ bool reads_footprint(const std::vector<uint32_t>& code) {
 
 }  // namespace
 
+// The interpreter's only per-point inputs are what these instructions read:
+// the point's uv, position, frame, footprint, or a cache key made of them. A
+// written normal replaces the point's own (the default), so it too differs.
+bool program_is_uniform(const std::vector<uint32_t>& code) {
+  for (size_t pc = 0; pc < code.size(); pc += 2 + pmc_op_nargs(code[pc])) {
+    const uint32_t h = code[pc], op = pmc_op_code(h);
+    switch (op) {
+      case PMC_OP_END:
+        return true;
+      case PMC_OP_TEXCOORD:
+      case PMC_OP_POSITION:
+      case PMC_OP_NORMAL:
+      case PMC_OP_TANGENT:
+      case PMC_OP_BITANGENT:
+      case PMC_OP_IMAGE:
+      case PMC_OP_HEXIMAGE:
+      case PMC_OP_HEXNORMALMAP:
+      case PMC_OP_CACHE_LOOKUP:
+      case PMC_OP_CACHE_STORE:
+        return false;
+      case PMC_OP_OUTPUT:
+        if (pmc_op_imm(h) <= PMC_P_NORMAL + 2u && pmc_op_imm(h) + pmc_op_width(h) > PMC_P_NORMAL)
+          return false;
+        break;
+      default:
+        break;
+    }
+  }
+  return true;
+}
+
 const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, MaterialProgram& program,
                                          const CompileOptions& options) {
   CompiledMaterial cm;
@@ -294,6 +325,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   std::vector<uint32_t> code = emit.emitter().finish(cm.entry);
   cm.code_words = uint32_t(code.size());
   cm.reads_footprint = reads_footprint(code);
+  cm.uniform = program_is_uniform(code);
   cm.instructions = emit.emitter().instructions();
   cm.peak_stack = emit.peak_stack();
   program.code.insert(program.code.end(), code.begin(), code.end());

@@ -61,6 +61,7 @@ struct CompiledMaterial {
   std::vector<std::pair<std::string, uint32_t>> param_dependencies;  // surface input -> dep bits
   bool has_cutout = false;                                           // opacity depends on the shading point
   bool reads_footprint = false;  // an instruction filters an image by the ray cone (PMC_MAT_FOOTPRINT)
+  bool uniform = false;  // no instruction reads the shading point, none writes the normal (PMC_MAT_UNIFORM)
   float constant_emission[3] = {0, 0, 0};  // for light sampling
   CachePlan cache_plan;                    // the cache points emitted when the cache is on
 };
@@ -73,6 +74,11 @@ struct MaterialProgram {
 // Optimises `graph` in place and appends its program. Throws pmc::Error.
 const CompiledMaterial& compile_material(Graph& graph, TexturePool& textures, MaterialProgram& program,
                                          const CompileOptions& options = {});
+
+// Whether a program (its words from its first instruction) gives every
+// shading point the same surface parameters (CompiledMaterial::uniform): no
+// instruction reads the point and none writes the normal.
+bool program_is_uniform(const std::vector<uint32_t>& code);
 
 // Human-readable listing of one material's program.
 std::string disassemble(const MaterialProgram& program, const CompiledMaterial& m);

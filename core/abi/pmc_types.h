@@ -163,6 +163,10 @@ typedef struct PmcTexture {
   2u /* its program filters images by the ray cone's footprint (image,  \
       * hex-tiled image or normal map): only then does the shade kernel \
       * compute the footprint's width and ellipse at its hits */
+#define PMC_MAT_UNIFORM                                                  \
+  4u /* its program reads nothing of the shading point and keeps its     \
+      * normal: every point gets the same parameters, so a batch runs it \
+      * for one point and shares the BSDF (pmc_eval_material_lanes) */
 typedef struct PmcMaterialInfo {
   pmc_u32 entry;
   pmc_u32 flags;

@@ -12,7 +12,10 @@
 // lights eight lanes at a time (pmc_light_pick_lanes) and batches of 1 one
 // by one: the picks, their probabilities and so the images are identical.
 // So are the diffuse directions, which batches of 16 and 64 draw eight lanes
-// at a time (pmc_sample_cosine8): a twin that drifted fails both tests.
+// at a time (pmc_sample_cosine8): a twin that drifted fails both tests. A
+// uniform material (constants only: PMC_MAT_UNIFORM) runs once per batch and
+// shares its BSDF, while each hit keeps its own normal: the MTL stand-ins'
+// glossy sphere and cylinder render alike in every batch size.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -53,6 +56,26 @@ TEST(ShadeLanes, BatchSizesRenderIdenticalImages) {
       EXPECT_EQ(other.stats.rays, by_default.stats.rays);
       EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
     }
+  }
+}
+
+TEST(ShadeLanes, UniformMaterialsRenderAlikeInEveryBatchSize) {
+  auto render = [](int lanes) {
+    RenderConfig c = test::default_scene_config(48, 27, 2);
+    c.mtlx.clear();  // room.mtl: constant walls, sphere and cylinder; textured floor and box
+    c.shade_lanes = lanes;
+    RenderSession session(c, test::cl());
+    return session.render(session.settings());
+  };
+  const RenderOutput by_default = render(0);
+  EXPECT_GT(test::image_mean(by_default.image), 0.0);
+  for (int lanes : {1, 16}) {
+    SCOPED_TRACE("lanes " + std::to_string(lanes));
+    const RenderOutput other = render(lanes);
+    ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
+    EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
+        << "of " << other.image.pixels.size() << " values";
+    EXPECT_EQ(other.stats.rays, by_default.stats.rays);
   }
 }
 

@@ -17,7 +17,11 @@
 //    answer (ramplr at a uv), with the cache blocks on or off;
 //  * a program reads the ray cone's footprint (PMC_MAT_FOOTPRINT: the shade
 //    kernel computes it only then) exactly when it filters an image, inside
-//    the cache group or outside it, and for hex-tiled images and normal maps.
+//    the cache group or outside it, and for hex-tiled images and normal maps;
+//  * a program is uniform (PMC_MAT_UNIFORM: the shade kernel runs it once per
+//    batch) exactly when it reads nothing of the shading point and keeps its
+//    normal, and the interpreter then gives two different points the same
+//    parameters.
 #include "materials/compiler.h"
 
 #include <gtest/gtest.h>
@@ -379,6 +383,69 @@ TEST(Compiler, OnlyImageFilteringProgramsReadTheFootprint) {
     ASSERT_EQ(graphs.size(), 1u);
     EXPECT_TRUE(compile_material(graphs[0], tex, prog).reads_footprint) << node;
   }
+}
+
+TEST(Compiler, UniformProgramsReadNothingOfTheShadingPoint) {
+  const std::string png = test::temp_dir() + "/checker.png";
+  hard::write_checker_png(png);
+  TexturePool tex;
+  MaterialProgram prog;
+  std::vector<std::pair<std::string, Graph>> graphs;
+  // An MTL material without maps: constants only.
+  Graph flat = new_graph("M_flat");
+  add_surface(flat, {{"base_color", value(VT::Color3, 0.2f, 0.4f, 0.6f)},
+                     {"specular_roughness", value(VT::Float, 0.3f)},
+                     {"metalness", value(VT::Float, 0.5f)}});
+  graphs.push_back({"uniform", flat});
+  // A pattern at a constant position: the passes fold it into its value.
+  Graph noise = new_graph("M_noise_at_a_constant");
+  int n = add(noise, "n", "noise3d", VT::Float, {{"position", value(VT::Vector3, 0.3f, 0.1f, 0.7f)}});
+  add_surface(noise, {{"base", link(n)}});
+  graphs.push_back({"uniform", noise});
+  graphs.push_back({"texcoord", ramp_material("M_ramp", make_float3(0, 0, 0), make_float3(1, 1, 1))});
+  graphs.push_back({"position", unary_chain(2)});
+  for (const char* node : {"normal", "tangent", "bitangent"}) {
+    Graph g = new_graph(std::string("M_") + node);
+    int v = add(g, "v", node, VT::Vector3);
+    add_surface(g, {{"base_color", link(v)}});
+    graphs.push_back({node, g});
+  }
+  Graph image = new_graph("M_image");
+  int img = add(image, "img", "image", VT::Color3,
+                {{"file", text(png, VT::Filename)}, {"texcoord", value(VT::Vector2, 0.25f, 0.5f)}});
+  add_surface(image, {{"base_color", link(img)}});
+  graphs.push_back({"image (its footprint)", image});
+
+  for (auto& [why, g] : graphs) {
+    SCOPED_TRACE(why);
+    const CompiledMaterial& cm = compile_material(g, tex, prog);
+    EXPECT_EQ(cm.uniform, why == "uniform");
+    // The interpreter's own reading: two points apart in uv and position.
+    float a[PMC_P_COUNT], b[PMC_P_COUNT];
+    test::run_program_at(prog, cm, 0.1f, 0.2f, a, make_float3(0.3f, -0.2f, 0.7f));
+    test::run_program_at(prog, cm, 0.7f, 0.9f, b, make_float3(-1.5f, 2.0f, 0.25f));
+    if (cm.uniform) EXPECT_EQ(std::memcmp(a, b, sizeof a), 0);
+    if (why == "texcoord" || why == "position") EXPECT_NE(std::memcmp(a, b, sizeof a), 0);
+  }
+
+  // A cached program reads its key, whatever its sub-graph.
+  Graph cached = unary_chain(8);
+  CompileOptions options;
+  options.cache = true;
+  options.cache_min_nodes = 2;
+  const CompiledMaterial& cm = compile_material(cached, tex, prog, options);
+  ASSERT_FALSE(cm.cache_plan.points.empty());
+  EXPECT_FALSE(cm.uniform);
+
+  // A program that writes the normal replaces each point's own: not uniform,
+  // though it reads nothing (OUTPUT.3 param[normal] of a constant, END, the constant).
+  const uint32_t c = pmc_operand(1, 4, 3);
+  const std::vector<uint32_t> writes_normal = {pmc_op_header(PMC_OP_OUTPUT, 3, 1, PMC_P_NORMAL), 0u, c,
+                                               pmc_op_header(PMC_OP_END, 1, 0, 0), 0u};
+  EXPECT_FALSE(program_is_uniform(writes_normal));
+  const std::vector<uint32_t> writes_base = {pmc_op_header(PMC_OP_OUTPUT, 3, 1, PMC_P_BASE_COLOR), 0u, c,
+                                             pmc_op_header(PMC_OP_END, 1, 0, 0), 0u};
+  EXPECT_TRUE(program_is_uniform(writes_base));
 }
 
 }  // namespace
