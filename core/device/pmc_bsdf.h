@@ -127,6 +127,16 @@ PMC_FN PmcLobes pmc_bsdf_prepare(const PmcBsdf* b, float3 wo, int entering) {
    * weights making every product with them zero either way. */
   const int base_ggx =
       b->metal > 0.0f || (b->flat ? pmc_max3(b->spec_f0) > 0.0f : pmc_max3(b->spec_tint) > 0.0f);
+  /* Lambert alone (MTL's Kd materials: no conductor, specular, coat, sheen or
+   * glass): the general path below multiplies kd by ones and the lobe-choice
+   * probabilities by zero lobes, so it gives kd and 0 (for an albedo whose
+   * luminance is below 3e-39 it would give NaN probabilities): skip it. */
+  if (!base_ggx && !(b->coat > 0.0f) && !(b->sheen > 0.0f) && !(b->transmission > 0.0f)) {
+    l.kd = b->flat ? pmc_min3(b->diffuse * (1.0f / fmax(1e-4f, 1.0f - pmc_luminance(b->spec_f0))), one)
+                   : b->diffuse;
+    l.c_spec = l.c_coat = l.c_glass = 0.0f;
+    return l;
+  }
   float e1 = 0.0f, e5 = 0.0f;
   if (base_ggx) {
     e1 = pmc_table_lookup(pmc_ggx_e1_table, mu, pmc_table_rough(l.ax));

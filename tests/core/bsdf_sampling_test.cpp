@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <functional>
 #include <numeric>
 #include <random>
@@ -695,6 +696,45 @@ TEST(BsdfSampling, LambertAlbedoIsOne) {
       if (pmc_bsdf_sample(&b, wo, rng.next(), rng.next(), rng.next(), &wi, &pdf, &w)) wsum += w.y;
     }
     EXPECT_NEAR(wsum / n, 1.0, 0.01) << "wo " << deg;
+  }
+}
+
+// pmc_bsdf_prepare skips its general path for a Lambert-only stack. That path
+// is the reference: a sheen weight of 1e-30 under a black sheen colour sends
+// the same stack through it (its sheen lobe is 0 and its weight on the rest
+// rounds to 1), and both give the same lobes, bit for bit, at any view, for
+// plain and flattened (model 1) stacks, black albedos and a flattened
+// graph's albedos above 1 included.
+TEST(BsdfSampling, LambertOnlyPrepareEqualsTheGeneralPath) {
+  Rng rng(11u);
+  for (int i = 0; i < 2000; ++i) {
+    PmcBsdf b = pmc_bsdf_zero();
+    // a flattened graph's diffuse may pass 1 (the general path clamps it)
+    b.diffuse = i % 7 == 0 ? make_float3(0.0f, 0.0f, 0.0f)
+                           : make_float3(1.5f * rng.next(), 1.5f * rng.next(), 1.5f * rng.next());
+    b.flat = i % 2;
+    b.ax = b.ay = 0.01f + rng.next();
+    b.ior = 1.0f + rng.next();
+    float3 wo = view_dir(89.0 * rng.next(), 6.28 * rng.next());
+    const int entering = i % 3 != 0;
+    PmcBsdf general = b;
+    general.sheen = 1e-30f;
+    const PmcLobes fast = pmc_bsdf_prepare(&b, wo, entering), ref = pmc_bsdf_prepare(&general, wo, entering);
+    ASSERT_EQ(std::memcmp(&fast.kd, &ref.kd, sizeof(float3)), 0) << i;
+    ASSERT_EQ(fast.c_spec, ref.c_spec) << i;
+    ASSERT_EQ(fast.c_coat, ref.c_coat) << i;
+    ASSERT_EQ(fast.c_glass, ref.c_glass) << i;
+    ASSERT_EQ(fast.eta, ref.eta) << i;
+    ASSERT_EQ(fast.ax, ref.ax) << i;
+    ASSERT_EQ(pmc_max3(fast.spec_p + fast.spec_q + fast.coat_p + fast.coat_q + fast.glass_r + fast.glass_t +
+                       ref.sheen_w + ref.spec_p + ref.spec_q),
+              0.0f)
+        << i;
+    float pf, pr;
+    const float3 wi = view_dir(80.0 * rng.next(), 6.28 * rng.next());
+    const float3 ff = pmc_bsdf_eval_pdf(&fast, wo, wi, &pf), fr = pmc_bsdf_eval_pdf(&ref, wo, wi, &pr);
+    ASSERT_EQ(std::memcmp(&ff, &fr, sizeof(float3)), 0) << i;
+    ASSERT_EQ(pf, pr) << i;
   }
 }
 
