@@ -21,6 +21,7 @@
 #include "pmc_bsdf.h"
 #include "pmc_film.h"
 #include "pmc_geometry.h"
+#include "pmc_hit_geometry.h"
 #include "pmc_interp.h"
 #include "pmc_lights.h"
 #include "pmc_octahedral.h"
@@ -189,32 +190,14 @@ static inline float3 pmc_add_light(float3 radiance, float3 a, float3 b, float li
   return limit > 0.0f && pmc_max3(c) > limit ? radiance + c * (limit / pmc_max3(c)) : radiance + a * b;
 }
 
-/* What the ray cone's uv gradients need of a batch's hits, one array per
- * component (PMC_RAY_CONE_GRADIENTS' inputs, core/device/pmc_raycone.h):
- * filled by pmc_hit_point, read by pmc_ray_cone_lanes. */
-typedef struct PmcConeLanes {
-  float dx[PMC_LANES], dy[PMC_LANES], dz[PMC_LANES], nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
-  float radius[PMC_LANES], e1x[PMC_LANES], e1y[PMC_LANES], e1z[PMC_LANES], e2x[PMC_LANES], e2y[PMC_LANES];
-  float e2z[PMC_LANES], d1u[PMC_LANES], d1v[PMC_LANES], d2u[PMC_LANES], d2v[PMC_LANES];
-} PmcConeLanes;
-
-/* Lane k's inputs: a hit's, or zeros (an escaped ray; gradients 0). */
-static inline void pmc_cone_lane_set(PmcConeLanes* c, int k, float3 dir, float3 ng, float radius, float3 e1,
-                                     float3 e2, float2 d1, float2 d2) {
-  c->dx[k] = dir.x, c->dy[k] = dir.y, c->dz[k] = dir.z, c->nx[k] = ng.x, c->ny[k] = ng.y, c->nz[k] = ng.z;
-  c->radius[k] = radius, c->e1x[k] = e1.x, c->e1y[k] = e1.y, c->e1z[k] = e1.z;
-  c->e2x[k] = e2.x, c->e2y[k] = e2.y, c->e2z[k] = e2.z;
-  c->d1u[k] = d1.x, c->d1v[k] = d1.y, c->d2u[k] = d2.x, c->d2v[k] = d2.y;
-}
-
-/* Pass 1: the lights the ray met (quads before its hit; the environment and
- * sun disks if it escaped), then the hit's geometry and shading frame, and
- * lane k of `cone`: what its ray cone's gradients need (pmc_ray_cone_lanes
- * computes them for the batch, then pmc_hit_cache_keys finds its texels). */
-static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData* scene,
-                                 __global const PmcRay* rays, __global const PmcHit* hits,
-                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp, PmcConeLanes* cone,
-                                 int k) {
+/* Pass 1a: the lights the ray met (quads before its hit; the environment and
+ * sun disks if it escaped), then what the hit's geometry needs, into lane k
+ * of `L` (pmc_hit_geometry_lanes computes it for the batch; an escaped ray's
+ * lane holds zeros). */
+static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                __global const PmcRay* rays, __global const PmcHit* hits,
+                                __global PmcPathState* paths, uint i, PmcHitPoint* hp, PmcHitLanes* L,
+                                int k) {
   PmcRay ray = rays[i];
   PmcHit hit = hits[i];
   hp->path = ray.id;
@@ -236,79 +219,31 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
     path->radiance[2] = radiance.z;
   }
   if (!hp->surface) {
-    const float3 o = make_float3(0.0f, 0.0f, 0.0f);
-    pmc_cone_lane_set(cone, k, o, o, 0.0f, o, o, make_float2(0.0f, 0.0f), make_float2(0.0f, 0.0f));
+    pmc_hit_lane_clear(L, k);
     return;
   }
-
   __global const PmcTriangleRecord* tri = &scene->triangles[hit.prim];
-  float3 p0 = pmc_corner(tri->p, 0);
-  float3 p1 = pmc_corner(tri->p, 1);
-  float3 p2 = pmc_corner(tri->p, 2);
-  float b1 = hit.u, b2 = hit.v, b0 = 1.0f - b1 - b2;
-  float3 pos = p0 * b0 + p1 * b1 + p2 * b2;
-  float3 ng = cross(p1 - p0, p2 - p0);
-  float area2 = length(ng);
-  ng = area2 > 0.0f && isfinite(area2) ? ng * (1.0f / area2) : -dir;
-  /* Outside is where the vertex normals point, else the winding's normal
-   * (glass knows from it whether a ray enters or leaves). */
-  float outside = dot(ng, dir);
-  if (dot(ng, dir) > 0.0f) ng = -ng; /* every surface is two-sided */
-  float3 ns = ng;
-  if (tri->flags & PMC_TRI_NORMALS) {
-    float3 n = pmc_corner(tri->n, 0) * b0 + pmc_corner(tri->n, 1) * b1 + pmc_corner(tri->n, 2) * b2;
-    float nl = length(n);
-    if (nl > 0.0f && isfinite(nl)) {
-      n = n * (1.0f / nl);
-      outside = dot(n, dir);
-      ns = dot(n, ng) < 0.0f ? -n : n;
-    }
-  }
-  hp->front = outside <= 0.0f;
-  float2 uv = make_float2(b1, b2);
-  float2 t0 = make_float2(0.0f, 0.0f), t1 = make_float2(1.0f, 0.0f), t2 = make_float2(0.0f, 1.0f);
-  if (tri->flags & PMC_TRI_UVS) {
-    t0 = make_float2(tri->t[0], tri->t[1]);
-    t1 = make_float2(tri->t[2], tri->t[3]);
-    t2 = make_float2(tri->t[4], tri->t[5]);
-    uv = t0 * b0 + t1 * b1 + t2 * b2;
-  }
-  if (dot(ns, -dir) <= 0.0f) ns = ng; /* shading normal facing away from the viewer */
-
+  const float3 p0 = pmc_corner(tri->p, 0), p1 = pmc_corner(tri->p, 1), p2 = pmc_corner(tri->p, 2);
+  L->dx[k] = dir.x, L->dy[k] = dir.y, L->dz[k] = dir.z, L->b1[k] = hit.u, L->b2[k] = hit.v;
+  L->p0x[k] = p0.x, L->p0y[k] = p0.y, L->p0z[k] = p0.z, L->p1x[k] = p1.x, L->p1y[k] = p1.y;
+  L->p1z[k] = p1.z, L->p2x[k] = p2.x, L->p2y[k] = p2.y, L->p2z[k] = p2.z;
+  const int normals = (tri->flags & PMC_TRI_NORMALS) != 0u;
+  L->normals[k] = normals ? -1 : 0;
+  L->n0x[k] = normals ? tri->n[0] : 0.0f, L->n0y[k] = normals ? tri->n[1] : 0.0f;
+  L->n0z[k] = normals ? tri->n[2] : 0.0f, L->n1x[k] = normals ? tri->n[3] : 0.0f;
+  L->n1y[k] = normals ? tri->n[4] : 0.0f, L->n1z[k] = normals ? tri->n[5] : 0.0f;
+  L->n2x[k] = normals ? tri->n[6] : 0.0f, L->n2y[k] = normals ? tri->n[7] : 0.0f;
+  L->n2z[k] = normals ? tri->n[8] : 0.0f;
+  const int uvs = (tri->flags & PMC_TRI_UVS) != 0u;
+  L->uvs[k] = uvs ? -1 : 0;
+  L->t0u[k] = uvs ? tri->t[0] : 0.0f, L->t0v[k] = uvs ? tri->t[1] : 0.0f;
+  L->t1u[k] = uvs ? tri->t[2] : 1.0f, L->t1v[k] = uvs ? tri->t[3] : 0.0f;
+  L->t2u[k] = uvs ? tri->t[4] : 0.0f, L->t2v[k] = uvs ? tri->t[5] : 1.0f;
   /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
-  float cone_width = path->cone_width + hit.t * frame->cam_spread;
-  float2 d1 = t1 - t0, d2 = t2 - t0;
-  pmc_cone_lane_set(cone, k, dir, ng, 0.5f * cone_width, p1 - p0, p2 - p0, d1, d2);
-
-  /* Tangent frame from the uv parameterisation (dp/du), orthonormalised to ns. */
-  float det = d1.x * d2.y - d1.y * d2.x;
-  float3 tangent = (p1 - p0) * d2.y - (p2 - p0) * d1.y;
-  tangent = tangent - ns * dot(ns, tangent);
-  float tl = length(tangent);
-  if (!(fabs(det) > 1e-20f) || !(tl > 1e-20f) || !isfinite(tl)) {
-    float3 tb;
-    pmc_basis(ns, &tangent, &tb);
-  } else {
-    tangent = tangent * ((det < 0.0f ? -1.0f : 1.0f) / tl);
-  }
-  /* Smooth corner tangents (core/vertex_tangents.h), where the mesh has them. */
-  if (tri->flags & PMC_TRI_TANGENTS) {
-    float3 tv = pmc_oct_decode(tri->tangent[0]) * b0 + pmc_oct_decode(tri->tangent[1]) * b1 +
-                pmc_oct_decode(tri->tangent[2]) * b2;
-    tv = tv - ns * dot(ns, tv);
-    const float tvl = length(tv);
-    if (tvl > 1e-6f && isfinite(tvl)) tangent = tv * (1.0f / tvl);
-  }
-
-  hp->dir = dir;
-  hp->pos = pos;
-  hp->ng = ng;
-  hp->ns = ns;
-  hp->tangent = tangent;
-  hp->uv = uv;
+  const float cone_width = path->cone_width + hit.t * frame->cam_spread;
+  L->radius[k] = 0.5f * cone_width;
   hp->t = hit.t;
   hp->hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
-  hp->area2 = area2;
   hp->cone_width = cone_width;
   hp->prim = hit.prim;
   hp->material = tri->material;
@@ -320,20 +255,59 @@ static inline void pmc_hit_point(__constant PmcFrame* frame, const PmcSceneData*
   hp->cache_extra = 0.0f;
 }
 
+/* Pass 1b: the geometry of a batch's n hits (PMC_HIT_GEOMETRY), eight lanes
+ * at a time in float8 where PMC_LANES allows, else hit by hit. */
+#if PMC_LANES8
+#define PMC_HIT_LD8(f) vload8(0, L->f + k)
+#define PMC_HIT_ST8(f, x) vstore8((x), 0, L->f + k)
+PMC_HIT_GEOMETRY(pmc_hit_geometry8, float8, int8, PMC_SEL_VECTOR, PMC_HIT_LD8, PMC_HIT_LD8, PMC_HIT_ST8)
+#undef PMC_HIT_LD8
+#undef PMC_HIT_ST8
+#endif
+static inline void pmc_hit_geometry_lanes(PmcHitLanes* L, int n) {
+#if PMC_LANES8
+  for (int k = n; k < ((n + 7) & ~7); ++k) pmc_hit_lane_clear(L, k); /* the last group's spare lanes */
+  for (int q = 0; q < n; q += 8) pmc_hit_geometry8(L, q);
+#else
+  for (int k = 0; k < n; ++k) pmc_hit_geometry_at(L, k);
+#endif
+}
+
+/* Pass 1c: a hit's geometry from its lane, and the smooth corner tangents
+ * (core/vertex_tangents.h) where the mesh has them. */
+static inline void pmc_hit_store(const PmcSceneData* scene, const PmcHitLanes* L, int k, PmcHitPoint* hp) {
+  if (!hp->surface) return;
+  const float3 ns = make_float3(L->sx[k], L->sy[k], L->sz[k]);
+  float3 tangent = make_float3(L->tx[k], L->ty[k], L->tz[k]);
+  __global const PmcTriangleRecord* tri = &scene->triangles[hp->prim];
+  if (tri->flags & PMC_TRI_TANGENTS) {
+    const float b1 = L->b1[k], b2 = L->b2[k], b0 = 1.0f - b1 - b2;
+    float3 tv = pmc_oct_decode(tri->tangent[0]) * b0 + pmc_oct_decode(tri->tangent[1]) * b1 +
+                pmc_oct_decode(tri->tangent[2]) * b2;
+    tv = tv - ns * dot(ns, tv);
+    const float tvl = length(tv);
+    if (tvl > 1e-6f && isfinite(tvl)) tangent = tv * (1.0f / tvl);
+  }
+  hp->dir = make_float3(L->dx[k], L->dy[k], L->dz[k]);
+  hp->pos = make_float3(L->px[k], L->py[k], L->pz[k]);
+  hp->ng = make_float3(L->nx[k], L->ny[k], L->nz[k]);
+  hp->ns = ns;
+  hp->tangent = tangent;
+  hp->uv = make_float2(L->u[k], L->v[k]);
+  hp->area2 = L->area2[k];
+  hp->front = L->front[k] != 0;
+}
+
 /* The uv gradients of a batch's n hits (their cones' footprints, from the
- * lanes pmc_hit_point filled) into hp[k].g1, g2: eight at a time in float8
- * where PMC_LANES allows (pmc_ray_cone_gradients8, the scalar form's twin),
- * else hit by hit. */
+ * lanes pmc_hit_geometry_lanes filled) into hp[k].g1, g2: eight at a time in
+ * float8 where PMC_LANES allows (pmc_ray_cone_gradients8, the scalar form's
+ * twin), else hit by hit. */
 #if PMC_LANES8
 PMC_RAY_CONE_GRADIENTS(pmc_ray_cone_gradients8, float8, int8, PMC_SEL_VECTOR)
 #endif
-static inline void pmc_ray_cone_lanes(PmcConeLanes* c, int n, PmcHitPoint* hp) {
+static inline void pmc_ray_cone_lanes(const PmcHitLanes* c, int n, PmcHitPoint* hp) {
   float g1u[PMC_LANES], g1v[PMC_LANES], g2u[PMC_LANES], g2v[PMC_LANES];
 #if PMC_LANES8
-  for (int k = n; k < ((n + 7) & ~7); ++k) /* the last group's spare lanes: no cone */
-    pmc_cone_lane_set(c, k, make_float3(0.0f, 0.0f, 1.0f), make_float3(0.0f, 0.0f, 1.0f), 0.0f,
-                      make_float3(0.0f, 0.0f, 0.0f), make_float3(0.0f, 0.0f, 0.0f), make_float2(0.0f, 0.0f),
-                      make_float2(0.0f, 0.0f));
   for (int q = 0; q < n; q += 8) {
     float8 a, b, d, e;
     pmc_ray_cone_gradients8(vload8(0, c->dx + q), vload8(0, c->dy + q), vload8(0, c->dz + q),
@@ -389,9 +363,9 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
   const int floor_uv = floors ? info->cache_level_floor_uv : PMC_LEVEL_NO_FLOOR;
   const int floor_position = floors ? info->cache_level_floor_position : PMC_LEVEL_NO_FLOOR;
   if ((all & ~hp->cache_position_mask) != 0u)
-    hp->texel = pmc_cache_texel_floored(
-        uv, g1, g2, frame->mip_bias, make_float2(hp->cache_jitter.x, hp->cache_jitter.y), (uint)hp->material,
-        floor_uv, frame->cache_max_refine);
+    hp->texel = pmc_cache_texel_floored(uv, g1, g2, frame->mip_bias,
+                                        make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
+                                        (uint)hp->material, floor_uv, frame->cache_max_refine);
   if (hp->cache_position_mask != 0u) {
     /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
      * the widening coarsens cells down to a floor at most, and a point is
@@ -1139,7 +1113,8 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
  *      cache lines each) and path states its hits name. A hit's data sits
  *      at random addresses; this short loop has the batch's misses in
  *      flight at once instead of waiting for each in turn;
- *   2. geometry and the cache texel of every hit (pmc_hit_point);
+ *   2. geometry and the cache texel of every hit (pmc_hit_load, then
+ *      pmc_hit_geometry_lanes eight lanes at a time, pmc_hit_store);
  *   3. the same prefetch for the cache cells its material will look up
  *      (and, on CPU devices, the next batches' records: pmc_prefetch_ahead);
  *   4. every hit's random numbers for the work after the material, in one
@@ -1194,9 +1169,11 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
 #endif
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
   PmcHitPoint hp[PMC_LANES];
-  PmcConeLanes cone;
-  for (int k = 0; k < n; ++k) pmc_hit_point(frame, scene, rays, hits, paths, idx[k], &hp[k], &cone, k);
-  pmc_ray_cone_lanes(&cone, n, hp);
+  PmcHitLanes lanes;
+  for (int k = 0; k < n; ++k) pmc_hit_load(frame, scene, rays, hits, paths, idx[k], &hp[k], &lanes, k);
+  pmc_hit_geometry_lanes(&lanes, n);
+  for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
+  pmc_ray_cone_lanes(&lanes, n, hp);
   if (frame->cache_on) {
     for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
     const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
