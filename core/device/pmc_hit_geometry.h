@@ -31,9 +31,9 @@
 
 /* A batch's hits, a field per array (lane k at [k]); the float8 form reads
  * eight lanes from each. The loader fills the inputs; an escaped ray's lane
- * holds zeros (its outputs are not used, its cone radius 0 gives no
- * gradients). pmc_ray_cone_lanes reads the direction, the normal, the radius
- * and the edges from here. */
+ * holds zeros but for its ray (its outputs are not used, its cone radius 0
+ * gives no gradients). pmc_ray_cone_lanes reads the direction, the normal,
+ * the radius and the edges from here, the lights the rays met their rays. */
 typedef struct PmcHitLanes {
   /* in */
   float dx[PMC_LANES], dy[PMC_LANES], dz[PMC_LANES]; /* unit ray direction */
@@ -46,6 +46,9 @@ typedef struct PmcHitLanes {
   int uvs[PMC_LANES]; /* -1: the corners' uvs follow; else (0,0), (1,0), (0,1) */
   float t0u[PMC_LANES], t0v[PMC_LANES], t1u[PMC_LANES], t1v[PMC_LANES], t2u[PMC_LANES], t2v[PMC_LANES];
   float radius[PMC_LANES]; /* the ray cone's at the hit (pmc_ray_cone_lanes) */
+  /* in, for the lights the rays met (the shade kernel's pmc_lights_seen_lanes) */
+  float ox[PMC_LANES], oy[PMC_LANES], oz[PMC_LANES], t_hit[PMC_LANES];
+  int escaped[PMC_LANES]; /* -1: the ray met no surface */
   /* out */
   float px[PMC_LANES], py[PMC_LANES], pz[PMC_LANES];                   /* the point */
   float nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES], area2[PMC_LANES]; /* geometric normal, 2 x area */
@@ -57,7 +60,7 @@ typedef struct PmcHitLanes {
   float d1u[PMC_LANES], d1v[PMC_LANES], d2u[PMC_LANES], d2v[PMC_LANES];
 } PmcHitLanes;
 
-/* Lane k's inputs for an escaped ray (or a spare lane): zeros. */
+/* Lane k's inputs, all zeros (a spare lane; an escaped ray's before its ray). */
 PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
   L->dx[k] = L->dy[k] = L->dz[k] = L->b1[k] = L->b2[k] = 0.0f;
   L->p0x[k] = L->p0y[k] = L->p0z[k] = L->p1x[k] = L->p1y[k] = L->p1z[k] = 0.0f;
@@ -67,6 +70,8 @@ PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
   L->n2x[k] = L->n2y[k] = L->n2z[k] = 0.0f;
   L->t0u[k] = L->t0v[k] = L->t1u[k] = L->t1v[k] = L->t2u[k] = L->t2v[k] = 0.0f;
   L->radius[k] = 0.0f;
+  L->ox[k] = L->oy[k] = L->oz[k] = L->t_hit[k] = 0.0f;
+  L->escaped[k] = 0;
 }
 
 #define PMC_HIT_GEOMETRY(NAME, F, I, SEL, LD, LDI, ST)                                                \

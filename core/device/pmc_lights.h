@@ -730,34 +730,57 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
   return pmc_light_sample_rect_end(ls, light, pmf, &r, p, pmc_sph_rect_sample(&r, p, u1, u2), s);
 }
 
-/* Radiance that a traced ray (origin o, unit direction d) receives from the
- * lights it meets: quads closer than its hit at `t_hit` (with a relative
- * tolerance, so a light on a wall is seen), and if it `escaped`, the
- * environment and sun disks. MIS-weighted against light sampling from the
- * previous vertex (`bsdf_pdf`; o with the normal `n` it picked lights with);
- * `full_weight` for camera rays, which light sampling cannot produce. */
-PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t_hit, int escaped,
-                              float bsdf_pdf, float3 n, int full_weight) {
-  float3 sum = make_float3(0.0f, 0.0f, 0.0f);
-  for (int i = ls->h.distant_end; i < ls->h.quad_end; ++i) {
-    PMC_GLOBAL const PmcLight* l = &ls->lights[i];
-    float3 nrm = pmc_load3(l->normal);
-    float denom = dot(nrm, d);
-    if (denom == 0.0f || (!(l->flags & PMC_LIGHT_TWO_SIDED) && denom >= 0.0f)) continue;
-    float3 corner = pmc_load3(l->pos);
-    float t = dot(nrm, corner - o) / denom;
-    if (!(t > 0.0f) || (!escaped && !(t <= t_hit * 1.0001f))) continue;
-    float3 r = o + d * t - corner;
-    float a = dot(cross(r, pmc_load3(l->edge_v)), nrm) / l->area;
-    float b = dot(cross(pmc_load3(l->axis), r), nrm) / l->area;
-    if (!(a >= 0.0f && a <= 1.0f && b >= 0.0f && b <= 1.0f)) continue;
-    float w =
-        full_weight
-            ? 1.0f
-            : pmc_mis_power(bsdf_pdf, pmc_quad_light_pdf(l, o, pmc_light_pick_pmf(ls, o, n, i), t, denom));
-    sum += pmc_load3(l->rgb) * w;
+/* Whether a traced ray (origin o, unit direction d, its hit at t_hit unless
+ * it `escaped`) meets a quad light before its hit, with a relative tolerance
+ * so that a light on a wall is seen: the quad faces the ray (or is two-sided),
+ * its plane lies ahead at t (before the hit) and the point there lies inside
+ * its edges. Writes t and the cosine term denom = n.d that the ray's MIS
+ * weight needs. One source for the scalar form (pmc_quad_seen_at) and the
+ * float8 one (the shade kernel's, eight rays of a batch at once against one
+ * quad): F is float or float8, I its integer type, SEL its select; the quad's
+ * fields are scalars. Straight-line, its products written out, so both forms
+ * agree bit for bit. */
+#define PMC_QUAD_SEEN(NAME, F, I, SEL)                                                                       \
+  PMC_FN I NAME(PMC_GLOBAL const PmcLight* l, F ox, F oy, F oz, F dx, F dy, F dz, F t_hit, I escaped,        \
+                F* t_out, F* denom_out) {                                                                    \
+    const F zero = (F)(0.0f), one = (F)(1.0f);                                                               \
+    const float nx = l->normal[0], ny = l->normal[1], nz = l->normal[2];                                     \
+    const float cx = l->pos[0], cy = l->pos[1], cz = l->pos[2], inv_area = 1.0f / l->area;                   \
+    const F denom = nx * dx + ny * dy + nz * dz;                                                             \
+    const I two_sided = (I)((l->flags & PMC_LIGHT_TWO_SIDED) != 0u ? -1 : 0);                                \
+    const I facing = !(denom == zero) & (two_sided | !(denom >= zero));                                      \
+    const F t = (nx * (cx - ox) + ny * (cy - oy) + nz * (cz - oz)) / denom;                                  \
+    const I ahead = (t > zero) & (escaped | (t <= t_hit * (F)(1.0001f)));                                    \
+    const F rx = ox + dx * t - cx, ry = oy + dy * t - cy, rz = oz + dz * t - cz;                             \
+    const float vx = l->edge_v[0], vy = l->edge_v[1], vz = l->edge_v[2];                                     \
+    const float ux = l->axis[0], uy = l->axis[1], uz = l->axis[2];                                           \
+    const F a = ((ry * vz - rz * vy) * nx + (rz * vx - rx * vz) * ny + (rx * vy - ry * vx) * nz) * inv_area; \
+    const F b = ((uy * rz - uz * ry) * nx + (uz * rx - ux * rz) * ny + (ux * ry - uy * rx) * nz) * inv_area; \
+    const I inside = (a >= zero) & (a <= one) & (b >= zero) & (b <= one);                                    \
+    *t_out = t;                                                                                              \
+    *denom_out = denom;                                                                                      \
+    return facing & ahead & inside;                                                                          \
   }
-  if (!escaped) return sum;
+PMC_QUAD_SEEN(pmc_quad_seen_at, float, int, PMC_SEL_SCALAR)
+
+/* The radiance of quad light i that a ray from o meets at t (denom = n.d),
+ * MIS-weighted against light sampling from o (`bsdf_pdf`, the pick normal n);
+ * `full_weight` for camera rays, which light sampling cannot produce. */
+PMC_FN float3 pmc_quad_seen_radiance(const PmcLightSet* ls, int i, float3 o, float t, float denom,
+                                     float bsdf_pdf, float3 n, int full_weight) {
+  PMC_GLOBAL const PmcLight* l = &ls->lights[i];
+  const float w =
+      full_weight
+          ? 1.0f
+          : pmc_mis_power(bsdf_pdf, pmc_quad_light_pdf(l, o, pmc_light_pick_pmf(ls, o, n, i), t, denom));
+  return pmc_load3(l->rgb) * w;
+}
+
+/* `sum` plus the radiance an escaped ray (origin o, unit direction d)
+ * receives from the environment and the sun disks, MIS-weighted as
+ * pmc_quad_seen_radiance. */
+PMC_FN float3 pmc_infinity_seen(const PmcLightSet* ls, float3 o, float3 d, float bsdf_pdf, float3 n,
+                                int full_weight, float3 sum) {
   for (int i = 0; i < ls->h.at_infinity; ++i) {
     PMC_GLOBAL const PmcLight* l = &ls->lights[i];
     float3 le;
@@ -781,6 +804,24 @@ PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t
     sum += le * w;
   }
   return sum;
+}
+
+/* Radiance that a traced ray (origin o, unit direction d) receives from the
+ * lights it meets: quads closer than its hit at `t_hit` (pmc_quad_seen_at),
+ * and if it `escaped`, the environment and sun disks. MIS-weighted against
+ * light sampling from the previous vertex (`bsdf_pdf`; o with the normal `n`
+ * it picked lights with); `full_weight` for camera rays. The shade kernel
+ * takes the quads for a batch's rays together, eight at a time, in the same
+ * order per ray. */
+PMC_FN float3 pmc_lights_seen(const PmcLightSet* ls, float3 o, float3 d, float t_hit, int escaped,
+                              float bsdf_pdf, float3 n, int full_weight) {
+  float3 sum = make_float3(0.0f, 0.0f, 0.0f);
+  for (int i = ls->h.distant_end; i < ls->h.quad_end; ++i) {
+    float t, denom;
+    if (pmc_quad_seen_at(&ls->lights[i], o.x, o.y, o.z, d.x, d.y, d.z, t_hit, escaped ? -1 : 0, &t, &denom))
+      sum += pmc_quad_seen_radiance(ls, i, o, t, denom, bsdf_pdf, n, full_weight);
+  }
+  return escaped ? pmc_infinity_seen(ls, o, d, bsdf_pdf, n, full_weight, sum) : sum;
 }
 
 #endif /* PMC_LIGHTS_H */

@@ -190,10 +190,9 @@ static inline float3 pmc_add_light(float3 radiance, float3 a, float3 b, float li
   return limit > 0.0f && pmc_max3(c) > limit ? radiance + c * (limit / pmc_max3(c)) : radiance + a * b;
 }
 
-/* Pass 1a: the lights the ray met (quads before its hit; the environment and
- * sun disks if it escaped), then what the hit's geometry needs, into lane k
- * of `L` (pmc_hit_geometry_lanes computes it for the batch; an escaped ray's
- * lane holds zeros). */
+/* Pass 1a: what a ray's hit needs (its geometry: pmc_hit_geometry_lanes; the
+ * lights it met: pmc_lights_seen_lanes), into lane k of `L` (an escaped
+ * ray's lane holds its ray and zeros). */
 static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* scene,
                                 __global const PmcRay* rays, __global const PmcHit* hits,
                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp, PmcHitLanes* L,
@@ -207,24 +206,14 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->org = make_float3(ray.org_x, ray.org_y, ray.org_z);
   hp->surface = hit.prim >= 0;
-  const PmcLightSet* lights = &scene->light_set;
-  if (lights->h.quad_end > 0) {
-    float3 le = pmc_lights_seen(lights, hp->org, dir, hit.t, !hp->surface, path->bsdf_pdf,
-                                pmc_load3(path->light_normal), path->flags & PMC_PATH_SPECULAR);
-    /* light met by a ray from hit depth - 1 (from the camera at depth 0) */
-    const float limit = pmc_clamp_limit(frame, hp->depth > 0u ? hp->depth - 1u : 0u);
-    float3 radiance = pmc_add_light(pmc_load3(path->radiance), pmc_load3(path->throughput), le, limit);
-    path->radiance[0] = radiance.x;
-    path->radiance[1] = radiance.y;
-    path->radiance[2] = radiance.z;
-  }
-  if (!hp->surface) {
-    pmc_hit_lane_clear(L, k);
-    return;
-  }
+  if (!hp->surface) pmc_hit_lane_clear(L, k);
+  L->dx[k] = dir.x, L->dy[k] = dir.y, L->dz[k] = dir.z;
+  L->ox[k] = ray.org_x, L->oy[k] = ray.org_y, L->oz[k] = ray.org_z, L->t_hit[k] = hit.t;
+  L->escaped[k] = hp->surface ? 0 : -1;
+  if (!hp->surface) return;
   __global const PmcTriangleRecord* tri = &scene->triangles[hit.prim];
   const float3 p0 = pmc_corner(tri->p, 0), p1 = pmc_corner(tri->p, 1), p2 = pmc_corner(tri->p, 2);
-  L->dx[k] = dir.x, L->dy[k] = dir.y, L->dz[k] = dir.z, L->b1[k] = hit.u, L->b2[k] = hit.v;
+  L->b1[k] = hit.u, L->b2[k] = hit.v;
   L->p0x[k] = p0.x, L->p0y[k] = p0.y, L->p0z[k] = p0.z, L->p1x[k] = p1.x, L->p1y[k] = p1.y;
   L->p1z[k] = p1.z, L->p2x[k] = p2.x, L->p2y[k] = p2.y, L->p2z[k] = p2.z;
   const int normals = (tri->flags & PMC_TRI_NORMALS) != 0u;
@@ -271,6 +260,61 @@ static inline void pmc_hit_geometry_lanes(PmcHitLanes* L, int n) {
 #else
   for (int k = 0; k < n; ++k) pmc_hit_geometry_at(L, k);
 #endif
+}
+
+/* Pass 1b': the radiance of the lights the batch's rays met (quads before
+ * their hits; the environment and sun disks where they escaped), added to
+ * their paths (pmc_lights_seen, the quads eight rays at a time in float8
+ * where PMC_LANES allows: pmc_quad_seen8, the scalar form's twin). */
+#if PMC_LANES8
+PMC_QUAD_SEEN(pmc_quad_seen8, float8, int8, PMC_SEL_VECTOR)
+#endif
+static inline void pmc_lights_seen_lanes(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                         __global PmcPathState* paths, const PmcHitPoint* hp,
+                                         const PmcHitLanes* L, int n) {
+  const PmcLightSet* ls = &scene->light_set;
+  if (ls->h.quad_end <= 0) return;
+  float3 le[PMC_LANES];
+  for (int k = 0; k < n; ++k) le[k] = make_float3(0.0f, 0.0f, 0.0f);
+  for (int i = ls->h.distant_end; i < ls->h.quad_end; ++i) {
+    __global const PmcLight* l = &ls->lights[i];
+    int seen[PMC_LANES];
+    float t[PMC_LANES], denom[PMC_LANES];
+#if PMC_LANES8
+    for (int q = 0; q < n; q += 8) {
+      float8 t8, denom8;
+      const int8 seen8 = pmc_quad_seen8(l, vload8(0, L->ox + q), vload8(0, L->oy + q), vload8(0, L->oz + q),
+                                        vload8(0, L->dx + q), vload8(0, L->dy + q), vload8(0, L->dz + q),
+                                        vload8(0, L->t_hit + q), vload8(0, L->escaped + q), &t8, &denom8);
+      vstore8(seen8, 0, seen + q);
+      vstore8(t8, 0, t + q);
+      vstore8(denom8, 0, denom + q);
+    }
+#else
+    for (int k = 0; k < n; ++k)
+      seen[k] = pmc_quad_seen_at(l, L->ox[k], L->oy[k], L->oz[k], L->dx[k], L->dy[k], L->dz[k], L->t_hit[k],
+                                 L->escaped[k], &t[k], &denom[k]);
+#endif
+    for (int k = 0; k < n; ++k)
+      if (seen[k]) {
+        __global const PmcPathState* path = &paths[hp[k].path];
+        le[k] += pmc_quad_seen_radiance(ls, i, hp[k].org, t[k], denom[k], path->bsdf_pdf,
+                                        pmc_load3(path->light_normal), path->flags & PMC_PATH_SPECULAR);
+      }
+  }
+  for (int k = 0; k < n; ++k) {
+    __global PmcPathState* path = &paths[hp[k].path];
+    if (!hp[k].surface)
+      le[k] = pmc_infinity_seen(ls, hp[k].org, make_float3(L->dx[k], L->dy[k], L->dz[k]), path->bsdf_pdf,
+                                pmc_load3(path->light_normal), path->flags & PMC_PATH_SPECULAR, le[k]);
+    /* light met by a ray from hit depth - 1 (from the camera at depth 0) */
+    const float limit = pmc_clamp_limit(frame, hp[k].depth > 0u ? hp[k].depth - 1u : 0u);
+    const float3 radiance =
+        pmc_add_light(pmc_load3(path->radiance), pmc_load3(path->throughput), le[k], limit);
+    path->radiance[0] = radiance.x;
+    path->radiance[1] = radiance.y;
+    path->radiance[2] = radiance.z;
+  }
 }
 
 /* Pass 1c: a hit's geometry from its lane, and the smooth corner tangents
@@ -1172,6 +1216,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   PmcHitLanes lanes;
   for (int k = 0; k < n; ++k) pmc_hit_load(frame, scene, rays, hits, paths, idx[k], &hp[k], &lanes, k);
   pmc_hit_geometry_lanes(&lanes, n);
+  pmc_lights_seen_lanes(frame, scene, paths, hp, &lanes, n);
   for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
   pmc_ray_cone_lanes(&lanes, n, hp);
   if (frame->cache_on) {
