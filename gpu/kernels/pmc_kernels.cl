@@ -232,7 +232,6 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   const float cone_width = path->cone_width + hit.t * frame->cam_spread;
   L->radius[k] = 0.5f * cone_width;
   hp->t = hit.t;
-  hp->hit_scale = pmc_hit_scale(p0, p1, p2); /* for the ray offsets (pmc_geometry.h) */
   hp->cone_width = cone_width;
   hp->prim = hit.prim;
   hp->material = tri->material;
@@ -339,6 +338,7 @@ static inline void pmc_hit_store(const PmcSceneData* scene, const PmcHitLanes* L
   hp->tangent = tangent;
   hp->uv = make_float2(L->u[k], L->v[k]);
   hp->area2 = L->area2[k];
+  hp->hit_scale = L->scale[k]; /* for the ray offsets (pmc_geometry.h) */
   hp->front = L->front[k] != 0;
 }
 

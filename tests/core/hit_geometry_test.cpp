@@ -5,7 +5,8 @@
 //
 // Against a double-precision reading of the same definitions, on random
 // triangles and rays with and without vertex normals and uvs:
-//  * the point is the barycentric combination of the corners;
+//  * the point is the barycentric combination of the corners, and the scale
+//    of its ray offsets the corners' largest |coordinate|;
 //  * the geometric normal is the unit winding normal turned against the ray,
 //    twice the area its length, and the edges are the corners' differences;
 //  * the shading normal is the interpolated vertex normal, on the geometric
@@ -17,6 +18,7 @@
 // and a triangle without area gives the reversed ray as its normal.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -91,6 +93,11 @@ TEST(HitGeometry, MatchesTheDefinitionsInDoublePrecision) {
     EXPECT_NEAR(L.px[0], pos.x, 1e-5);
     EXPECT_NEAR(L.py[0], pos.y, 1e-5);
     EXPECT_NEAR(L.pz[0], pos.z, 1e-5);
+    float scale = 0.0f;  // the largest |coordinate| of the corners
+    for (int j = 0; j < 3; ++j)
+      scale = std::max(
+          {scale, std::fabs(float(c.p[j].x)), std::fabs(float(c.p[j].y)), std::fabs(float(c.p[j].z))});
+    EXPECT_EQ(L.scale[0], scale);
     const V e1 = c.p[1] - c.p[0], e2 = c.p[2] - c.p[0];
     EXPECT_NEAR(L.e1x[0], e1.x, 1e-6);
     EXPECT_NEAR(L.e2z[0], e2.z, 1e-6);
