@@ -211,6 +211,7 @@ int run_info(const InfoArgs& a, const CLI::App& app) {
       std::printf("  outputs depend on:");
       for (const auto& [input, bits] : m.param_dependencies)
         if (bits) std::printf(" %s=%s", input.c_str(), dependency_names(bits).c_str());
+      if (m.uniform) std::printf(" nothing of the shading point (uniform: one run shades a batch of hits)");
       std::printf("\n");
       if (a.dump_cache_plan) print_cache_plan(set, m, a.cache_bandwidth);
       if (a.dump_bytecode) std::printf("%s", disassemble(set.program, m).c_str());

@@ -127,6 +127,25 @@ TEST(RenderCli, UnmodelledMtlStatementsAreNamedInAWarning) {
                                                                   << log;
 }
 
+// The default room's MTL stand-ins: the walls read nothing of the shading
+// point (uniform: the shade kernel runs them once per batch of hits), the
+// floor reads its checker texture by uv.
+TEST(InfoCli, BytecodeDumpSaysWhichMaterialsAreUniform) {
+  std::string log;
+  ASSERT_EQ(
+      test::run_pmc("info --scene " + test::source_path("data/default/room.obj") + " --dump-bytecode", &log),
+      0)
+      << log;
+  const size_t walls = log.find("material 'walls'"), floor = log.find("material 'floor'");
+  ASSERT_NE(walls, std::string::npos) << log;
+  ASSERT_NE(floor, std::string::npos) << log;
+  const std::string uniform = "nothing of the shading point (uniform";
+  EXPECT_NE(log.substr(walls, log.find("material '", walls + 1) - walls).find(uniform), std::string::npos)
+      << log;
+  EXPECT_EQ(log.substr(floor, log.find("material '", floor + 1) - floor).find(uniform), std::string::npos)
+      << log;
+}
+
 TEST(InfoCli, ListsDevices) {
   std::string log;
   ASSERT_EQ(test::run_pmc("info --devices", &log), 0) << log;
