@@ -270,7 +270,9 @@ PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x
  * footprint the virtual lane's nodes read: the point's own, or in cache_eval
  * center the centre and width of its texel, so the stored value depends on
  * the texel alone (and the footprint is round there: no ellipse, axis 0);
- * pos likewise the position. */
+ * pos likewise the position. An opcode that reads these or the shading
+ * inputs must be listed in program_is_uniform (materials/compiler.cpp):
+ * a program without such opcodes runs once for a whole batch. */
 typedef struct PmcLanes {
   int n;
   int lane_of[PMC_LANES];
