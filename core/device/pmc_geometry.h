@@ -28,16 +28,14 @@ PMC_FN float pmc_offset_1(float p, float n, float s) {
 }
 
 /* The magnitude a hit point's rounding error scales with: the largest
- * |coordinate| of its triangle's vertices. */
-PMC_FN float pmc_hit_scale(float3 p0, float3 p1, float3 p2) {
-  float3 a = make_float3(fmax(fabs(p0.x), fmax(fabs(p1.x), fabs(p2.x))),
-                         fmax(fabs(p0.y), fmax(fabs(p1.y), fabs(p2.y))),
-                         fmax(fabs(p0.z), fmax(fabs(p1.z), fabs(p2.z))));
-  return fmax(a.x, fmax(a.y, a.z));
-}
+ * |coordinate| of its triangle's vertices, from their components (float, or
+ * float8 for eight hits: PMC_HIT_GEOMETRY computes it). */
+#define PMC_HIT_SCALE(p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z) \
+  fmax(fmax(fabs(p0x), fmax(fabs(p1x), fabs(p2x))),                \
+       fmax(fmax(fabs(p0y), fmax(fabs(p1y), fabs(p2y))), fmax(fabs(p0z), fmax(fabs(p1z), fabs(p2z)))))
 
 /* Offset p along the (unit) normal n, to the side n points to; `scale` from
- * pmc_hit_scale() (clamped to [1e-30, 1]: at or above 1 the classic constants). */
+ * PMC_HIT_SCALE (clamped to [1e-30, 1]: at or above 1 the classic constants). */
 PMC_FN float3 pmc_offset_ray(float3 p, float3 n, float scale) {
   float s = fmax(1e-30f, fmin(1.0f, scale)); /* NaN -> 1 */
   return make_float3(pmc_offset_1(p.x, n.x, s), pmc_offset_1(p.y, n.y, s), pmc_offset_1(p.z, n.z, s));

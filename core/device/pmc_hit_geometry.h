@@ -10,7 +10,7 @@
  * from the viewer), whether the ray arrived on the side the normals point to,
  * the uv (the barycentrics without uvs), the triangle's edges and uv edges
  * (the ray cone's inputs, pmc_raycone.h), the corners' largest |coordinate|
- * (the ray offsets' scale, pmc_hit_scale), and the unit tangent dp/du
+ * (the ray offsets' scale, PMC_HIT_SCALE), and the unit tangent dp/du
  * orthogonalised to the shading normal (any tangent when uvs give none).
  *
  * PMC_HIT_GEOMETRY writes it once for two forms: F is float or float8, I its
@@ -25,6 +25,7 @@
 #define PMC_HIT_GEOMETRY_H
 
 #include "../abi/pmc_vec.h"
+#include "pmc_geometry.h"
 
 #ifndef PMC_LANES
 #define PMC_LANES 1
@@ -57,7 +58,7 @@ typedef struct PmcHitLanes {
   float tx[PMC_LANES], ty[PMC_LANES], tz[PMC_LANES];                   /* tangent */
   float u[PMC_LANES], v[PMC_LANES];
   int front[PMC_LANES];   /* -1: arrived on the normals' side */
-  float scale[PMC_LANES]; /* the largest |coordinate| of the corners (pmc_hit_scale) */
+  float scale[PMC_LANES]; /* the largest |coordinate| of the corners (PMC_HIT_SCALE) */
   float e1x[PMC_LANES], e1y[PMC_LANES], e1z[PMC_LANES], e2x[PMC_LANES], e2y[PMC_LANES], e2z[PMC_LANES];
   float d1u[PMC_LANES], d1v[PMC_LANES], d2u[PMC_LANES], d2v[PMC_LANES];
 } PmcHitLanes;
@@ -83,9 +84,7 @@ PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
     const F b0 = one - b1 - b2;                                                                       \
     const F p0x = LD(p0x), p0y = LD(p0y), p0z = LD(p0z), p1x = LD(p1x), p1y = LD(p1y), p1z = LD(p1z); \
     const F p2x = LD(p2x), p2y = LD(p2y), p2z = LD(p2z);                                              \
-    ST(scale, fmax(fmax(fabs(p0x), fmax(fabs(p1x), fabs(p2x))),                                       \
-                   fmax(fmax(fabs(p0y), fmax(fabs(p1y), fabs(p2y))),                                  \
-                        fmax(fabs(p0z), fmax(fabs(p1z), fabs(p2z))))));                               \
+    ST(scale, PMC_HIT_SCALE(p0x, p0y, p0z, p1x, p1y, p1z, p2x, p2y, p2z));                            \
     ST(px, (p0x * b0) + (p1x * b1) + (p2x * b2));                                                     \
     ST(py, (p0y * b0) + (p1y * b1) + (p2y * b2));                                                     \
     ST(pz, (p0z * b0) + (p1z * b1) + (p2z * b2));                                                     \
