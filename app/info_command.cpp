@@ -128,9 +128,11 @@ void print_cost_model(const CacheCostModel& model) {
   const CacheFrame& f = model.frame;
   std::printf("cache cost model: %s\n  unit node %.3g ns; lookup L %.1f unit nodes; miss M %.1f + %.2f x C\n",
               c.source.c_str(), c.unit_ns, c.lookup, c.miss, c.miss_per_cost);
-  std::printf("  frame %dx%d, %d spp, max depth %d: expected hit rate %.1f%% (uv), %.1f%% (position)\n",
-              f.width, f.height, f.spp, f.max_depth, 100.0 * expected_hit_rate(f, false),
-              100.0 * expected_hit_rate(f, true));
+  std::printf(
+      "  frame %dx%d, %d spp, max depth %d, camera hits cached in %d samples: expected hit rate %.1f%% (uv), "
+      "%.1f%% (position)\n",
+      f.width, f.height, f.spp, f.max_depth, std::min(f.spp, f.camera_samples),
+      100.0 * expected_hit_rate(f, false), 100.0 * expected_hit_rate(f, true));
 }
 
 void print_predicted_savings(const MaterialSet& set, double unit_ns) {
@@ -304,6 +306,11 @@ CommandRun add_info_command(CLI::App& pmc) {
   app->add_option("--max-depth", a->frame.max_depth, "(as pmc render)")
       ->type_name("D")
       ->check(cli::at_least(1))
+      ->capture_default_str();
+  app->add_option("--cache-camera-samples", a->frame.cache_camera_samples,
+                  "samples whose camera-ray hits use the cache (as pmc render)")
+      ->type_name("N")
+      ->check(cli::at_least(0))
       ->capture_default_str();
   app->add_option("--device", a->frame.device,
                   "the OpenCL device whose costs the cost model uses (as pmc render)")

@@ -248,7 +248,9 @@ RenderOutput RenderSession::render(const RenderSettings& settings, const Progres
   return renderer_->render(settings, progress);
 }
 
-CacheFrame cache_frame(const RenderConfig& c) { return CacheFrame{c.width, c.height, c.spp, c.max_depth}; }
+CacheFrame cache_frame(const RenderConfig& c) {
+  return CacheFrame{c.width, c.height, c.spp, c.max_depth, c.cache_camera_samples};
+}
 
 std::unique_ptr<ClContext> open_device(const RenderConfig& config) {
   limit_threads(config);

@@ -226,12 +226,20 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     Cache, FIXED, CACHE(max_refine), K(cache_max_refine, AS_IS), "max_refine", "LEVELS",                    \
     "how many levels finer than the footprint a pattern may make its texels (each level splits a "          \
     "footprint into 4 texels, 8 cells); a point that needs more is evaluated without the cache there")      \
-  X(cache_supersample, "cache_supersample", "--cache-supersample", int, 0, 0, 16, "",                      \
+  X(cache_camera_samples, "cache_camera_samples", "--cache-camera-samples", int, 16, 0,                     \
+    settings_table::kNone, "must not be negative, got {}", Cache, TAG("camera_samples"),                    \
+    CACHE(camera_samples), K(cache_camera_samples, AS_IS), "camera_samples", "N",                           \
+    "camera-ray hits use the cache in each pixel's first N samples and evaluate their materials "           \
+    "exactly in later ones (the cache keeps serving the later bounces): the cache's error where the "       \
+    "camera sees it falls as N / spp, faster than the noise, so a converged image matches the "             \
+    "cacheless one; a frame of at most N spp is cached at every hit (0: never at camera hits; a number "    \
+    "above the frame's samples: always, the paper)")                                                        \
+  X(cache_supersample, "cache_supersample", "--cache-supersample", int, 0, 0, 16, "",                       \
     Cache, PROGRAM, NONE, NONE, "", "N",                                                                    \
     "with --cache-eval center, a miss evaluates its sub-graphs at N stratified points over its texel "      \
     "(cell) and stores their mean, so a texel stands for its area, not its centre (patterns finer than "    \
     "a texel stop aliasing; a miss costs N times as much): N a power of two 1..16; 0: auto, per key "       \
-    "kind the largest power of two up to the frame's expected lookups per key / 8 (1 at 16 spp, 8 for uv "  \
+    "kind the largest power of two up to the frame's expected lookups per key / 4 (1 at 16 spp, 8 for uv "  \
     "texels at 256; 'pmc info --dump-cache-plan' shows it)")                                                \
   X(chunk_rays, "chunk_rays", "--chunk-rays", int64_t, 65536, 0, settings_table::kNone,                     \
     "must not be negative", Machine, NO, S(chunk_rays), NONE, "", "N",                                      \

@@ -65,21 +65,27 @@ double lookups_per_sample(const CacheFrame& frame) {
   return frame.max_depth > 1 ? 1.6 : 1.0;
 }
 
+double lookups_per_pixel(const CacheFrame& frame) {
+  const double spp = std::max(1, frame.spp);
+  const double camera = std::min(spp, double(std::max(0, frame.camera_samples)));
+  return camera + spp * (lookups_per_sample(frame) - 1.0);
+}
+
 double expected_hit_rate(const CacheFrame& frame, bool position_key) {
   const double spp = std::max(1, frame.spp);
   const double keys = expected_keys_per_pixel_point(int(spp)) * (position_key ? 2.0 : 1.0);
-  const double lookups = spp * lookups_per_sample(frame);
-  return std::clamp(1.0 - keys / lookups, 0.0, 1.0);
+  const double lookups = lookups_per_pixel(frame);
+  return lookups > 0.0 ? std::clamp(1.0 - keys / lookups, 0.0, 1.0) : 0.0;
 }
 
 double expected_lookups_per_key(const CacheFrame& frame, bool position_key) {
   const double spp = std::max(1, frame.spp);
   const double keys = expected_keys_per_pixel_point(int(spp)) * (position_key ? 2.0 : 1.0);
-  return spp * lookups_per_sample(frame) / keys;
+  return lookups_per_pixel(frame) / keys;
 }
 
 int auto_supersample(const CacheFrame& frame, bool position_key) {
-  const double most = expected_lookups_per_key(frame, position_key) / 8.0;
+  const double most = expected_lookups_per_key(frame, position_key) / 4.0;
   int k = 1;
   while (k < 16 && 2.0 * k <= most) k *= 2;
   return k;
@@ -108,8 +114,7 @@ PointEconomics point_economics(double cost, bool position_key, const CacheCosts&
       costs.miss + costs.miss_per_cost * cost + double(e.samples - 1) * (1.0 + costs.miss_per_cost) * cost;
   e.hit_rate = expected_hit_rate(frame, position_key);
   e.gain = e.hit_rate * e.cost - e.lookup - (1.0 - e.hit_rate) * e.miss;
-  const double lookups =
-      double(frame.width) * double(frame.height) * double(std::max(1, frame.spp)) * lookups_per_sample(frame);
+  const double lookups = double(frame.width) * double(frame.height) * lookups_per_pixel(frame);
   e.frame_seconds = e.gain * lookups * costs.unit_ns * 1e-9;
   return e;
 }

@@ -28,7 +28,8 @@
 // multiplies what a miss evaluates, so M counts K (1 + miss_per_cost) C - C
 // beyond the insert, and a point that no longer pays at that K is not cached.
 // The automatic K (auto_supersample) keeps misses a small share of a key's
-// lookups: the largest power of two of at most lookups per key / 8, 1..16.
+// lookups: the largest power of two of at most lookups per key / 4, 1..16
+// (a key's sub-samples at most a quarter of its lookups).
 #pragma once
 
 #include <string>
@@ -58,14 +59,20 @@ struct CacheCosts {
 CacheCosts default_cache_costs(bool gpu);
 
 // The frame the plan is made for.
+// camera_samples: a pixel's samples whose camera-ray hits use the cache (the
+// cache_camera_samples setting); later samples look up at later hits only.
 struct CacheFrame {
-  int width = 640, height = 360, spp = 16, max_depth = 8;
+  int width = 640, height = 360, spp = 16, max_depth = 8, camera_samples = 16;
 };
 
 // Expected fraction of a point's lookups that hit (0..1).
 double expected_hit_rate(const CacheFrame& frame, bool position_key);
-// Lookups of one point per pixel and sample: the camera hit and later ones.
+// Lookups of one point per pixel and sample when camera hits look up: the
+// camera hit and later ones.
 double lookups_per_sample(const CacheFrame& frame);
+// Lookups of one point per pixel over the frame's samples: the camera hit's
+// in the first camera_samples samples, the later hits' in all of them.
+double lookups_per_pixel(const CacheFrame& frame);
 
 struct PointEconomics {
   double cost = 0;           // C, unit nodes

@@ -296,7 +296,8 @@ typedef struct PmcLightHeader {
   M(A, pmc_u32, sampler)           /* PMC_SAMPLER_SOBOL or PMC_SAMPLER_RANDOM (pmc_rng.h) */  \
   M(A, pmc_u32, active_list)       /* 1: the wave's pixels are active[pixel_offset + i % wave_pixels] */ \
   M(A, float, clamp_direct)        /* largest light sample through the first hit (0: off) */    \
-  M(A, float, clamp_indirect)      /* through later hits (pmc_clamp_light) */
+  M(A, float, clamp_indirect)      /* through later hits (pmc_clamp_light) */                   \
+  M(A, pmc_u32, cache_camera_samples) /* a pixel's samples whose camera-ray hits use the cache */
 /* clang-format on */
 #define PMC_FRAME_MEMBER_(unused, type, member) type member;
 

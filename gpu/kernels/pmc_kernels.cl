@@ -388,6 +388,12 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
   const float cone_width = hp->cone_width;
   __global const PmcMaterialInfo* info = &scene->materials[hp->material];
   hp->cache_points = info->cache_points;
+  /* A camera-ray hit after the pixel's first cache_camera_samples samples
+   * evaluates its points exactly (docs/DESIGN.md, "The cache at camera hits"). */
+  if (hp->depth == 0u && pmc_path_sample(frame, hp->path) >= frame->cache_camera_samples) {
+    hp->texel.ready = hp->texel.bypass = hp->cell.ready = hp->cell.bypass = 1u;
+    return;
+  }
   /* The position cells' cone: wider than the texture's after rough bounces
    * (uv texels keep the texture's: docs/DESIGN.md, "The cache's cone"). */
   if (frame->cache_lobe_spread > 0.0f) {

@@ -315,6 +315,84 @@ TEST(CacheRender, CameraLevelFloorsApplyAtCameraHitsOnly) {
          "the camera's finer levels too)";
 }
 
+// --cache-camera-samples K: camera-ray hits use the cache in a pixel's first K
+// samples and evaluate their points exactly in later ones. With one surface
+// hit per path only camera hits shade, and the grid (which footprint texels
+// alias, 15.9 dB above) shows the difference:
+//  * K = 0 is the cacheless render bit for bit (also with the marble's
+//    position cells), K = 16 at 16 spp the cached one (which differs from
+//    the cacheless: the check can fail);
+//  * K = 8 at 16 spp is the mean of the cached render of samples 0..7 and
+//    the cacheless render of samples 8..15 (`--samples`: sample i is the
+//    same sample in any render), to float rounding;
+//  * its camera lookups are exactly an 8-spp cached render's, and its
+//    bypassed points exactly the camera lookups of samples 8..15;
+//  * with bounces, K = 0 still looks up (and hits) at the later hits.
+TEST(CacheRender, CameraHitsAfterTheFirstSamplesEvaluateExactly) {
+  const std::string grid = " --mtlx " + mtlx("linepattern.mtlx") +
+                           " --material test_grid --cache-min-nodes 1 --cache-model nodes" +
+                           " --env 1,1,1 --camera-from -0.1,0.5,2.2 --camera-at -0.1,0.1,0 --fov 40" +
+                           " --max-depth 1 --quiet --width 96 --height 72 --seed 3";
+  const Render& off = render("cam_off", grid + " --spp 16 --cache off");
+  const Render& k0 = render("cam_k0", grid + " --spp 16 --cache on --cache-camera-samples 0");
+  const Render& k16 = render("cam_k16", grid + " --spp 16 --cache on --cache-camera-samples 16");
+  const Render& k8 = render("cam_k8", grid + " --spp 16 --cache on --cache-camera-samples 8");
+  const Render& first = render("cam_first", grid + " --spp 16 --samples 0:8 --cache on");
+  const Render& rest = render("cam_rest", grid + " --spp 16 --samples 8:16 --cache off");
+  const Render& on8 = render("cam_on8", grid + " --spp 8 --cache on --cache-camera-samples 8");
+  const Render& all16 = render("cam_all16", grid + " --spp 16 --cache on --cache-camera-samples 1000");
+  for (const Render* r : {&off, &k0, &k16, &k8, &first, &rest, &on8, &all16})
+    ASSERT_FALSE(r->image.pixels.empty());
+  EXPECT_EQ(k0.image.pixels, off.image.pixels) << "no camera hit uses the cache";
+  EXPECT_EQ(k16.image.pixels, all16.image.pixels) << "a frame of at most K samples is cached everywhere";
+  EXPECT_LT(clamped_psnr(k16.image, off.image), 30.0) << "the check can fail: the cache aliases the grid";
+  EXPECT_EQ(k0.stats["cache"]["camera_samples"].get<int>(), 0);
+
+  // The parts' EXRs carry their exact sums after RGB: compare RGB.
+  auto rgb = [](const Image& img, size_t pixel, int c) {
+    return double(img.pixels[pixel * size_t(img.channels) + size_t(c)]);
+  };
+  const size_t pixels = size_t(k8.image.width) * size_t(k8.image.height);
+  ASSERT_EQ(size_t(first.image.width) * size_t(first.image.height), pixels);
+  ASSERT_EQ(size_t(rest.image.width) * size_t(rest.image.height), pixels);
+  double worst = 0.0, moved = 0.0;
+  for (size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const double mean = 0.5 * (rgb(first.image, i, c) + rgb(rest.image, i, c)), v = rgb(k8.image, i, c);
+      worst = std::max(worst, std::abs(v - mean) / std::max(1.0, mean));
+      moved = std::max(moved, std::abs(v - rgb(k16.image, i, c)));
+    }
+  EXPECT_LT(worst, 1e-5) << "samples 0..7 cached, 8..15 exact";
+  EXPECT_GT(moved, 0.05) << "the check can fail: K = 8 differs from the cached render";
+
+  const nlohmann::json &c8 = k8.stats["cache"], &c_on8 = on8.stats["cache"], &c_all = all16.stats["cache"];
+  EXPECT_EQ(c8["camera_lookups"].get<uint64_t>(), c_on8["camera_lookups"].get<uint64_t>());
+  EXPECT_GT(c8["bypassed"].get<uint64_t>(), 0u);
+  EXPECT_EQ(c8["bypassed"].get<uint64_t>(),
+            c_all["camera_lookups"].get<uint64_t>() - c_on8["camera_lookups"].get<uint64_t>());
+
+  // Position-keyed points too (the marble's cells).
+  std::string solid = grid;
+  solid.replace(solid.find(" --mtlx "), solid.find(" --cache-min-nodes") - solid.find(" --mtlx "), marble());
+  const Render& marble_off = render("cam_marble_off", solid + " --spp 4 --cache off");
+  const Render& marble_k0 = render("cam_marble_k0", solid + " --spp 4 --cache on --cache-camera-samples 0");
+  const Render& marble_on = render("cam_marble_on", solid + " --spp 4 --cache on");
+  ASSERT_FALSE(marble_k0.image.pixels.empty());
+  EXPECT_EQ(marble_k0.image.pixels, marble_off.image.pixels);
+  EXPECT_NE(marble_on.image.pixels, marble_off.image.pixels) << "the check can fail";
+  EXPECT_GT(marble_on.stats["cache"]["position_lookups"].get<uint64_t>(), 0u);
+
+  // With bounces, K = 0 leaves the later hits their cache.
+  std::string bounces = grid;
+  bounces.replace(bounces.find("--max-depth 1"), 13, "--max-depth 4");
+  const Render& k0b = render("cam_k0_bounces", bounces + " --spp 4 --cache on --cache-camera-samples 0");
+  ASSERT_FALSE(k0b.image.pixels.empty());
+  const nlohmann::json& cb = k0b.stats["cache"];
+  EXPECT_EQ(cb["camera_lookups"].get<uint64_t>(), 0u) << cb.dump();
+  EXPECT_GT(cb["hits"].get<uint64_t>(), 0u) << cb.dump();
+  EXPECT_GT(cb["bypassed"].get<uint64_t>(), 0u) << cb.dump();
+}
+
 TEST(CacheRender, MarbleWithUvKeysOnlyHasNoHitsAnywhere) {
   const Render& m = render(
       "marble_uv", marble() + kView + " --width 96 --height 72 --spp 4 --seed 3 --cache on --cache-keys uv");

@@ -12,7 +12,7 @@
 //  (g) supersampled misses: K sub-samples make a miss evaluate the sub-graph
 //      K times (M = miss + miss_per_cost C + (K - 1)(1 + miss_per_cost) C), so
 //      a point that pays with K = 1 may not with K = 16; the automatic K is
-//      the largest power of two up to lookups per key / 8, 1..16, per key kind.
+//      the largest power of two up to lookups per key / 4, 1..16, per key kind.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -94,6 +94,18 @@ TEST(CacheCostModel, HitRateFromSamplesDepthAndKeyKind) {
   EXPECT_DOUBLE_EQ(expected_hit_rate(CacheFrame{64, 64, 1, 1}, false), 0.0);  // every key seen once
   // The frame's pixel count cancels: keys and lookups both scale with it.
   EXPECT_DOUBLE_EQ(expected_hit_rate(CacheFrame{160, 90, 16, 8}, false), expected_hit_rate(f16, false));
+  // Camera hits look up in the first camera_samples samples only (16 by
+  // default): at 64 spp, 16 camera lookups and 64 x 0.6 later ones; the keys
+  // are those of 64 samples' paths (1 + 3 (1 - 1/8) = 3.625).
+  const CacheFrame f64{640, 360, 64, 8};
+  EXPECT_NEAR(lookups_per_pixel(f64), 16.0 + 64.0 * 0.6, 1e-12);
+  EXPECT_NEAR(expected_hit_rate(f64, false), 1.0 - 3.625 / (16.0 + 64.0 * 0.6), 1e-12);
+  const CacheFrame f64_every{640, 360, 64, 8, 64};  // every sample's camera hit (the paper)
+  EXPECT_NEAR(expected_hit_rate(f64_every, false), 1.0 - 3.625 / 102.4, 1e-12);
+  EXPECT_NEAR(lookups_per_pixel(CacheFrame{640, 360, 8, 8}), 8.0 * 1.6, 1e-12) << "at most K samples: all";
+  // Camera hits only and none of them cached: nothing to look up, no hits.
+  EXPECT_DOUBLE_EQ(expected_hit_rate(CacheFrame{640, 360, 64, 1, 0}, false), 0.0);
+  EXPECT_DOUBLE_EQ(lookups_per_pixel(CacheFrame{640, 360, 64, 1, 0}), 0.0);
 }
 
 TEST(CacheCostModel, CheapSubgraphIsNotCachedAndExpensiveOneIs) {
@@ -198,23 +210,31 @@ TEST(CacheCostModel, SubSamplesScaleTheMissAndCanTurnAPointOff) {
 }
 
 TEST(CacheCostModel, AutomaticSubSamplesKeepMissesASmallShare) {
-  // Lookups per key: spp x 1.6 / (1 + 3 (1 - 1/sqrt(spp))), position keys half that.
-  auto by_hand = [](int spp, bool position) {
+  // Lookups per key: (camera lookups in min(spp, K) samples + spp x 0.6
+  // later ones) / (1 + 3 (1 - 1/sqrt(spp))), position keys half that; K is
+  // the camera-sample limit (16 by default).
+  auto by_hand = [](int spp, bool position, int camera) {
+    const double lookups = std::min(spp, camera) + spp * 0.6;
     const double per_key =
-        spp * 1.6 / ((1.0 + 3.0 * (1.0 - 1.0 / std::sqrt(double(spp)))) * (position ? 2 : 1));
+        lookups / ((1.0 + 3.0 * (1.0 - 1.0 / std::sqrt(double(spp)))) * (position ? 2 : 1));
     int k = 1;
-    while (k < 16 && 2 * k <= per_key / 8.0) k *= 2;
+    while (k < 16 && 2 * k <= per_key / 4.0) k *= 2;
     return k;
   };
-  for (int spp : {1, 4, 16, 64, 256, 1024, 65536})
-    for (bool position : {false, true}) {
-      const CacheFrame f{640, 360, spp, 8};
-      EXPECT_EQ(auto_supersample(f, position), by_hand(spp, position))
-          << spp << " spp, position " << position;
-    }
+  for (int camera : {0, 16, 1 << 30})
+    for (int spp : {1, 4, 16, 64, 256, 1024, 65536})
+      for (bool position : {false, true}) {
+        const CacheFrame f{640, 360, spp, 8, camera};
+        EXPECT_EQ(auto_supersample(f, position), by_hand(spp, position, camera))
+            << spp << " spp, position " << position << ", camera samples " << camera;
+      }
   EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 16, 8}, false), 1);   // 7.9 lookups per key
-  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, false), 8);  // 107.5
-  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, true), 4);   // 53.7
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 16, 8}, true), 1);    // 3.9
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, false), 8);  // (16 + 153.6) / 3.81 = 44.5
+  EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 256, 8}, true), 4);   // 22.3
+  const CacheFrame every{640, 360, 256, 8, 256};                        // camera hits in every sample
+  EXPECT_EQ(auto_supersample(every, false), 16);                        // 107.5
+  EXPECT_EQ(auto_supersample(every, true), 8);                          // 53.7
   EXPECT_EQ(auto_supersample(CacheFrame{640, 360, 65536, 8}, true), 16);
   const CacheSupersample fixed = resolve_supersample(CacheFrame{640, 360, 16, 8}, 4);
   EXPECT_EQ(fixed.uv, 4);
