@@ -11,7 +11,8 @@ Method:
          REF_SPP samples per configuration: the default scene at 320x180,
          every material of the shared MaterialX documents that has one on
          ../shared/scenes/materialx/geometry/sphere.obj at 160x90 under a
-         white environment, forced into the cache (--cache-min-nodes 1:
+         white environment, forced into the cache (--cache-min-nodes 1
+         --cache-model nodes:
          every uv- or position-only sub-graph is a point, however small). PSNR over the image and in its worst 16x16 tile,
          the hit rate and the share of cache points evaluated uncached
          (bypassed: their floor lies more than --cache-max-refine levels
@@ -21,10 +22,12 @@ Method:
          `pmc render` with --cache off and each configuration, the order
          rotated each round; median render_seconds, off / on over the
          medians and the range of the per-round ratios.
-Configurations: `paper` = the defaults (--cache-bandwidth off: texels follow
-the footprint); `floors` = --cache-bandwidth on (2 texels across the smallest
-feature, refine at most 2 levels); `floors-1` = also --cache-feature-texels 1;
-`floors-r4` = also --cache-max-refine 4.
+Configurations: `default` = the defaults (--cache-bandwidth off: texels follow
+the footprint; camera hits cached in a pixel's first 16 samples, exact after);
+`camera-all` = --cache-camera-samples 1000000 (camera hits cached in every
+sample, the paper's rule); `floors` = --cache-bandwidth on (2 texels across the
+smallest feature, refine at most 2 levels); `floors-1` = also
+--cache-feature-texels 1; `floors-r4` = also --cache-max-refine 4.
 """
 import os
 import time
@@ -44,7 +47,8 @@ DOCS = {
     "standard_surface_marble_solid.mtlx": ["Marble_3D"],
 }
 CONFIGS = {
-    "paper": [],
+    "default": [],
+    "camera-all": ["--cache-camera-samples", "1000000"],
     "floors": ["--cache-bandwidth", "on"],
     "floors-1": ["--cache-bandwidth", "on", "--cache-feature-texels", "1"],
     "floors-r4": ["--cache-bandwidth", "on", "--cache-max-refine", "4"],
@@ -81,7 +85,7 @@ def materials():
     for doc, names in DOCS.items():
         for m in names:
             out.append((f"{doc} {m}", [SPHERE, "--mtlx", f"{MTLX}/{doc}", "--material", m, "--env", "1,1,1",
-                                       "--cache-min-nodes", "1"], 160, 90))
+                                       "--cache-min-nodes", "1", "--cache-model", "nodes"], 160, 90))
     return out
 
 
@@ -177,7 +181,7 @@ def report(data):
         ratios = common.round_ratios(data["times"]["off"], data["times"][c])
         speed[c] = t_off / t
         h = data["hits"].get(c, {})
-        srows.append([f"`{c}` ({' '.join(CONFIGS[c]) or 'defaults'})", f"{t:.2f}",
+        srows.append([f"`{c}` ({' '.join(CONFIGS.get(c, [])) or 'defaults'})", f"{t:.2f}",
                       f"**{t_off / t:.2f}x** ({min(ratios):.2f}-{max(ratios):.2f})", pct(h.get("hit_rate")),
                       pct(h.get("bypassed"))])
     speed_table = common.md_table(["configuration", "time (s)", "speedup off / on (range)", "hit rate",
@@ -202,11 +206,15 @@ pixel errors are left out, as a path that parts from the cacheless one at one pi
 plain figure alone) / over the image, the hit rate, and the share of cache
 points evaluated without the cache (bypassed). The default scene at 320x180; each material of the
 shared MaterialX documents on their sphere at 160x90, white environment, forced into the cache
-(`--cache-min-nodes 1`: the thin-line patterns too, which the default threshold leaves uncached). Speed: the default scene at
+(`--cache-min-nodes 1 --cache-model nodes`: the thin-line patterns too, which the default threshold and cost model
+leave uncached). Speed: the default scene at
 640x360, 16 spp, {common.rounds_text(data['runs'])}, the order rotated each round, after untimed
 warm-ups; time is the median `render_seconds`, speedup the median off over the median on (in brackets
-the lowest and highest ratio of one round). Configurations: `paper` = the defaults
-(`--cache-bandwidth off`: texels follow the footprint, the paper's rule); `floors` =
+the lowest and highest ratio of one round). Configurations: `default` = the defaults
+(`--cache-bandwidth off`: texels follow the footprint, the paper's rule; camera-ray hits use the
+cache in a pixel's first 16 samples and evaluate exactly after, `--cache-camera-samples 16`);
+`camera-all` = `--cache-camera-samples 1000000` (camera hits cached in every sample, as in the
+paper); `floors` =
 `--cache-bandwidth on` (2 texels across a pattern's smallest feature, at most 2 levels finer than
 the footprint, else uncached); `floors-1` = also `--cache-feature-texels 1`; `floors-r4` = also
 `--cache-max-refine 4`. Other builds may have shared the 2 cores: read ratios, not single times.

@@ -430,7 +430,12 @@ def notes_text(d, cached):
         f"- Bias: at {d['psnr_width']}x{d['psnr_height']} the ottoman's threads (1.25 cm), the wood's pores, the",
         "  brick's specks and pebbles and the plaster's fine craquelure are finer than a pixel, and a",
         "  footprint texel holds one value of them where the cacheless render averages the pattern over",
-        f"  the pixel's samples: the default cache's worst tile reads {on['worst_tile_psnr']:.1f} dB.",
+        "  the pixel's samples. Camera-ray hits, whose texel is what the pixel shows, use the cache in a",
+        "  pixel's first 16 samples only (`--cache-camera-samples 16`) and evaluate exactly after, so at",
+        f"  {d['psnr_spp']} spp that error weighs {min(16, d['psnr_spp'])}/{d['psnr_spp']} of the camera's "
+        "share (at 16 spp, the speed goal's frame, the",
+        "  cache serves every hit). The same-seed worst tile is the paths' noise: "
+        f"{on['worst_tile_psnr']:.1f} dB (the bias alone, below).",
     ]
     bw = cached.get("bandwidth")
     if bw and bw["hits"]["hit_rate"] == 0 and bw["hits"].get("bypassed"):

@@ -306,18 +306,18 @@ class CacheBandwidthReport(unittest.TestCase):
     def data(self, worst_doc_tile):
         def b(tile, cached=True):
             return dict(psnr=50.0, worst_tile_psnr=tile, hit_rate=0.8, bypassed=0.1, cached=cached)
-        bias = {"default scene": {"paper": b(34.9), "floors": b(45.0)},
-                "linepattern.mtlx test_grid": {"paper": b(15.0), "floors": b(worst_doc_tile)},
-                "tiledshape.mtlx nothing": {"paper": b(0, False), "floors": b(0, False)}}
+        bias = {"default scene": {"default": b(34.9), "floors": b(45.0)},
+                "linepattern.mtlx test_grid": {"default": b(15.0), "floors": b(worst_doc_tile)},
+                "tiledshape.mtlx nothing": {"default": b(0, False), "floors": b(0, False)}}
         return dict(command="scripts/python -m bench.cache_bandwidth", now="now", rev="abc", machine="m", load="l",
-                    elapsed=60, runs=3, ref_spp=256, configs=["paper", "floors"], bias=bias,
-                    times={"off": [2.0, 2.2, 2.1], "paper": [1.4, 1.5, 1.4], "floors": [2.0, 2.0, 2.1]},
-                    hits={"paper": dict(hit_rate=0.9, bypassed=0.0), "floors": dict(hit_rate=0.8, bypassed=0.5)})
+                    elapsed=60, runs=3, ref_spp=256, configs=["default", "floors"], bias=bias,
+                    times={"off": [2.0, 2.2, 2.1], "default": [1.4, 1.5, 1.4], "floors": [2.0, 2.0, 2.1]},
+                    hits={"default": dict(hit_rate=0.9, bypassed=0.0), "floors": dict(hit_rate=0.8, bypassed=0.5)})
 
     def test_goals_follow_the_numbers(self):
         section, _ = cache_bandwidth.report(self.data(41.0))
         self.assertTrue(section.startswith(cache_bandwidth.SECTION))
-        self.assertIn("`paper`: default scene worst tile 34.9 dB, speedup 1.50x", section)
+        self.assertIn("`default`: default scene worst tile 34.9 dB, speedup 1.50x", section)
         self.assertIn("worst tile over all materials 15.0 dB (linepattern.mtlx test_grid): goal 40 dB **not met**",
                       section)
         self.assertIn("`floors`: default scene worst tile 45.0 dB, speedup 1.05x; worst tile over all materials "
@@ -328,8 +328,8 @@ class CacheBandwidthReport(unittest.TestCase):
 
     def test_trimmed_worst_tiles_are_shown_beside_the_goal(self):
         data = self.data(41.0)
-        data["bias"]["default scene"]["paper"]["worst_trimmed_tile_psnr"] = 36.0
-        data["bias"]["linepattern.mtlx test_grid"]["paper"]["worst_trimmed_tile_psnr"] = 15.5
+        data["bias"]["default scene"]["default"]["worst_trimmed_tile_psnr"] = 36.0
+        data["bias"]["linepattern.mtlx test_grid"]["default"]["worst_trimmed_tile_psnr"] = 15.5
         section, _ = cache_bandwidth.report(data)
         self.assertIn("| default scene | 34.9 (36.0) / 50.0 (80.0% hit, 10.0% bypassed) |", section)
         self.assertIn("goal 40 dB **not met** (without each tile's 2 largest pixel errors: 15.5 dB, "
