@@ -11,6 +11,7 @@
 //    bilinear texel pick comes from the path's own random numbers, so a
 //    sample's radiance does not depend on what else is in the table; the parts
 //    see lower hit rates (checked: their tables start empty) and the same image.
+//  * Parts that straddle the camera-sample limit (--cache-camera-samples) too.
 //  * Tiles (--crop), one of them split by samples too, assemble into the frame.
 //  * Mismatched parts (another seed, another scene, overlaps, missing
 //    samples) exit 2 naming the file, and write nothing.
@@ -102,6 +103,32 @@ TEST(MergeCli, CenterCachedPartsMergeToTheOneProcessRenderExactly) {
             a["cache"]["lookups"].get<uint64_t>() + b["cache"]["lookups"].get<uint64_t>());
   EXPECT_TRUE(rgb(d + "/full.exr") == rgb(d + "/m.exr"))
       << "centre-mode merge differs from the one-process render";
+}
+
+// Camera hits use the cache in a pixel's first K samples only
+// (--cache-camera-samples): a part that straddles sample K (here 1:4 with
+// K = 3) caches its samples 1..2 at camera hits and not 3, as the one
+// process does, so the merge is still exact; K = 6 (every sample) is
+// another image (the check can fail).
+TEST(MergeCli, PartsAcrossTheCameraSampleLimitMergeExactly) {
+  const std::string d = test::temp_dir(), args = teapot_args() + " --cache-camera-samples 3";
+  render(args, d + "/full.exr", "");
+  render(args, d + "/a.exr", "--samples 0:1");
+  render(args, d + "/b.exr", "--samples 1:4");
+  render(args, d + "/c.exr", "--samples 4:6");
+  render(teapot_args(), d + "/all.exr", "--cache-camera-samples 6");
+  std::string log;
+  ASSERT_EQ(test::run_pmc("merge " + d + "/b.exr " + d + "/c.exr " + d + "/a.exr -o " + d + "/m.exr", &log),
+            0)
+      << log;
+  EXPECT_TRUE(rgb(d + "/full.exr") == rgb(d + "/m.exr")) << "merge across the camera-sample limit differs";
+  EXPECT_FALSE(rgb(d + "/full.exr") == rgb(d + "/all.exr"));
+  // Parts of another limit do not merge with these (the settings hash covers it).
+  render(teapot_args(), d + "/other.exr", "--samples 1:4 --cache-camera-samples 2");
+  EXPECT_EQ(
+      test::run_pmc("merge " + d + "/a.exr " + d + "/other.exr " + d + "/c.exr -o " + d + "/x.exr", &log), 2)
+      << log;
+  EXPECT_FALSE(test::file_exists(d + "/x.exr"));
 }
 
 TEST(MergeCli, CropTilesAssembleIntoTheFrame) {
