@@ -67,9 +67,6 @@ struct CacheFrame {
 
 // Expected fraction of a point's lookups that hit (0..1).
 double expected_hit_rate(const CacheFrame& frame, bool position_key);
-// Lookups of one point per pixel and sample when camera hits look up: the
-// camera hit and later ones.
-double lookups_per_sample(const CacheFrame& frame);
 // Lookups of one point per pixel over the frame's samples: the camera hit's
 // in the first camera_samples samples, the later hits' in all of them.
 double lookups_per_pixel(const CacheFrame& frame);
