@@ -63,9 +63,9 @@ typedef struct PmcHitLanes {
   float d1u[PMC_LANES], d1v[PMC_LANES], d2u[PMC_LANES], d2v[PMC_LANES];
 } PmcHitLanes;
 
-/* Lane k's inputs, all zeros (a spare lane; an escaped ray's before its ray). */
-PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
-  L->dx[k] = L->dy[k] = L->dz[k] = L->b1[k] = L->b2[k] = 0.0f;
+/* Lane k's surface inputs, all zeros (an escaped ray's lane: its ray stays). */
+PMC_FN void pmc_hit_lane_clear_surface(PmcHitLanes* L, int k) {
+  L->b1[k] = L->b2[k] = 0.0f;
   L->p0x[k] = L->p0y[k] = L->p0z[k] = L->p1x[k] = L->p1y[k] = L->p1z[k] = 0.0f;
   L->p2x[k] = L->p2y[k] = L->p2z[k] = 0.0f;
   L->normals[k] = L->uvs[k] = 0;
@@ -73,6 +73,12 @@ PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
   L->n2x[k] = L->n2y[k] = L->n2z[k] = 0.0f;
   L->t0u[k] = L->t0v[k] = L->t1u[k] = L->t1v[k] = L->t2u[k] = L->t2v[k] = 0.0f;
   L->radius[k] = 0.0f;
+}
+
+/* Lane k's inputs, all zeros (a spare lane). */
+PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
+  pmc_hit_lane_clear_surface(L, k);
+  L->dx[k] = L->dy[k] = L->dz[k] = 0.0f;
   L->ox[k] = L->oy[k] = L->oz[k] = L->t_hit[k] = 0.0f;
   L->escaped[k] = 0;
 }

@@ -192,7 +192,7 @@ static inline float3 pmc_add_light(float3 radiance, float3 a, float3 b, float li
 
 /* Pass 1a: what a ray's hit needs (its geometry: pmc_hit_geometry_lanes; the
  * lights it met: pmc_lights_seen_lanes), into lane k of `L` (an escaped
- * ray's lane holds its ray and zeros). */
+ * ray's lane holds its ray; pmc_hit_geometry_lanes zeroes the rest). */
 static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* scene,
                                 __global const PmcRay* rays, __global const PmcHit* hits,
                                 __global PmcPathState* paths, uint i, PmcHitPoint* hp, PmcHitLanes* L,
@@ -206,7 +206,6 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->org = make_float3(ray.org_x, ray.org_y, ray.org_z);
   hp->surface = hit.prim >= 0;
-  if (!hp->surface) pmc_hit_lane_clear(L, k);
   L->dx[k] = dir.x, L->dy[k] = dir.y, L->dz[k] = dir.z;
   L->ox[k] = ray.org_x, L->oy[k] = ray.org_y, L->oz[k] = ray.org_z, L->t_hit[k] = hit.t;
   L->escaped[k] = hp->surface ? 0 : -1;
@@ -253,8 +252,9 @@ PMC_HIT_GEOMETRY(pmc_hit_geometry8, float8, int8, PMC_SEL_VECTOR, PMC_HIT_LD8, P
 #undef PMC_HIT_ST8
 #endif
 static inline void pmc_hit_geometry_lanes(PmcHitLanes* L, int n) {
+  for (int k = 0; k < n; ++k)
+    if (L->escaped[k]) pmc_hit_lane_clear_surface(L, k);
 #if PMC_LANES8
-  for (int k = n; k < ((n + 7) & ~7); ++k) pmc_hit_lane_clear(L, k); /* the last group's spare lanes */
   for (int q = 0; q < n; q += 8) pmc_hit_geometry8(L, q);
 #else
   for (int k = 0; k < n; ++k) pmc_hit_geometry_at(L, k);
@@ -1220,12 +1220,23 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   for (int k = 0; k < n; ++k) pmc_touch_triangle(scene, hits, rays, paths, idx[k]);
   PmcHitPoint hp[PMC_LANES];
   PmcHitLanes lanes;
-  for (int k = 0; k < n; ++k) pmc_hit_load(frame, scene, rays, hits, paths, idx[k], &hp[k], &lanes, k);
-  pmc_hit_geometry_lanes(&lanes, n);
+  int surfaces = 0;
+  for (int k = 0; k < n; ++k) {
+    pmc_hit_load(frame, scene, rays, hits, paths, idx[k], &hp[k], &lanes, k);
+    surfaces += hp[k].surface;
+  }
+#if PMC_LANES8
+  for (int k = n; k < ((n + 7) & ~7); ++k) pmc_hit_lane_clear(&lanes, k); /* the last group's spare lanes */
+#endif
+  /* A batch of escaped rays (the host's sort gives them batches of their
+   * own) only adds the lights they met: the surface passes are skipped. */
+  if (surfaces) pmc_hit_geometry_lanes(&lanes, n);
   pmc_lights_seen_lanes(frame, scene, paths, hp, &lanes, n);
-  for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
-  pmc_ray_cone_lanes(&lanes, n, hp);
-  if (frame->cache_on) {
+  if (surfaces) {
+    for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
+    pmc_ray_cone_lanes(&lanes, n, hp);
+  }
+  if (surfaces && frame->cache_on) {
     for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
     const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
     for (int k = 0; k < n; ++k)
@@ -1243,9 +1254,11 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   for (int k = 0; k < n; ++k) out[k].next = out[k].shadow = 0;
   uint counts[PMC_CSTAT_COUNT];
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
-  PmcBatchNumbers numbers;
-  pmc_draw_hit_numbers(frame, hp, n, &numbers);
-  pmc_shade_batch(frame, scene, hp, &numbers, n, paths, cache_entries, passes, out, counts);
+  if (surfaces) {
+    PmcBatchNumbers numbers;
+    pmc_draw_hit_numbers(frame, hp, n, &numbers);
+    pmc_shade_batch(frame, scene, hp, &numbers, n, paths, cache_entries, passes, out, counts);
+  }
 
   uint n_next = 0u, n_shadow = 0u;
   for (int k = 0; k < n; ++k) {

@@ -1,8 +1,9 @@
 """bench.shade — what the shade kernel costs per hit: the shade stage's time
 per shaded ray per core, on bench.peers' Cornell box (constant diffuse
-materials, a quad and a point light: the light tree) and default room (its
-MTL stand-ins, a sun disk and an HDR sky: lights at infinity), with a
-baseline pmc and this tree's, in interleaved rounds.
+materials, a quad and a point light: the light tree), default room (its
+MTL stand-ins, a sun disk and an HDR sky: lights at infinity) and spider
+(a textured mesh under an HDR map: most camera rays escape to the map),
+with a baseline pmc and this tree's, in interleaved rounds.
 
 ns per hit per core = stage_seconds.shade x threads / (rays - shadow_rays):
 every traced path ray (camera or continuation) is one hit the shade kernel
@@ -33,7 +34,7 @@ from bench import common, peer_scenes
 
 PROG = "bench.shade"
 SECTION = "## Shade kernel: ns per hit (scripts/bench-shade)"
-SCENES = ["cornell", "default"]
+SCENES = ["cornell", "default", "spider"]
 PERF_PERIOD_NS = 100000  # one task-clock sample per 0.1 ms of CPU time
 SHADE_DSO = "pmc_shade.so"  # PoCL names a kernel's compiled code after the kernel
 
