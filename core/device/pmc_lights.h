@@ -61,8 +61,8 @@ typedef struct PmcLightSample {
 /* --- the lat-long map -------------------------------------------------- */
 
 PMC_FN float2 pmc_env_dir_to_uv(float3 d) {
-  float u = 0.5f + atan2(d.x, -d.z) * (0.5f * PMC_INV_PI);
-  float v = acos(clamp(d.y, -1.0f, 1.0f)) * PMC_INV_PI;
+  float u = 0.5f + pmc_atan2(d.x, -d.z) * (0.5f * PMC_INV_PI);
+  float v = pmc_acos(d.y) * PMC_INV_PI;
   return make_float2(u, v);
 }
 

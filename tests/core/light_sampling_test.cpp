@@ -16,6 +16,7 @@
 //   * pick probabilities proportional to the documented power formulas.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -228,6 +229,39 @@ TEST(EnvMapConvention, DirectionsMapToTheDocumentedUv) {
     EXPECT_NEAR(std::fmod(back.x - us + 1.5f, 1.0f) - 0.5f, 0.0f, 1e-5f);
     EXPECT_NEAR(back.y, vs, 1e-5f);
   }
+}
+
+// pmc_atan2 and pmc_acos (core/abi/pmc_vec.h: the map's polynomial atan2)
+// against double precision over every octant, at the axes, and at the
+// special values.
+TEST(EnvMapConvention, Atan2AndAcosMatchDoublePrecision) {
+  double worst = 0.0;
+  for (int i = 0; i < 200000; ++i) {  // directions around the circle, at several radii
+    const double a = 2.0 * kPi * (double(i) + 0.5) / 200000.0 - kPi;
+    const double r = std::ldexp(1.0, i % 41 - 20);
+    const float y = float(r * std::sin(a)), x = float(r * std::cos(a));
+    worst = std::max(worst, std::fabs(double(pmc_atan2(y, x)) - std::atan2(double(y), double(x))));
+  }
+  EXPECT_LT(worst, 4e-7);  // a float's spacing at pi is 2.4e-7
+  const float axes[][3] = {{0, 1, 0},
+                           {1, 0, float(kPi / 2)},
+                           {0, -1, float(kPi)},
+                           {-1, 0, float(-kPi / 2)},
+                           {1, 1, float(kPi / 4)},
+                           {-1, -1, float(-3 * kPi / 4)},
+                           {0, 0, 0}};
+  for (const auto& c : axes) EXPECT_NEAR(pmc_atan2(c[0], c[1]), c[2], 3e-7) << c[0] << "," << c[1];
+  EXPECT_TRUE(std::isnan(pmc_atan2(NAN, 1.0f)));
+  EXPECT_TRUE(std::isnan(pmc_atan2(1.0f, NAN)));
+  worst = 0.0;
+  for (int i = -100000; i <= 100000; ++i) {
+    const float c = float(i) * 1e-5f;
+    worst = std::max(worst, std::fabs(double(pmc_acos(c)) - std::acos(double(c))));
+  }
+  EXPECT_LT(worst, 4e-7);
+  EXPECT_EQ(pmc_acos(1.0f), 0.0f);
+  EXPECT_NEAR(pmc_acos(-1.0f), float(kPi), 3e-7);
+  EXPECT_EQ(pmc_acos(2.0f), 0.0f);  // clamped
 }
 
 TEST(EnvMapConvention, RotationTurnsTheMapCounterClockwiseSeenFromAbove) {
