@@ -72,17 +72,30 @@ PMC_FN float pmc_reduce_coord(float u, pmc_u32 mode) {
   return u < -1.0f ? -1.0f : (u > 2.0f ? 2.0f : u);
 }
 
-/* One mip level, bilinear or nearest. */
-PMC_FN float4 pmc_texture_level(const PmcTextureSet* ts, PMC_GLOBAL const PmcTexture* tex, float2 uv,
-                                int level, pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
-  pmc_u32 base = tex->offset;
-  int w = tex->width, h = tex->height;
+/* Where one mip level of a texture lies in the pool, and its size. */
+typedef struct PmcTextureLevel {
+  pmc_u32 base;
+  int w, h;
+} PmcTextureLevel;
+
+PMC_FN PmcTextureLevel pmc_texture_level_at(PMC_GLOBAL const PmcTexture* tex, int level) {
+  PmcTextureLevel L;
+  L.base = tex->offset;
+  L.w = tex->width;
+  L.h = tex->height;
   for (int l = 0; l < level; ++l) {
-    base += (pmc_u32)w * (pmc_u32)h;
-    w = w > 1 ? w >> 1 : 1;
-    h = h > 1 ? h >> 1 : 1;
+    L.base += (pmc_u32)L.w * (pmc_u32)L.h;
+    L.w = L.w > 1 ? L.w >> 1 : 1;
+    L.h = L.h > 1 ? L.h >> 1 : 1;
   }
-  int srgb = (tex->flags & PMC_TEX_SRGB) != 0u;
+  return L;
+}
+
+/* One mip level, bilinear or nearest. */
+PMC_FN float4 pmc_texture_level(const PmcTextureSet* ts, PmcTextureLevel L, int srgb, float2 uv,
+                                pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
+  const pmc_u32 base = L.base;
+  const int w = L.w, h = L.h;
   /* Texel space: x to the right, y down from the top row. */
   float x = pmc_reduce_coord(uv.x, umode) * (float)w;
   float y = pmc_reduce_coord(1.0f - uv.y, vmode) * (float)h;
@@ -107,21 +120,47 @@ PMC_FN float4 pmc_texture_level(const PmcTextureSet* ts, PMC_GLOBAL const PmcTex
   return top + (bottom - top) * ay;
 }
 
-/* Trilinear lookup: `footprint` is the uv-space width the lookup covers. */
-PMC_FN float4 pmc_texture_sample(const PmcTextureSet* ts, pmc_u32 index, float2 uv, float footprint,
-                                 pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
-  if (index >= ts->count) return fallback;
-  PMC_GLOBAL const PmcTexture* tex = &ts->textures[index];
+/* A trilinear lookup's levels for a footprint: the finer level, and the
+ * coarser one with its weight t (t 0: the finer alone). */
+typedef struct PmcTextureLod {
+  PmcTextureLevel fine, coarse;
+  float t;
+  int srgb;
+} PmcTextureLod;
+
+/* `footprint` is the uv-space width the lookup covers. */
+PMC_FN PmcTextureLod pmc_texture_lod(PMC_GLOBAL const PmcTexture* tex, float footprint) {
   float size = (float)(tex->width > tex->height ? tex->width : tex->height);
   float lod = footprint > 0.0f && isfinite(footprint) ? log2(footprint * size) : 0.0f;
   float max_lod = (float)(tex->levels - 1);
   lod = lod > 0.0f ? (lod < max_lod ? lod : max_lod) : 0.0f;
   int l0 = (int)floor(lod);
-  float t = lod - (float)l0;
-  float4 c0 = pmc_texture_level(ts, tex, uv, l0, umode, vmode, filter, fallback);
-  if (t <= 0.0f || l0 + 1 > (int)max_lod) return c0;
-  float4 c1 = pmc_texture_level(ts, tex, uv, l0 + 1, umode, vmode, filter, fallback);
-  return c0 + (c1 - c0) * t;
+  PmcTextureLod r;
+  r.t = lod - (float)l0;
+  if (l0 + 1 > (int)max_lod) r.t = 0.0f;
+  r.srgb = (tex->flags & PMC_TEX_SRGB) != 0u;
+  r.fine = pmc_texture_level_at(tex, l0);
+  /* the next level from this one, as pmc_texture_level_at(l0 + 1) steps */
+  r.coarse.base = r.fine.base + (pmc_u32)r.fine.w * (pmc_u32)r.fine.h;
+  r.coarse.w = r.fine.w > 1 ? r.fine.w >> 1 : 1;
+  r.coarse.h = r.fine.h > 1 ? r.fine.h >> 1 : 1;
+  return r;
+}
+
+PMC_FN float4 pmc_texture_trilinear(const PmcTextureSet* ts, const PmcTextureLod* lod, float2 uv,
+                                    pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
+  float4 c0 = pmc_texture_level(ts, lod->fine, lod->srgb, uv, umode, vmode, filter, fallback);
+  if (lod->t <= 0.0f) return c0;
+  float4 c1 = pmc_texture_level(ts, lod->coarse, lod->srgb, uv, umode, vmode, filter, fallback);
+  return c0 + (c1 - c0) * lod->t;
+}
+
+/* Trilinear lookup: `footprint` is the uv-space width the lookup covers. */
+PMC_FN float4 pmc_texture_sample(const PmcTextureSet* ts, pmc_u32 index, float2 uv, float footprint,
+                                 pmc_u32 umode, pmc_u32 vmode, pmc_u32 filter, float4 fallback) {
+  if (index >= ts->count) return fallback;
+  const PmcTextureLod lod = pmc_texture_lod(&ts->textures[index], footprint);
+  return pmc_texture_trilinear(ts, &lod, uv, umode, vmode, filter, fallback);
 }
 
 /* A lookup's footprint: the isotropic width and the ellipse (see below). */
@@ -159,11 +198,13 @@ PMC_FN float4 pmc_texture_sample_ellipse(const PmcTextureSet* ts, pmc_u32 index,
   /* tap i at uv + axis * (s0 + i * ds): s from -(1 - w / P) to +(1 - w / P) */
   const float s0 = w / major - 1.0f;
   const float ds = -2.0f * s0 / (float)(n - 1);
+  if (index >= ts->count) return fallback;
+  const PmcTextureLod lod = pmc_texture_lod(&ts->textures[index], w); /* every tap's */
   float4 sum = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
   for (int i = 0; i < PMC_TEXTURE_MAX_TAPS; ++i) {
     if (i >= n) break;
     const float s = s0 + (float)i * ds;
-    sum = sum + pmc_texture_sample(ts, index, uv + axis * s, w, umode, vmode, filter, fallback);
+    sum = sum + pmc_texture_trilinear(ts, &lod, uv + axis * s, umode, vmode, filter, fallback);
   }
   return sum * (1.0f / (float)n);
 }
