@@ -264,6 +264,33 @@ TEST(EnvMapConvention, Atan2AndAcosMatchDoublePrecision) {
   EXPECT_EQ(pmc_acos(2.0f), 0.0f);  // clamped
 }
 
+// pmc_cdf_search against the standard library's upper bound, on CDFs with
+// flat runs (texels of zero weight) and at u equal to entries.
+TEST(EnvMapSampling, CdfSearchFindsTheFirstEntryAboveU) {
+  std::mt19937 gen(7);
+  for (int n : {1, 2, 3, 7, 8, 64, 255, 256, 1000}) {
+    std::vector<double> w(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) w[size_t(i)] = gen() % 3 == 0 ? 0.0 : double(gen() % 100);
+    std::vector<float> cdf(static_cast<size_t>(n));
+    double total = 0.0, running = 0.0;
+    for (double x : w) total += x;
+    for (int i = 0; i < n; ++i) {
+      running += w[size_t(i)];
+      cdf[size_t(i)] = total > 0.0 ? float(running / total) : float(double(i + 1) / n);
+    }
+    cdf[size_t(n - 1)] = 1.0f;
+    std::vector<float> us = {0.0f, 0.99999994f, 1.0f};
+    for (float c : cdf) us.push_back(c);  // exactly at entries: the next bin
+    for (int i = 0; i < 2000; ++i) us.push_back(float(gen() >> 8) * (1.0f / 16777216.0f));
+    for (float u : us) {
+      const int want =
+          int(std::min<ptrdiff_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin(), n - 1));
+      ASSERT_EQ(pmc_cdf_search(cdf.data(), n, u), want) << "n " << n << " u " << u;
+    }
+    EXPECT_EQ(pmc_cdf_search(cdf.data(), n, NAN), n - 1);
+  }
+}
+
 TEST(EnvMapConvention, RotationTurnsTheMapCounterClockwiseSeenFromAbove) {
   PmcLightHeader h{};
   h.env_rot_cos = std::cos(float(kPi / 2));
