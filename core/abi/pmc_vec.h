@@ -165,11 +165,11 @@ PMC_FN void pmc_sincos_turns(float t, float* s, float* c) {
 /* atan2(y, x) in [-pi, pi] from atan on [0, 1]: t = min / max of |x| and |y|,
  * atan(t) = t P(t^2) with P of degree 8 fitted here to atan(t) / t (Lawson's
  * reweighted least squares; largest error 1.2e-7 rad on [0, 1] evaluated in
- * float, about 2 ulp), then the octant's reflections. A zero y counts as
- * +0 (atan2(0, 0) is 0, atan2(0, x < 0) is +pi); a NaN argument gives NaN.
- * The lat-long environment
- * map finds each escaped ray's texel with it: PoCL's atan2 took 15% of the
- * shade kernel on a scene seen mostly against its sky. */
+ * float, about 2 ulp), then the octant's reflections. A zero y counts as +0
+ * (atan2(0, 0) is 0, atan2(0, x < 0) is +pi); a NaN argument gives NaN, two
+ * infinite ones NaN too. The lat-long environment map finds each escaped
+ * ray's texel with it: PoCL's atan2 took 15% of the shade kernel on a scene
+ * seen mostly against its sky. */
 PMC_FN float pmc_atan2(float y, float x) {
   if (isnan(x) || isnan(y)) return x + y;
   const float ax = fabs(x), ay = fabs(y);
