@@ -35,12 +35,15 @@ double EnvMap::luminance_integral() const {
   return integral * 2.0 * kPi * kPi / (double(width) * double(height));
 }
 
+double EnvMap::row_sine(int y) const { return std::sin((double(y) + 0.5) * kPi / double(height)); }
+
 std::vector<float> EnvMap::device_data(float scale) const {
   std::vector<float> out;
-  out.reserve(rgb.size() + marginal.size() + conditional.size());
+  out.reserve(rgb.size() + marginal.size() + conditional.size() + size_t(height));
   for (float v : rgb) out.push_back(v * scale);
   out.insert(out.end(), marginal.begin(), marginal.end());
   out.insert(out.end(), conditional.begin(), conditional.end());
+  for (int y = 0; y < height; ++y) out.push_back(float(row_sine(y)));
   return out;
 }
 
@@ -55,7 +58,7 @@ EnvMap env_map_from_rgb(int width, int height, std::vector<float> rgb, const std
   m.conditional.resize(size_t(width) * size_t(height));
   std::vector<double> row_weight(static_cast<size_t>(height)), col_weight(static_cast<size_t>(width));
   for (int y = 0; y < height; ++y) {
-    const double sin_theta = std::sin((double(y) + 0.5) * kPi / double(height));
+    const double sin_theta = m.row_sine(y);
     for (int x = 0; x < width; ++x)
       col_weight[size_t(x)] = luminance(&m.rgb[3 * (size_t(y) * size_t(width) + size_t(x))]) * sin_theta;
     row_weight[size_t(y)] = fill_cdf(col_weight, &m.conditional[size_t(y) * size_t(width)]);

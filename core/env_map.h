@@ -25,7 +25,10 @@ struct EnvMap {
   // Integral of the luminance over the sphere (W/(m^2 sr) x sr): the map's
   // share of light power is pi r^2 times this.
   double luminance_integral() const;
-  // Texels x scale, then the marginal and conditional CDFs (core/device/pmc_lights.h).
+  // sin(theta) at the centre of row y: the rows' sampling weight.
+  double row_sine(int y) const;
+  // Texels x scale, then the marginal and conditional CDFs, then the rows'
+  // sines (core/device/pmc_lights.h).
   std::vector<float> device_data(float scale) const;
 };
 

@@ -85,14 +85,20 @@ PMC_FN float3 pmc_env_to_world(const PmcLightHeader* h, float3 m) {
   return make_float3(c * m.x + s * m.z, m.y, -s * m.x + c * m.z);
 }
 
-/* Column and row of the texel holding map direction m. */
-PMC_FN int pmc_env_texel_index(const PmcLightHeader* h, float3 m) {
+/* Index of the texel holding map direction m, and its row. */
+PMC_FN int pmc_env_texel_at(const PmcLightHeader* h, float3 m, int* row_out) {
   float2 uv = pmc_env_dir_to_uv(m);
   int col = (int)(uv.x * (float)h->env_width);
   int row = (int)(uv.y * (float)h->env_height);
   col = col < 0 ? 0 : (col >= h->env_width ? h->env_width - 1 : col);
   row = row < 0 ? 0 : (row >= h->env_height ? h->env_height - 1 : row);
+  *row_out = row;
   return row * h->env_width + col;
+}
+
+PMC_FN int pmc_env_texel_index(const PmcLightHeader* h, float3 m) {
+  int row;
+  return pmc_env_texel_at(h, m, &row);
 }
 
 PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
@@ -100,23 +106,28 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
 }
 
 /* Solid-angle density of the map's importance sampling at map direction m
- * in texel i (pmc_env_texel_index(m), passed in where the caller has it),
- * without the pick probability: p(texel) w h / (2 pi^2 sin(theta)). */
-PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i) {
+ * in texel i of row `row` (pmc_env_texel_at(m), passed in where the caller
+ * has it), without the pick probability: p(texel) w h / (2 pi^2 sin(theta)),
+ * with p(texel) the texel's sampling weight, luminance x the sine of its
+ * row's centre (the table after the CDFs, core/env_map.h: the sines the
+ * host weighed the rows with), over their sum. */
+PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i, int row) {
   const PmcLightHeader* h = &ls->h;
   if (h->env_uniform) return 0.25f * PMC_INV_PI;
   float sin_theta = sqrt(fmax(0.0f, 1.0f - m.y * m.y));
   if (!(sin_theta > 0.0f)) return 0.0f;
-  int row = i / h->env_width;
-  float row_sin, row_cos; /* sin(pi (row + 0.5) / height) */
-  pmc_sincos_turns(((float)row + 0.5f) / (2.0f * (float)h->env_height), &row_sin, &row_cos);
+  const int w = h->env_width, hh = h->env_height;
+  const float row_sin = ls->env[3 * w * hh + hh + w * hh + row];
   float f = pmc_luminance(pmc_env_texel(ls, i)) * row_sin;
-  float texels = (float)h->env_width * (float)h->env_height;
+  float texels = (float)w * (float)hh;
   return f * h->env_inv_integral * texels / (2.0f * PMC_PI * PMC_PI * sin_theta);
 }
 
 PMC_FN float pmc_env_map_pdf(const PmcLightSet* ls, float3 m) {
-  return ls->h.env_uniform ? 0.25f * PMC_INV_PI : pmc_env_map_pdf_in(ls, m, pmc_env_texel_index(&ls->h, m));
+  if (ls->h.env_uniform) return 0.25f * PMC_INV_PI;
+  int row;
+  const int i = pmc_env_texel_at(&ls->h, m, &row);
+  return pmc_env_map_pdf_in(ls, m, i, row);
 }
 
 /* First index in cdf[0, n) whose value exceeds u (the last one if none). */
@@ -149,7 +160,7 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
   const PmcLightHeader* h = &ls->h;
   int w = h->env_width, hh = h->env_height;
   float3 m;
-  int texel;
+  int texel, row = 0;
   if (h->env_uniform) {
     float z = 1.0f - 2.0f * u1, r = sqrt(fmax(0.0f, 1.0f - z * z)), sin_phi, cos_phi;
     pmc_sincos_turns(u2, &sin_phi, &cos_phi);
@@ -157,7 +168,7 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     texel = pmc_env_texel_index(h, m);
   } else {
     PMC_GLOBAL const float* marginal = ls->env + 3 * w * hh;
-    int row = pmc_cdf_search(marginal, hh, u1);
+    row = pmc_cdf_search(marginal, hh, u1);
     float fv = pmc_cdf_fraction(marginal, row, u1);
     PMC_GLOBAL const float* conditional = marginal + hh + row * w;
     int col = pmc_cdf_search(conditional, w, u2);
@@ -165,7 +176,7 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     m = pmc_env_uv_to_dir(((float)col + fu) / (float)w, ((float)row + fv) / (float)hh);
     texel = row * w + col;
   }
-  float pdf = pmc_env_map_pdf_in(ls, m, texel);
+  float pdf = pmc_env_map_pdf_in(ls, m, texel, row);
   *wi = pmc_env_to_world(h, m);
   *le = pmc_env_texel(ls, texel);
   return pdf;
@@ -788,9 +799,11 @@ PMC_FN float3 pmc_infinity_seen(const PmcLightSet* ls, float3 o, float3 d, float
     if (l->type == PMC_LIGHT_ENV && ls->h.env == PMC_ENV_MAP) {
       /* pmc_env_light_pdf, with the texel found once */
       const float3 m = pmc_env_to_map(&ls->h, d);
-      const int texel = pmc_env_texel_index(&ls->h, m);
+      int row;
+      const int texel = pmc_env_texel_at(&ls->h, m, &row);
       le = pmc_env_texel(ls, texel);
-      light_pdf = full_weight ? 0.0f : pmc_light_pick_pmf(ls, o, n, 0) * pmc_env_map_pdf_in(ls, m, texel);
+      light_pdf =
+          full_weight ? 0.0f : pmc_light_pick_pmf(ls, o, n, 0) * pmc_env_map_pdf_in(ls, m, texel, row);
     } else if (l->type == PMC_LIGHT_ENV) {
       le = pmc_load3(l->rgb);
       light_pdf = full_weight ? 0.0f : pmc_env_light_pdf(ls, o, n, d);
