@@ -1232,29 +1232,27 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
    * own) only adds the lights they met: the surface passes are skipped. */
   if (surfaces) pmc_hit_geometry_lanes(&lanes, n);
   pmc_lights_seen_lanes(frame, scene, paths, hp, &lanes, n);
-  if (surfaces) {
-    for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
-    pmc_ray_cone_lanes(&lanes, n, hp);
-  }
-  if (surfaces && frame->cache_on) {
-    for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
-    const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
-    for (int k = 0; k < n; ++k)
-      if (hp[k].surface && hp[k].cache_points > 0u) {
-        uint points = min(hp[k].cache_points, 8u);
-        for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at) */
-          const PmcCacheTexel* t = ((hp[k].cache_position_mask >> p) & 1u) ? &hp[k].cell : &hp[k].texel;
-          if (!t->bypass)
-            PMC_TOUCH(&cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways]);
-        }
-      }
-  }
 
   PmcShadeOut out[PMC_LANES];
   for (int k = 0; k < n; ++k) out[k].next = out[k].shadow = 0;
   uint counts[PMC_CSTAT_COUNT];
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
   if (surfaces) {
+    for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
+    pmc_ray_cone_lanes(&lanes, n, hp);
+    if (frame->cache_on) {
+      for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
+      const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
+      for (int k = 0; k < n; ++k)
+        if (hp[k].surface && hp[k].cache_points > 0u) {
+          uint points = min(hp[k].cache_points, 8u);
+          for (uint p = 0u; p < points; ++p) { /* cell of the p-th point (pmc_cache_key_at) */
+            const PmcCacheTexel* t = ((hp[k].cache_position_mask >> p) & 1u) ? &hp[k].cell : &hp[k].texel;
+            if (!t->bypass)
+              PMC_TOUCH(&cache_entries[pmc_cache_cell(&table, t->base + (ulong)p) * (ulong)table.ways]);
+          }
+        }
+    }
     PmcBatchNumbers numbers;
     pmc_draw_hit_numbers(frame, hp, n, &numbers);
     pmc_shade_batch(frame, scene, hp, &numbers, n, paths, cache_entries, passes, out, counts);
