@@ -15,6 +15,12 @@
 
 #ifdef __OPENCL_VERSION__
 #define PMC_FN static inline
+/* A function always inlined on the device: one that the shade kernel's loops
+ * over a batch's lanes call (a call in a loop's body keeps the compiler from
+ * vectorising the loop: gpu/kernels/pmc_kernels.cl, pmc_draw_hit_numbers), or
+ * one returning a struct that a call would pass through memory, where the
+ * caller then stalls reading it back (pmc_cache_texel_floored). */
+#define PMC_FN_INLINE static inline __attribute__((always_inline))
 #define PMC_GLOBAL __global
 #define PMC_CONSTANT __constant
 #define make_float2(x, y) ((float2)((x), (y)))
@@ -28,6 +34,7 @@ typedef ulong pmc_u64;
 #include <cstdint>
 #include <cstring>
 #define PMC_FN static inline
+#define PMC_FN_INLINE static inline
 #define PMC_GLOBAL
 #define PMC_CONSTANT
 typedef uint32_t pmc_u32;

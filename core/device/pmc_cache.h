@@ -114,7 +114,7 @@ enum { PMC_CACHE_COUNTERS(PMC_CSTAT_ENUMERATOR_) PMC_CSTAT_COUNT };
  * With an integral bias (the usual case) the level comes exactly from m's
  * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
  * a library log2 cost about as much as the rest of a lookup on PoCL. */
-PMC_FN int pmc_cache_level(float m, float bias) {
+PMC_FN_INLINE int pmc_cache_level(float m, float bias) {
   float b = isfinite(bias) ? bias : 0.0f;
   if (m > 0.0f && isfinite(m) && b == floor(b) && fabs(b) <= 64.0f) {
     int bits = as_int(m);
@@ -281,8 +281,9 @@ PMC_FN int pmc_cache_floored_level(int lambda, int level_floor, int max_refine, 
 
 /* The texel of a shading point: level from the ray-cone gradients and the
  * mip bias, indices of uv * 2^lambda + jitter (see pmc_cache_texel_jittered). */
-PMC_FN PmcCacheTexel pmc_cache_texel_floored(float2 uv, float2 g1, float2 g2, float bias, float2 jitter,
-                                             pmc_u32 material, int level_floor, int max_refine) {
+PMC_FN_INLINE PmcCacheTexel pmc_cache_texel_floored(float2 uv, float2 g1, float2 g2, float bias,
+                                                    float2 jitter, pmc_u32 material, int level_floor,
+                                                    int max_refine) {
   PmcCacheTexel t;
   t.footprint_lambda = pmc_cache_lambda(g1, g2, bias);
   t.lambda = pmc_cache_floored_level(t.footprint_lambda, level_floor, max_refine, &t.bypass);
@@ -316,8 +317,8 @@ PMC_FN pmc_u64 pmc_cache_cell3_hash(int lambda, long tx, long ty, long tz) {
  * cell k on k * 2^-lambda: a plane at a grid-aligned coordinate (y = 0, x =
  * 2) lies mid-layer, so the rounding of its hit points (2 +- 1 ulp) keeps
  * one layer of cells, and centre evaluation reads the plane itself. */
-PMC_FN PmcCacheTexel pmc_cache_cell_floored(float3 p, float radius, float bias, float4 jitter,
-                                            pmc_u32 material, int level_floor, int max_refine) {
+PMC_FN_INLINE PmcCacheTexel pmc_cache_cell_floored(float3 p, float radius, float bias, float4 jitter,
+                                                   pmc_u32 material, int level_floor, int max_refine) {
   PmcCacheTexel t;
   t.footprint_lambda = pmc_cache_level(radius, bias);
   t.lambda = pmc_cache_floored_level(t.footprint_lambda, level_floor, max_refine, &t.bypass);

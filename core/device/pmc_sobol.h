@@ -26,15 +26,6 @@
 
 #include "../abi/pmc_vec.h"
 
-/* A function that the shade kernel's loops over a batch's lanes call:
- * always inlined, as a call in a loop's body keeps the compiler from
- * vectorising the loop (gpu/kernels/pmc_kernels.cl, pmc_draw_hit_numbers). */
-#ifdef __OPENCL_VERSION__
-#define PMC_FN_INLINE static inline __attribute__((always_inline))
-#else
-#define PMC_FN_INLINE static inline
-#endif
-
 /* Bit i <-> bit 31 - i. */
 PMC_FN_INLINE pmc_u32 pmc_reverse_bits(pmc_u32 x) {
   x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
