@@ -114,6 +114,11 @@ def main(argv=None):
     out = a.out_dir
     os.makedirs(out, exist_ok=True)
     pmc = common.find_pmc(a.pmc, PROG)
+    # The cache's cost model plans with a calibration keyed by the kernel's
+    # source, so a baseline or a variant would get a calibration, and
+    # perhaps a plan (a marginal cache point), of its own: every
+    # configuration plans with the table instead, unless the caller chose.
+    os.environ.setdefault("PMC_CACHE_COSTS", "table")
     binaries = {"current": [pmc]}  # the command that runs each configuration's pmc
     if a.baseline_pmc:
         if not os.access(a.baseline_pmc, os.X_OK):
@@ -208,7 +213,7 @@ Machine: {common.machine(device)}; {loads.note()}.
 {base_line}Current: {common.git_rev(ignore=["docs"])}. Median of {a.runs} interleaved rounds, each scene
 bench.peers writes (scripts/bench/peer_scenes.py) rendered as
 
-    build/pmc render SCENE.obj --lights SCENE.lights.json --camera-from ... --max-depth 8 --threads {a.threads} {size}{(' ' + a.extra) if a.extra else ''}
+    PMC_CACHE_COSTS={os.environ["PMC_CACHE_COSTS"]} build/pmc render SCENE.obj --lights SCENE.lights.json --camera-from ... --max-depth 8 --threads {a.threads} {size}{(' ' + a.extra) if a.extra else ''}
 
 ns per hit per core = the shade stage's seconds x threads / (rays - shadow_rays), every camera and
 continuation ray being one hit the shade kernel handles:
