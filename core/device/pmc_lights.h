@@ -105,6 +105,16 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
   return make_float3(ls->env[3 * i], ls->env[3 * i + 1], ls->env[3 * i + 2]);
 }
 
+/* The map's data after its texels (EnvMap::device_data, core/env_map.h): the
+ * marginal CDF over the rows (height floats), each row's conditional CDF
+ * (width floats a row), then each row's sine. */
+PMC_FN PMC_GLOBAL const float* pmc_env_marginal(const PmcLightSet* ls) {
+  return ls->env + 3 * ls->h.env_width * ls->h.env_height;
+}
+PMC_FN PMC_GLOBAL const float* pmc_env_row_sines(const PmcLightSet* ls) {
+  return pmc_env_marginal(ls) + ls->h.env_height + ls->h.env_width * ls->h.env_height;
+}
+
 /* Solid-angle density of the map's importance sampling at map direction m
  * in texel i of row `row` (pmc_env_texel_at(m), passed in where the caller
  * has it), without the pick probability: p(texel) w h / (2 pi^2 sin(theta)),
@@ -116,10 +126,8 @@ PMC_FN float pmc_env_map_pdf_in(const PmcLightSet* ls, float3 m, int i, int row)
   if (h->env_uniform) return 0.25f * PMC_INV_PI;
   float sin_theta = sqrt(fmax(0.0f, 1.0f - m.y * m.y));
   if (!(sin_theta > 0.0f)) return 0.0f;
-  const int w = h->env_width, hh = h->env_height;
-  const float row_sin = ls->env[3 * w * hh + hh + w * hh + row];
-  float f = pmc_luminance(pmc_env_texel(ls, i)) * row_sin;
-  float texels = (float)w * (float)hh;
+  float f = pmc_luminance(pmc_env_texel(ls, i)) * pmc_env_row_sines(ls)[row];
+  float texels = (float)h->env_width * (float)h->env_height;
   return f * h->env_inv_integral * texels / (2.0f * PMC_PI * PMC_PI * sin_theta);
 }
 
@@ -167,7 +175,7 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     m = make_float3(r * cos_phi, z, r * sin_phi);
     texel = pmc_env_texel_index(h, m);
   } else {
-    PMC_GLOBAL const float* marginal = ls->env + 3 * w * hh;
+    PMC_GLOBAL const float* marginal = pmc_env_marginal(ls);
     row = pmc_cdf_search(marginal, hh, u1);
     float fv = pmc_cdf_fraction(marginal, row, u1);
     PMC_GLOBAL const float* conditional = marginal + hh + row * w;
