@@ -43,7 +43,11 @@ PMC_FN float pmc_artistic_ior1(float reflectivity, float edge_color, int extinct
   float rs = sqrt(r);
   float n_min = (1.0f - r) / (1.0f + r);
   float n_max = (1.0f + rs) / (1.0f - rs);
-  float n = n_max + (n_min - n_max) * edge_color;
+  /* GLSL's mix(n_max, n_min, edge_color) as MaterialX defines it, x (1 - a) +
+   * y a: at edge colours near 1, n_max + (n_min - n_max) a subtracts two
+   * nearly equal products of n_max (up to 199 at r 0.99) and loses the
+   * small n's digits to n_max's rounding */
+  float n = n_max * (1.0f - edge_color) + n_min * edge_color;
   if (!extinction) return n;
   float np1 = n + 1.0f, nm1 = n - 1.0f;
   float k2 = (np1 * np1 * r - nm1 * nm1) / (1.0f - r);
