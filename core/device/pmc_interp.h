@@ -80,10 +80,14 @@ typedef struct PmcShadingInputs {
   float footprint_minor;
 } PmcShadingInputs;
 
-/* The footprint of the ray cone's uv gradients g1, g2 (pmc_ray_cone_gradients). */
-PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2) {
+/* The footprint of the ray cone's uv gradients g1, g2 (pmc_ray_cone_gradients):
+ * its width and, if `ellipse` (pmc_texture_ellipse_needed), its ellipse; else
+ * none, so that image lookups are round at that width. */
+PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2, int ellipse) {
   in->footprint = 2.0f * fmax(length(g1), length(g2));
-  pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
+  in->footprint_axis = make_float2(0.0f, 0.0f);
+  in->footprint_minor = 0.0f;
+  if (ellipse) pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
 }
 
 #ifndef PMC_LANES

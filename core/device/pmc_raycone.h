@@ -128,6 +128,26 @@ PMC_FN float pmc_lobe_spread(float pdf, float c) {
   return fmin(c * angle, PMC_PI); /* also when 1 / (pi p) overflows */
 }
 
+/* Whether a hit's texture lookups need its footprint's ellipse
+ * (anisotropic taps) or may take the round lookup of the ellipse's major
+ * width (pmc_shading_footprint). What a later hit's textures add to the image
+ * is averaged over the lobe that sampled its ray: from the footprint of width
+ * `origin_width` at the ray's origin, a cone of full angle
+ * pmc_lobe_spread(lobe_pdf, 1), `origin_width + t * angle` wide at the hit,
+ * against the texture cone's `origin_width + t * spread` there. Where the
+ * lobe's footprint is at least `ratio` times the texture cone's, the round
+ * lookup's extra blur across the ellipse (its major width where the ellipse
+ * filter takes the minor, at most `ratio` times apart within the filter's tap
+ * limit) lies inside that average: the round lookup then reads coarser mip
+ * levels with one trilinear tap instead of up to `ratio`. Camera rays (no
+ * lobe: pdf 0) and near-mirror bounces keep the ellipse; a diffuse bounce
+ * (about 2 radians) is round at any screen size. */
+PMC_FN int pmc_texture_ellipse_needed(float origin_width, float t, float spread, float lobe_pdf,
+                                      float ratio) {
+  const float lobe = origin_width + t * pmc_lobe_spread(lobe_pdf, 1.0f);
+  return !(lobe >= ratio * (origin_width + t * spread)); /* NaN: the ellipse */
+}
+
 /* The extra cone a path carries for position cells, in the one word of its
  * state: width (low half) and spread (high half) as bfloat16s, a float's top
  * 16 bits: a float's range, 8 bits of precision, truncated toward zero (the

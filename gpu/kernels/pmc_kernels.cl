@@ -144,6 +144,7 @@ typedef struct PmcHitPoint {
   uint cache_position_mask; /* bit p: the p-th point is keyed on position */
   uint depth;               /* surface hits of the path before this one (0: camera ray) */
   uint pixel;               /* the path's pixel (its numbers' key, the lookup trace's) */
+  int ellipse;              /* textures filter over the footprint's ellipse (pmc_texture_ellipse_needed) */
 } PmcHitPoint;
 
 /* The material cache's table as this frame sized it. */
@@ -232,6 +233,8 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   L->radius[k] = 0.5f * cone_width;
   hp->t = hit.t;
   hp->cone_width = cone_width;
+  hp->ellipse = pmc_texture_ellipse_needed(path->cone_width, hit.t, frame->cam_spread, path->bsdf_pdf,
+                                           (float)PMC_TEXTURE_MAX_TAPS);
   hp->prim = hit.prim;
   hp->material = tri->material;
   hp->cache_jitter = make_float4(0.0f, 0.0f, 0.0f, 0.0f);
@@ -442,7 +445,7 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
   sp->tangent = hp->tangent;
   sp->bitangent = cross(hp->ns, hp->tangent);
   if (footprint) {
-    pmc_shading_footprint(sp, hp->g1, hp->g2); /* width and ellipse */
+    pmc_shading_footprint(sp, hp->g1, hp->g2, hp->ellipse); /* width, and ellipse where it shows */
   } else {
     sp->footprint = 0.0f;
     sp->footprint_axis = make_float2(0.0f, 0.0f);

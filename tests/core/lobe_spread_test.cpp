@@ -10,7 +10,10 @@
 // infinite or NaN) that give the paper's cone back. The path state packs the
 // extra cone's width and spread into one word as bfloat16s (pmc_pack_cone):
 // each comes back within 2^-7 below the float, never above, for values from
-// 1e-30 to 1e30; zeros and infinities survive.
+// 1e-30 to 1e30; zeros and infinities survive. pmc_texture_ellipse_needed,
+// which decides from the same lobe whether a hit's textures filter over the
+// footprint's ellipse, at the camera, diffuse and mirror bounces, its
+// threshold and bad inputs.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -78,6 +81,48 @@ TEST(LobeSpread, PackedConeKeepsEightBitsOfEachValue) {
   EXPECT_EQ(pmc_cone_spread(pmc_pack_cone(1.0f, kInf)), kInf);
   EXPECT_EQ(pmc_cone_width(pmc_pack_cone(1.0f, 2.0f)), 1.0f) << "exact where 8 bits suffice";
   EXPECT_EQ(pmc_cone_spread(pmc_pack_cone(1.0f, 2.0f)), 2.0f);
+}
+
+// pmc_texture_ellipse_needed: the ellipse where the lobe that sampled the ray
+// covers less than `ratio` texture cones at the hit.
+TEST(TextureEllipseNeeded, CameraRaysKeepTheEllipse) {
+  // no lobe (pdf 0), no width at the camera
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.0f, 5.0f, 0.002f, 0.0f, 8.0f));
+}
+
+TEST(TextureEllipseNeeded, DiffuseBouncesAreRound) {
+  const float cosine_pdf = float(1.0 / kPi);  // a 2-radian lobe
+  EXPECT_FALSE(pmc_texture_ellipse_needed(0.01f, 1.0f, 0.002f, cosine_pdf, 8.0f));
+  // also a hit just beside the bounce, whose cone is still the width it had there
+  EXPECT_FALSE(pmc_texture_ellipse_needed(0.01f, 0.05f, 0.002f, cosine_pdf, 8.0f));
+}
+
+TEST(TextureEllipseNeeded, NearMirrorBouncesKeepTheEllipse) {
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.01f, 1.0f, 0.002f, 1e8f, 8.0f));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.0f, 1.0f, 0.002f, 1e8f, 8.0f));
+}
+
+TEST(TextureEllipseNeeded, TheLobeAgainstRatioTimesTheConeDecides) {
+  // From a point (no width at the origin) the lobe's footprint is t * angle
+  // against ratio * t * spread: round from angle = ratio * spread up.
+  const float spread = 0.004f, ratio = 8.0f;
+  for (float factor : {0.5f, 0.9f, 1.1f, 2.0f}) {
+    const double angle = double(ratio * spread * factor);
+    const float pdf = float(4.0 / (kPi * angle * angle));  // pmc_lobe_spread(pdf, 1) == angle
+    EXPECT_EQ(pmc_texture_ellipse_needed(0.0f, 3.0f, spread, pdf, ratio), factor < 1.0f ? 1 : 0) << factor;
+  }
+  // a wide origin counts on both sides: a lobe 10 times the cone, but the
+  // width at the origin dominates both footprints
+  const float pdf10 = float(4.0 / (kPi * std::pow(10.0 * spread, 2.0)));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(1.0f, 3.0f, spread, pdf10, ratio));
+}
+
+TEST(TextureEllipseNeeded, BadInputsKeepTheEllipse) {
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.01f, kNaN, 0.002f, 1.0f, 8.0f));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(kNaN, 1.0f, 0.002f, 1.0f, 8.0f));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.01f, 1.0f, 0.002f, kNaN, 8.0f));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.01f, 1.0f, 0.002f, -1.0f, 8.0f));
+  EXPECT_TRUE(pmc_texture_ellipse_needed(0.01f, 1.0f, 0.002f, kInf, 8.0f));
 }
 
 }  // namespace

@@ -16,6 +16,11 @@
 //   * image(uv * (0.125, 0.12501)): an uneven scale, which the compiler
 //     leaves isotropic (PMC_IMAGE_ANISO), the filtering before anisotropy:
 //     less than half the anisotropic render's variance.
+// Seen in a mirror (a smooth metal plane just above a lower camera, looking
+// up into it), the same stripes come from the second surface hit of each
+// path: a near-delta lobe keeps the footprint's ellipse there
+// (pmc_texture_ellipse_needed), so the mirrored far rows keep their contrast
+// as well, against the same box averages traced through the mirror here.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -33,7 +38,8 @@ constexpr double kFrom[3] = {0.0, 2.0, 0.0}, kAt[3] = {0.0, 1.2, -10.0};
 constexpr double kFov = 30.0;
 
 // The ground y = 0, x in [-60, 60], z in [-120, 0]; uv = (x, -z) in world units
-// (the material scales them: 8 units a texture repeat).
+// (the material scales them: 8 units a texture repeat). Relative indices: the
+// same lines follow the mirror's in the mirror scene.
 const char* kGround = R"(v -60 0 0
 v 60 0 0
 v 60 0 -120
@@ -44,8 +50,20 @@ vt 60 120
 vt -60 120
 vn 0 1 0
 usemtl M
-f 1/1/1 2/2/1 3/3/1
-f 1/1/1 3/3/1 4/4/1
+f -4/-4/-1 -3/-3/-1 -2/-2/-1
+f -4/-4/-1 -2/-2/-1 -1/-1/-1
+)";
+
+// The mirror: the plane y = kMirrorY over the ground, facing down.
+constexpr double kMirrorY = 1.0;
+const char* kMirror = R"(v -60 1 0
+v 60 1 0
+v 60 1 -120
+v -60 1 -120
+vn 0 -1 0
+usemtl Mirror
+f 1//1 3//1 2//1
+f 1//1 4//1 3//1
 )";
 
 // Texture column x is white in every other band of 8 (8 bands: 1 unit each).
@@ -59,13 +77,25 @@ std::string document(const std::string& image, const std::string& scale) {
 <image name="c" type="color3"><input name="file" type="filename" value=")" +
          image + R"("/><input name="texcoord" type="vector2" nodename="uvs"/></image>
 <standard_surface name="S" type="surfaceshader"><input name="base" type="float" value="0"/><input name="specular" type="float" value="0"/><input name="emission" type="float" value="1"/><input name="emission_color" type="color3" nodename="c"/></standard_surface>
-<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S"/></surfacematerial></materialx>)";
+<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S"/></surfacematerial>
+<standard_surface name="SM" type="surfaceshader"><input name="base" type="float" value="1"/><input name="base_color" type="color3" value="1, 1, 1"/><input name="metalness" type="float" value="1"/><input name="specular_color" type="color3" value="1, 1, 1"/><input name="specular_roughness" type="float" value="0"/></standard_surface>
+<surfacematerial name="Mirror" type="material"><input name="surfaceshader" type="surfaceshader" nodename="SM"/></surfacematerial></materialx>)";
 }
 
-// Where pixel (x, y)'s ray through (ox, oy) inside it (the centre by default) meets the ground: world x and
-// distance; false for the sky.
-bool ground_hit(int px, int py, double* gx, double* dist, double ox = 0.5, double oy = 0.5) {
-  double f[3] = {kAt[0] - kFrom[0], kAt[1] - kFrom[1], kAt[2] - kFrom[2]};
+struct View {
+  double from[3], at[3];
+  bool mirror;  // the rays reach the ground through the mirror
+};
+const View kDirect = {{kFrom[0], kFrom[1], kFrom[2]}, {kAt[0], kAt[1], kAt[2]}, false};
+// A camera half a unit above the ground, pitched up 7 degrees into the mirror:
+// its rays meet the ground after 1.5 units of height, as steeply as the direct
+// view's far rows do after 2.
+const View kInMirror = {{0.0, 0.5, 0.0}, {0.0, 0.5 + 10.0 * std::tan(7.0 * M_PI / 180.0), -10.0}, true};
+
+// Where pixel (x, y)'s ray through (ox, oy) inside it (the centre by default) meets the ground (in the
+// mirror view, after its reflection): world x and the path's length; false for the sky.
+bool ground_hit(const View& v, int px, int py, double* gx, double* dist, double ox = 0.5, double oy = 0.5) {
+  double f[3] = {v.at[0] - v.from[0], v.at[1] - v.from[1], v.at[2] - v.from[2]};
   double fl = std::sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
   for (double& c : f) c /= fl;
   // right = f x up(0,1,0), up' = right x f
@@ -78,10 +108,21 @@ bool ground_hit(int px, int py, double* gx, double* dist, double ox = 0.5, doubl
   const double sy = (1.0 - 2.0 * (py + oy) / kH) * t;
   double d[3];
   for (int i = 0; i < 3; ++i) d[i] = f[i] + r[i] * sx + u[i] * sy;
+  double o[3] = {v.from[0], v.from[1], v.from[2]};
+  double travelled = 0.0;
+  const double dl = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  if (v.mirror) {  // up to the mirror, then down
+    if (!(d[1] > 0.0)) return false;
+    const double s = (kMirrorY - o[1]) / d[1];
+    for (int i = 0; i < 3; ++i) o[i] += s * d[i];
+    if (o[2] < -120.0) return false;  // past the mirror's far edge
+    travelled = s * dl;
+    d[1] = -d[1];
+  }
   if (!(d[1] < 0.0)) return false;
-  const double s = -kFrom[1] / d[1];
-  *gx = kFrom[0] + s * d[0];
-  *dist = s * std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+  const double s = -o[1] / d[1];
+  *gx = o[0] + s * d[0];
+  *dist = travelled + s * dl;
   return true;
 }
 
@@ -98,63 +139,92 @@ double far_row_variance(const std::vector<double>& v, const std::vector<int>& ro
   return total / double(rows.size());
 }
 
-TEST(GrazingTextureRender, StripesFarAwayKeepTheirContrast) {
-  const std::string dir = test::temp_dir();
-  std::vector<float> px;
-  for (int y = 0; y < kTex; ++y)
-    for (int x = 0; x < kTex; ++x)
-      for (int c = 0; c < 3; ++c) px.push_back(white(x) ? 1.0f : 0.0f);
-  hard::write_image(dir + "/stripes.png", kTex, kTex, 3, px);
-  test::write_file(dir + "/ground.obj", kGround);
-  test::write_file(dir + "/aniso.mtlx", document(dir + "/stripes.png", "0.125, 0.125"));
-  test::write_file(dir + "/iso.mtlx", document(dir + "/stripes.png", "0.125, 0.12501"));
-
-  // The expectation, and the far rows: every pixel on the ground 12-30 away.
+// The expected far-row variance of a view: each pixel's box average of the stripes (4 x 4 sub-pixel rays),
+// over the rows whose every pixel sees the ground 12-30 away.
+double expected_variance(const View& v, std::vector<int>* rows) {
   std::vector<double> expect(size_t(kW) * kH, 0.0);
-  std::vector<int> rows;
   for (int y = 0; y < kH; ++y) {
     bool far = true;
     for (int x = 0; x < kW; ++x) {
       double gx = 0, dist = 0;
-      if (!ground_hit(x, y, &gx, &dist)) {
+      if (!ground_hit(v, x, y, &gx, &dist)) {
         far = false;
         continue;
       }
-      // the pixel's box average along the row (4 x 4 sub-pixel rays)
       double sum = 0.0;
       for (int j = 0; j < 16; ++j) {
         double sgx = 0, sd = 0;
-        if (!ground_hit(x, y, &sgx, &sd, (j % 4 + 0.5) / 4.0, (j / 4 + 0.5) / 4.0)) continue;
+        if (!ground_hit(v, x, y, &sgx, &sd, (j % 4 + 0.5) / 4.0, (j / 4 + 0.5) / 4.0)) continue;
         double u = sgx * 0.125;
         sum += white(int(std::floor((u - std::floor(u)) * kTex))) ? 1.0 : 0.0;
       }
       expect[size_t(y) * kW + size_t(x)] = sum / 16.0;
       far = far && dist > 12.0 && dist < 30.0;
     }
-    if (far) rows.push_back(y);
+    if (far) rows->push_back(y);
   }
-  ASSERT_GE(rows.size(), 3u);
-  const double v_expect = far_row_variance(expect, rows);
-  ASSERT_GT(v_expect, 0.15);
+  return far_row_variance(expect, *rows);
+}
 
-  RenderConfig s = hard::small_config(kW, kH, 16, 1);
-  hard::set_camera(s, kFrom[0], kFrom[1], kFrom[2], kAt[0], kAt[1], kAt[2], float(kFov));
-  s.env = {0.0f, 0.0f, 0.0f};
-  auto variance = [&](const std::string& mtlx) {
-    hard::Rendered r = hard::render({dir + "/ground.obj", {dir + "/" + mtlx}, ""}, s, false);
+class GrazingTextureRender : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = test::temp_dir();
+    std::vector<float> px;
+    for (int y = 0; y < kTex; ++y)
+      for (int x = 0; x < kTex; ++x)
+        for (int c = 0; c < 3; ++c) px.push_back(white(x) ? 1.0f : 0.0f);
+    hard::write_image(dir_ + "/stripes.png", kTex, kTex, 3, px);
+    test::write_file(dir_ + "/ground.obj", kGround);
+    test::write_file(dir_ + "/mirror.obj", std::string(kMirror) + kGround);
+    test::write_file(dir_ + "/aniso.mtlx", document(dir_ + "/stripes.png", "0.125, 0.125"));
+    test::write_file(dir_ + "/iso.mtlx", document(dir_ + "/stripes.png", "0.125, 0.12501"));
+  }
+
+  // The far rows' variance in a render of `obj` with `mtlx` from view v.
+  double rendered_variance(const View& v, const std::string& obj, const std::string& mtlx,
+                           const std::vector<int>& rows) {
+    RenderConfig s = hard::small_config(kW, kH, 16, v.mirror ? 2 : 1);
+    hard::set_camera(s, v.from[0], v.from[1], v.from[2], v.at[0], v.at[1], v.at[2], float(kFov));
+    s.env = {0.0f, 0.0f, 0.0f};
+    hard::Rendered r = hard::render({dir_ + "/" + obj, {dir_ + "/" + mtlx}, ""}, s, false);
     hard::expect_clean(r.out, mtlx);
     EXPECT_EQ(r.out.image.width, kW);
     EXPECT_EQ(r.out.image.height, kH);
-    std::vector<double> v(size_t(kW) * kH);
+    std::vector<double> img(size_t(kW) * kH);
     const int ch = r.out.image.channels;
-    for (size_t i = 0; i < v.size(); ++i) v[i] = r.out.image.pixels[i * size_t(ch)];
-    return far_row_variance(v, rows);
-  };
-  const double v_aniso = variance("aniso.mtlx");
-  const double v_iso = variance("iso.mtlx");
+    for (size_t i = 0; i < img.size(); ++i) img[i] = r.out.image.pixels[i * size_t(ch)];
+    return far_row_variance(img, rows);
+  }
+
+  std::string dir_;
+};
+
+TEST_F(GrazingTextureRender, StripesFarAwayKeepTheirContrast) {
+  std::vector<int> rows;
+  const double v_expect = expected_variance(kDirect, &rows);
+  ASSERT_GE(rows.size(), 3u);
+  ASSERT_GT(v_expect, 0.15);
+  const double v_aniso = rendered_variance(kDirect, "ground.obj", "aniso.mtlx", rows);
+  const double v_iso = rendered_variance(kDirect, "ground.obj", "iso.mtlx", rows);
   std::printf("far-row variance: expected %.4f, anisotropic %.4f, isotropic %.4f (%zu rows)\n", v_expect,
               v_aniso, v_iso, rows.size());
   EXPECT_GT(v_aniso, 0.6 * v_expect);
+  EXPECT_LT(v_aniso, 1.1 * v_expect);
+  EXPECT_LT(v_iso, 0.5 * v_aniso);
+}
+
+TEST_F(GrazingTextureRender, StripesInAMirrorKeepTheirContrast) {
+  std::vector<int> rows;
+  const double v_expect = expected_variance(kInMirror, &rows);
+  ASSERT_GE(rows.size(), 3u);
+  ASSERT_GT(v_expect, 0.1);
+  const double v_aniso = rendered_variance(kInMirror, "mirror.obj", "aniso.mtlx", rows);
+  const double v_iso = rendered_variance(kInMirror, "mirror.obj", "iso.mtlx", rows);
+  std::printf("far-row variance in the mirror: expected %.4f, anisotropic %.4f, isotropic %.4f (%zu rows)\n",
+              v_expect, v_aniso, v_iso, rows.size());
+  // (these rows lie farther along their paths: more of their footprints pass the 8 taps' limit)
+  EXPECT_GT(v_aniso, 0.45 * v_expect);
   EXPECT_LT(v_aniso, 1.1 * v_expect);
   EXPECT_LT(v_iso, 0.5 * v_aniso);
 }

@@ -498,7 +498,7 @@ void draw_shading(Rng& rng, float* d) {
   const float g2 = g * (uniform(rng, 0, 1) < 0.5f ? uniform(rng, 0, 0.2f) : uniform(rng, 0.2f, 1.0f));
   PmcShadingInputs in{};
   pmc_shading_footprint(&in, make_float2(g * std::cos(ga), g * std::sin(ga)),
-                        make_float2(g2 * std::cos(gb), g2 * std::sin(gb)));
+                        make_float2(g2 * std::cos(gb), g2 * std::sin(gb)), 1);
   d[14] = in.footprint;
   d[15] = in.footprint_axis.x;
   d[16] = in.footprint_axis.y;
