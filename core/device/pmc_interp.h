@@ -75,18 +75,20 @@ typedef struct PmcShadingInputs {
   float3 bitangent;
   float footprint; /* uv-space width of the ray-cone footprint (isotropic texture LOD) */
   /* The footprint's ellipse (pmc_ray_cone_ellipse): major half-axis in uv
-   * and minor width; an axis of 0 (no ellipse known) filters isotropically. */
+   * and minor width; an axis of 0 (no ellipse known) filters isotropically,
+   * and a negative minor (PMC_FOOTPRINT_ONE_LEVEL) reads one mip level. */
   float2 footprint_axis;
   float footprint_minor;
 } PmcShadingInputs;
 
 /* The footprint of the ray cone's uv gradients g1, g2 (pmc_ray_cone_gradients):
  * its width and, if `ellipse` (pmc_texture_ellipse_needed), its ellipse; else
- * none, so that image lookups are round at that width. */
+ * none and PMC_FOOTPRINT_ONE_LEVEL, so that image lookups are round at that
+ * width and read one mip level. */
 PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2, int ellipse) {
   in->footprint = 2.0f * fmax(length(g1), length(g2));
   in->footprint_axis = make_float2(0.0f, 0.0f);
-  in->footprint_minor = 0.0f;
+  in->footprint_minor = PMC_FOOTPRINT_ONE_LEVEL;
   if (ellipse) pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
 }
 

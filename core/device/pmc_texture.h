@@ -182,12 +182,26 @@ typedef struct PmcFootprint {
  * together they span P: the outer ones at +-(P - w) / 2. An ellipse rounder
  * than PMC_TEXTURE_ROUND (axis 0 among them: no ellipse known) is one tap at
  * `footprint`, the isotropic lookup bit for bit; as P / minor tends to 1 the
- * taps merge into that one anyway (w -> P, spread -> 0). */
+ * taps merge into that one anyway (w -> P, spread -> 0). A negative minor
+ * (PMC_FOOTPRINT_ONE_LEVEL) is one bilinear tap at `footprint`'s nearest
+ * level. */
 #define PMC_TEXTURE_MAX_TAPS 8
 #define PMC_TEXTURE_ROUND 1.0625f
+/* A `minor` below 0: no ellipse, and the lookup reads the footprint's nearest
+ * mip level alone (bilinear; no blend with the next level), half a trilinear
+ * lookup's work. The shade kernel passes it for hits whose textures the lobe
+ * that sampled their ray averages (pmc_texture_ellipse_needed): a level's
+ * half step of blur there is inside that average. */
+#define PMC_FOOTPRINT_ONE_LEVEL (-1.0f)
 PMC_FN float4 pmc_texture_sample_ellipse(const PmcTextureSet* ts, pmc_u32 index, float2 uv, float footprint,
                                          float2 axis, float minor, pmc_u32 umode, pmc_u32 vmode,
                                          pmc_u32 filter, float4 fallback) {
+  if (minor < 0.0f) { /* PMC_FOOTPRINT_ONE_LEVEL */
+    if (index >= ts->count) return fallback;
+    const PmcTextureLod lod = pmc_texture_lod(&ts->textures[index], footprint);
+    return pmc_texture_level(ts, lod.t > 0.5f ? lod.coarse : lod.fine, lod.srgb, uv, umode, vmode, filter,
+                             fallback);
+  }
   const float major = 2.0f * sqrt(axis.x * axis.x + axis.y * axis.y);
   const float m = minor > 0.0f ? fmin(minor, major) : 0.0f; /* NaN: 0 */
   if (!(major > m * PMC_TEXTURE_ROUND) || !(major < 1e30f))

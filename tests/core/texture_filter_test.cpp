@@ -10,6 +10,7 @@
 //   major axis, not the minor one). Both axes, and a diagonal ellipse over
 //   diagonal stripes.
 // * A round ellipse (or none) is the isotropic lookup bit for bit.
+// * PMC_FOOTPRINT_ONE_LEVEL reads the footprint's nearest level alone.
 // * The ellipse of two gradients: orthogonal ones give their own lengths,
 //   sheared ones the eigen-axes of g1 g1^T + g2 g2^T (checked by sampling
 //   the ellipse's boundary), degenerate ones zeros.
@@ -166,6 +167,51 @@ TEST(TextureFilter, RoundEllipseIsTheIsotropicLookupBitForBit) {
       const float s = 0.5f * f / std::sqrt(2.0f);
       EXPECT_EQ(ellipse(make_float2(s, -s), f * 0.95f), iso) << "nearly round, diagonal";
     }
+}
+
+// PMC_FOOTPRINT_ONE_LEVEL: the nearest mip level alone, bilinear. At a
+// footprint whose level is whole it is the trilinear lookup; between two
+// levels it reads the nearer one, so it is one of the two levels' values
+// and the trilinear lookup lies between them.
+TEST(TextureFilter, OneLevelLookupReadsTheNearestLevel) {
+  const StripeTexture t(rows);
+  auto level = [&](int l, float2 uv) {
+    const PmcTextureLevel L = pmc_texture_level_at(&t.ts.textures[0], l);
+    return pmc_texture_level(&t.ts, L, 0, uv, PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC, PMC_FILTER_LINEAR,
+                             make_float4(0, 0, 0, 0))
+        .x;
+  };
+  auto one_level = [&](float2 uv, float f) {
+    return pmc_texture_sample_ellipse(&t.ts, 0, uv, f, make_float2(0.01f, 0.0f), PMC_FOOTPRINT_ONE_LEVEL,
+                                      PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC, PMC_FILTER_LINEAR,
+                                      make_float4(0, 0, 0, 0))
+        .x;
+  };
+  int levels_differ = 0;  // points where reading the wrong level would show
+  for (float u : {0.1f, 0.37f, 0.9f, 0.53f, 0.71f}) {
+    const float2 uv = make_float2(u, 1.0f - u * 0.7f);
+    levels_differ += level(3, uv) != level(4, uv);
+    // whole levels: 2^l texels of the finest level across the footprint
+    for (int l : {0, 2, 4}) {
+      const float f = std::ldexp(1.0f, l) / kSize;
+      EXPECT_EQ(one_level(uv, f), t.isotropic(uv, f)) << "level " << l;
+      EXPECT_EQ(one_level(uv, f), level(l, uv)) << "level " << l;
+    }
+    // a quarter and three quarters of the way from level 3 to level 4
+    const float f3 = std::ldexp(1.0f, 3) / kSize;
+    EXPECT_EQ(one_level(uv, f3 * std::pow(2.0f, 0.25f)), level(3, uv));
+    EXPECT_EQ(one_level(uv, f3 * std::pow(2.0f, 0.75f)), level(4, uv));
+    const float tri = t.isotropic(uv, f3 * std::pow(2.0f, 0.75f));
+    EXPECT_GE(tri, std::fmin(level(3, uv), level(4, uv)) - 1e-6f);
+    EXPECT_LE(tri, std::fmax(level(3, uv), level(4, uv)) + 1e-6f);
+  }
+  EXPECT_GE(levels_differ, 2);
+  // no texture: the fallback
+  EXPECT_EQ(pmc_texture_sample_ellipse(&t.ts, 7, make_float2(0.5f, 0.5f), 0.01f, make_float2(0, 0),
+                                       PMC_FOOTPRINT_ONE_LEVEL, PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC,
+                                       PMC_FILTER_LINEAR, make_float4(0.25f, 0, 0, 0))
+                .x,
+            0.25f);
 }
 
 TEST(TextureFilter, EllipseOfTheRayConeGradients) {
