@@ -138,8 +138,9 @@ PMC_FN float pmc_lobe_spread(float pdf, float c) {
  * lobe's footprint is at least `ratio` times the texture cone's, the round
  * lookup's extra blur across the ellipse (its major width where the ellipse
  * filter takes the minor, at most `ratio` times apart within the filter's tap
- * limit) lies inside that average: the round lookup then reads coarser mip
- * levels with one trilinear tap instead of up to `ratio`. Camera rays (no
+ * limit) lies inside that average: the round lookup then reads one coarser
+ * mip level with one bilinear tap (PMC_FOOTPRINT_ONE_LEVEL) instead of up to
+ * `ratio` trilinear ones. Camera rays (no
  * lobe: pdf 0) and near-mirror bounces keep the ellipse; a diffuse bounce
  * (about 2 radians) is round at any screen size. */
 PMC_FN int pmc_texture_ellipse_needed(float origin_width, float t, float spread, float lobe_pdf,
