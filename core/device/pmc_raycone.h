@@ -140,9 +140,9 @@ PMC_FN float pmc_lobe_spread(float pdf, float c) {
  * filter takes the minor, at most `ratio` times apart within the filter's tap
  * limit) lies inside that average: the round lookup then reads one coarser
  * mip level with one bilinear tap (PMC_FOOTPRINT_ONE_LEVEL) instead of up to
- * `ratio` trilinear ones. Camera rays (no
- * lobe: pdf 0) and near-mirror bounces keep the ellipse; a diffuse bounce
- * (about 2 radians) is round at any screen size. */
+ * `ratio` trilinear ones. Camera rays (no lobe: pdf 0) and near-mirror
+ * bounces keep the ellipse; a diffuse bounce (about 2 radians) is round at
+ * any screen size. */
 PMC_FN int pmc_texture_ellipse_needed(float origin_width, float t, float spread, float lobe_pdf,
                                       float ratio) {
   const float lobe = origin_width + t * pmc_lobe_spread(lobe_pdf, 1.0f);
