@@ -114,15 +114,25 @@ enum { PMC_CACHE_COUNTERS(PMC_CSTAT_ENUMERATOR_) PMC_CSTAT_COUNT };
  * With an integral bias (the usual case) the level comes exactly from m's
  * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
  * a library log2 cost about as much as the rest of a lookup on PoCL. */
+/* Whether a bias takes pmc_cache_level_integral (as (int)bias). */
+PMC_FN_INLINE int pmc_cache_bias_integral(float bias) {
+  float b = isfinite(bias) ? bias : 0.0f;
+  return b == floor(b) && fabs(b) <= 64.0f;
+}
+
+/* pmc_cache_level for an integral bias: integer work and selects only, so
+ * a loop of it over a batch's lanes vectorises (pmc_cache_texels_lanes). */
+PMC_FN_INLINE int pmc_cache_level_integral(float m, int bias) {
+  int bits = as_int(m);
+  int biased_exponent = (bits >> 23) & 0xff; /* 0: subnormal, -log2(m) > 126 */
+  int level = biased_exponent == 0 ? 127 : (127 - biased_exponent) - ((bits & 0x7fffff) != 0 ? 1 : 0);
+  level = (m > 0.0f && isfinite(m) ? level : PMC_LAMBDA_MAX) + bias;
+  return level < PMC_LAMBDA_MIN ? PMC_LAMBDA_MIN : (level > PMC_LAMBDA_MAX ? PMC_LAMBDA_MAX : level);
+}
+
 PMC_FN_INLINE int pmc_cache_level(float m, float bias) {
   float b = isfinite(bias) ? bias : 0.0f;
-  if (m > 0.0f && isfinite(m) && b == floor(b) && fabs(b) <= 64.0f) {
-    int bits = as_int(m);
-    int biased_exponent = (bits >> 23) & 0xff; /* 0: subnormal, -log2(m) > 126 */
-    int level = biased_exponent == 0 ? 127 : (127 - biased_exponent) - ((bits & 0x7fffff) != 0 ? 1 : 0);
-    level += (int)b;
-    return level < PMC_LAMBDA_MIN ? PMC_LAMBDA_MIN : (level > PMC_LAMBDA_MAX ? PMC_LAMBDA_MAX : level);
-  }
+  if (pmc_cache_bias_integral(b)) return pmc_cache_level_integral(m, (int)b);
   float lambda = (m > 0.0f && isfinite(m)) ? -log2(m) : (float)PMC_LAMBDA_MAX;
   lambda += b;
   if (!(lambda > (float)PMC_LAMBDA_MIN)) lambda = (float)PMC_LAMBDA_MIN; /* also NaN */
@@ -130,11 +140,15 @@ PMC_FN_INLINE int pmc_cache_level(float m, float bias) {
   return (int)floor(lambda);
 }
 
-PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
+/* The footprint size m of pmc_cache_lambda. */
+PMC_FN_INLINE float pmc_cache_gradient_size(float2 g1, float2 g2) {
   float l1 = sqrt(g1.x * g1.x + g1.y * g1.y), l2 = sqrt(g2.x * g2.x + g2.y * g2.y);
   float m = fmin(l1, l2);
-  if (!(m > 0.0f) || !isfinite(m)) m = fmax(l1, l2);
-  return pmc_cache_level(m, bias);
+  return !(m > 0.0f) || !isfinite(m) ? fmax(l1, l2) : m;
+}
+
+PMC_FN int pmc_cache_lambda(float2 g1, float2 g2, float bias) {
+  return pmc_cache_level(pmc_cache_gradient_size(g1, g2), bias);
 }
 
 /* 2^e for an integer e in [-126, 127], exactly, from the exponent bits (a

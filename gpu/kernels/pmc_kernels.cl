@@ -380,13 +380,49 @@ static inline void pmc_ray_cone_lanes(const PmcHitLanes* c, int n, PmcHitPoint* 
   }
 }
 
-/* Pass 1's end, with the cache: the texel and cell of a hit's cache points
- * (after its gradients). */
-static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneData* scene,
-                                      __global PmcPathState* paths, PmcHitPoint* hp) {
-  if (!hp->surface) return;
+/* The cache's bilinear texel jitter of a batch's hits (the set
+ * PMC_SET_CACHE of their bounce, as pmc_rand2 draws it), in one loop over
+ * the lanes for the frame's sampler, which PoCL's compiler vectorises as it
+ * does pmc_draw_hit_numbers'. Every lane draws; a hit without cache points
+ * does not read its pair. Drawn one hit at a time inside pmc_hit_cache_keys,
+ * the pair cost the cached default room more than its lookups did. */
+static inline void pmc_draw_cache_jitter(__constant PmcFrame* frame, const PmcHitPoint* hp, int n,
+                                         float* jitter_u, float* jitter_v) {
+  uint pixel[PMC_LANES], sample[PMC_LANES], bounce[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    pixel[k] = hp[k].pixel;
+    sample[k] = pmc_path_sample(frame, hp[k].path);
+    bounce[k] = hp[k].depth + 1u; /* bounce 0 is the camera ray's dimensions */
+  }
+  const uint seed = frame->seed;
+  if (frame->sampler == PMC_SAMPLER_RANDOM) {
+    for (int k = 0; k < n; ++k) {
+      const uint key = pmc_path_key(seed, pixel[k], sample[k]);
+      jitter_u[k] = pmc_rand_hashed(key, bounce[k], PMC_DIM_NUMBER(PMC_DIM_CACHE_U));
+      jitter_v[k] = pmc_rand_hashed(key, bounce[k], PMC_DIM_NUMBER(PMC_DIM_CACHE_V));
+    }
+  } else {
+    for (int k = 0; k < n; ++k) {
+      const uint key = pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel[k], sample[k]).key;
+      const float2 j = pmc_sobol_set2(key, sample[k], bounce[k], PMC_SET_CACHE);
+      jitter_u[k] = j.x; /* two arrays: PoCL did not vectorise stores of float2 */
+      jitter_v[k] = j.y;
+    }
+  }
+}
+
+/* A hit whose cache points need no uv texel (pmc_hit_cache_keys). */
+#define PMC_NO_TEXEL (-1000)
+
+/* Pass 1's end, with the cache: the cell of a hit's position cache points
+ * (after its gradients), and what its uv texel needs: the texel's level
+ * floor, or PMC_NO_TEXEL when it has no uv point or evaluates them exactly
+ * (pmc_cache_texels_lanes then computes the texels of the batch). `jitter`
+ * is its pair of pmc_draw_cache_jitter. */
+static inline int pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneData* scene,
+                                     __global PmcPathState* paths, float2 jitter, PmcHitPoint* hp) {
+  if (!hp->surface) return PMC_NO_TEXEL;
   __global PmcPathState* path = &paths[hp->path];
-  const float2 uv = hp->uv, g1 = hp->g1, g2 = hp->g2;
   const float3 pos = hp->pos, ng = hp->ng;
   const float cone_width = hp->cone_width;
   __global const PmcMaterialInfo* info = &scene->materials[hp->material];
@@ -395,7 +431,7 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
    * evaluates its points exactly (docs/DESIGN.md, "The cache at camera hits"). */
   if (hp->depth == 0u && pmc_path_sample(frame, hp->path) >= frame->cache_camera_samples) {
     hp->texel.ready = hp->texel.bypass = hp->cell.ready = hp->cell.bypass = 1u;
-    return;
+    return PMC_NO_TEXEL;
   }
   /* The position cells' cone: wider than the texture's after rough bounces
    * (uv texels keep the texture's: docs/DESIGN.md, "The cache's cone"). */
@@ -404,21 +440,14 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
     hp->cache_extra = fmin(pmc_cone_width(cone) + hp->t * pmc_cone_spread(cone), 1e30f);
   }
   hp->cache_position_mask = info->cache_position_mask;
-  if (frame->cache_bilinear && hp->cache_points > 0u) {
-    const float2 j = pmc_rand2(pmc_path_sampler(frame, hp->pixel, hp->path), hp->depth + 1u, PMC_DIM_CACHE_U,
-                               PMC_DIM_CACHE_V);
-    hp->cache_jitter = make_float4(j.x - 0.5f, j.y - 0.5f, 0.0f, 0.0f);
-  }
+  if (frame->cache_bilinear && hp->cache_points > 0u)
+    hp->cache_jitter = make_float4(jitter.x - 0.5f, jitter.y - 0.5f, 0.0f, 0.0f);
   const uint all = hp->cache_points >= 32u ? 0xffffffffu : (1u << hp->cache_points) - 1u;
   /* level floors (none unless the cache_bandwidth setting computed them): at every hit,
    * or with `camera` at camera-ray hits only */
   const int floors = frame->cache_bandwidth != PMC_CACHE_FLOORS_CAMERA || hp->depth == 0u;
   const int floor_uv = floors ? info->cache_level_floor_uv : PMC_LEVEL_NO_FLOOR;
   const int floor_position = floors ? info->cache_level_floor_position : PMC_LEVEL_NO_FLOOR;
-  if ((all & ~hp->cache_position_mask) != 0u)
-    hp->texel = pmc_cache_texel_floored(uv, g1, g2, frame->mip_bias,
-                                        make_float2(hp->cache_jitter.x, hp->cache_jitter.y),
-                                        (uint)hp->material, floor_uv, frame->cache_max_refine);
   if (hp->cache_position_mask != 0u) {
     /* Level floors (the cache_bandwidth setting) count from the texture cone's level:
      * the widening coarsens cells down to a floor at most, and a point is
@@ -431,6 +460,64 @@ static inline void pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcScene
                                       pmc_cache_plane_jitter(ng, hp->cache_jitter.x, hp->cache_jitter.y),
                                       (uint)hp->material, floor_position, max_refine);
   }
+  return (all & ~hp->cache_position_mask) != 0u ? floor_uv : PMC_NO_TEXEL;
+}
+
+/* The uv texels of a batch's hits (pmc_cache_texel_floored; `level_floor`:
+ * pmc_hit_cache_keys' answers), in loops over the lanes that PoCL's compiler
+ * vectorises: the level from the gradients' exponent bits, the indices and
+ * the four 64-bit hashes, for every lane, kept where a texel is needed.
+ * Computed one hit at a time, they cost the cached default room more than
+ * its lookups did. A bias that is not an integer (the level takes a log2)
+ * goes one hit at a time. */
+static inline void pmc_cache_texels_lanes(__constant PmcFrame* frame, PmcHitPoint* hp, const int* level_floor,
+                                          int n) {
+  const float bias = frame->mip_bias;
+  const int max_refine = frame->cache_max_refine;
+  if (!pmc_cache_bias_integral(bias)) {
+    for (int k = 0; k < n; ++k)
+      if (level_floor[k] != PMC_NO_TEXEL)
+        hp[k].texel = pmc_cache_texel_floored(hp[k].uv, hp[k].g1, hp[k].g2, bias,
+                                              make_float2(hp[k].cache_jitter.x, hp[k].cache_jitter.y),
+                                              (uint)hp[k].material, level_floor[k], max_refine);
+    return;
+  }
+  const int ib = (int)(isfinite(bias) ? bias : 0.0f);
+  float m[PMC_LANES], u[PMC_LANES], v[PMC_LANES], ju[PMC_LANES], jv[PMC_LANES];
+  uint material[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    m[k] = pmc_cache_gradient_size(hp[k].g1, hp[k].g2);
+    u[k] = hp[k].uv.x;
+    v[k] = hp[k].uv.y;
+    ju[k] = hp[k].cache_jitter.x;
+    jv[k] = hp[k].cache_jitter.y;
+    material[k] = (uint)hp[k].material;
+  }
+  int lambda[PMC_LANES], footprint_lambda[PMC_LANES];
+  uint bypass[PMC_LANES];
+  long tx[PMC_LANES], ty[PMC_LANES];
+  ulong hash[PMC_LANES], base[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    footprint_lambda[k] = pmc_cache_level_integral(m[k], ib);
+    lambda[k] = pmc_cache_floored_level(footprint_lambda[k], level_floor[k], max_refine, &bypass[k]);
+    tx[k] = pmc_cache_texel_jittered(u[k], lambda[k], ju[k]);
+    ty[k] = pmc_cache_texel_jittered(v[k], lambda[k], jv[k]);
+    hash[k] = pmc_cache_texel_hash(lambda[k], tx[k], ty[k]);
+    base[k] = pmc_cache_group_base(hash[k], material[k]);
+  }
+  for (int k = 0; k < n; ++k)
+    if (level_floor[k] != PMC_NO_TEXEL) {
+      PmcCacheTexel* t = &hp[k].texel;
+      t->footprint_lambda = footprint_lambda[k];
+      t->lambda = lambda[k];
+      t->bypass = bypass[k];
+      t->tx = tx[k];
+      t->ty = ty[k];
+      t->tz = 0L;
+      t->hash = hash[k];
+      t->base = base[k];
+      t->ready = 1u;
+    }
 }
 
 /* The material's shading inputs and, with the cache, its cache context at
@@ -1244,7 +1331,13 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
     for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
     pmc_ray_cone_lanes(&lanes, n, hp);
     if (frame->cache_on) {
-      for (int k = 0; k < n; ++k) pmc_hit_cache_keys(frame, scene, paths, &hp[k]);
+      float jitter_u[PMC_LANES], jitter_v[PMC_LANES];
+      pmc_draw_cache_jitter(frame, hp, n, jitter_u, jitter_v);
+      int level_floor[PMC_LANES];
+      for (int k = 0; k < n; ++k)
+        level_floor[k] =
+            pmc_hit_cache_keys(frame, scene, paths, make_float2(jitter_u[k], jitter_v[k]), &hp[k]);
+      pmc_cache_texels_lanes(frame, hp, level_floor, n);
       const PmcCacheTable table = pmc_frame_cache_table(frame, cache_entries);
       for (int k = 0; k < n; ++k)
         if (hp[k].surface && hp[k].cache_points > 0u) {
