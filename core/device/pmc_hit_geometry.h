@@ -10,8 +10,10 @@
  * from the viewer), whether the ray arrived on the side the normals point to,
  * the uv (the barycentrics without uvs), the triangle's edges and uv edges
  * (the ray cone's inputs, pmc_raycone.h), the corners' largest |coordinate|
- * (the ray offsets' scale, PMC_HIT_SCALE), and the unit tangent dp/du
- * orthogonalised to the shading normal (any tangent when uvs give none).
+ * (the ray offsets' scale, PMC_HIT_SCALE), and the unit tangent: the
+ * mesh's smooth tangent where it has them (the corners' octahedral words,
+ * decoded and interpolated), else dp/du, orthogonalised to the shading
+ * normal (any tangent when uvs give none).
  *
  * PMC_HIT_GEOMETRY writes it once for two forms: F is float or float8, I its
  * integer type (a comparison's result), SEL(c, a, b) its select (pmc_vec.h);
@@ -47,6 +49,9 @@ typedef struct PmcHitLanes {
   float n2x[PMC_LANES], n2y[PMC_LANES], n2z[PMC_LANES];
   int uvs[PMC_LANES]; /* -1: the corners' uvs follow; else (0,0), (1,0), (0,1) */
   float t0u[PMC_LANES], t0v[PMC_LANES], t1u[PMC_LANES], t1v[PMC_LANES], t2u[PMC_LANES], t2v[PMC_LANES];
+  int tangents[PMC_LANES]; /* -1: the corners' smooth tangents follow, as the octahedral */
+  float o0x[PMC_LANES], o0y[PMC_LANES], o1x[PMC_LANES], o1y[PMC_LANES]; /* map's two snorms */
+  float o2x[PMC_LANES], o2y[PMC_LANES];                                 /* (pmc_snorm16) */
   float radius[PMC_LANES]; /* the ray cone's at the hit (pmc_ray_cone_lanes) */
   /* in, for the lights the rays met (the shade kernel's pmc_lights_seen_lanes) */
   float ox[PMC_LANES], oy[PMC_LANES], oz[PMC_LANES], t_hit[PMC_LANES];
@@ -72,6 +77,8 @@ PMC_FN void pmc_hit_lane_clear_surface(PmcHitLanes* L, int k) {
   L->n0x[k] = L->n0y[k] = L->n0z[k] = L->n1x[k] = L->n1y[k] = L->n1z[k] = 0.0f;
   L->n2x[k] = L->n2y[k] = L->n2z[k] = 0.0f;
   L->t0u[k] = L->t0v[k] = L->t1u[k] = L->t1v[k] = L->t2u[k] = L->t2v[k] = 0.0f;
+  L->tangents[k] = 0;
+  L->o0x[k] = L->o0y[k] = L->o1x[k] = L->o1y[k] = L->o2x[k] = L->o2y[k] = 0.0f;
   L->radius[k] = 0.0f;
 }
 
@@ -82,6 +89,19 @@ PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
   L->ox[k] = L->oy[k] = L->oz[k] = L->t_hit[k] = 0.0f;
   L->escaped[k] = 0;
 }
+
+/* A corner's unit tangent from its octahedral snorms x, y (pmc_oct_decode's
+ * arithmetic, its dot product written out) into vx, vy, vz. */
+#define PMC_OCT_UNFOLD(F, I, SEL, x, y, vx, vy, vz)                      \
+  {                                                                      \
+    const F one_ = (F)(1.0f), z_ = one_ - fabs(x) - fabs(y);             \
+    const I fold_ = z_ < (F)(0.0f);                                      \
+    const F ox_ = (one_ - fabs(y)) * SEL((x) >= (F)(0.0f), one_, -one_); \
+    const F oy_ = (one_ - fabs(x)) * SEL((y) >= (F)(0.0f), one_, -one_); \
+    const F ux_ = SEL(fold_, ox_, x), uy_ = SEL(fold_, oy_, y);          \
+    const F inv_ = one_ / sqrt(ux_ * ux_ + uy_ * uy_ + z_ * z_);         \
+    vx = ux_ * inv_, vy = uy_ * inv_, vz = z_ * inv_;                    \
+  }
 
 #define PMC_HIT_GEOMETRY(NAME, F, I, SEL, LD, LDI, ST)                                                \
   PMC_FN void NAME(PmcHitLanes* L, int k) {                                                           \
@@ -144,9 +164,25 @@ PMC_FN void pmc_hit_lane_clear(PmcHitLanes* L, int k) {
     const F scale = SEL(det < zero, -one, one) / tl;                                                  \
     const F sign = SEL(sz >= zero, one, -one);                                                        \
     const F a = -one / (sign + sz);                                                                   \
-    ST(tx, SEL(has_tangent, tx* scale, one + sign * sx * sx * a));                                    \
-    ST(ty, SEL(has_tangent, ty* scale, sign*(sx * sy * a)));                                          \
-    ST(tz, SEL(has_tangent, tz* scale, -sign* sx));                                                   \
+    tx = SEL(has_tangent, tx * scale, one + sign * sx * sx * a);                                      \
+    ty = SEL(has_tangent, ty * scale, sign * (sx * sy * a));                                          \
+    tz = SEL(has_tangent, tz * scale, -sign * sx);                                                    \
+    /* The mesh's smooth tangents where it has them (PMC_TRI_TANGENTS), the                           \
+     * corners' interpolated and orthogonalised to the shading normal. */                             \
+    F a0x, a0y, a0z, a1x, a1y, a1z, a2x, a2y, a2z;                                                    \
+    PMC_OCT_UNFOLD(F, I, SEL, LD(o0x), LD(o0y), a0x, a0y, a0z)                                        \
+    PMC_OCT_UNFOLD(F, I, SEL, LD(o1x), LD(o1y), a1x, a1y, a1z)                                        \
+    PMC_OCT_UNFOLD(F, I, SEL, LD(o2x), LD(o2y), a2x, a2y, a2z)                                        \
+    F vx = a0x * b0 + a1x * b1 + a2x * b2, vy = a0y * b0 + a1y * b1 + a2y * b2;                       \
+    F vz = a0z * b0 + a1z * b1 + a2z * b2;                                                            \
+    const F sv = sx * vx + sy * vy + sz * vz;                                                         \
+    vx = vx - sx * sv, vy = vy - sy * sv, vz = vz - sz * sv;                                          \
+    const F vl = sqrt(vx * vx + vy * vy + vz * vz);                                                   \
+    const I smooth_tangent = LDI(tangents) & (vl > (F)(1e-6f)) & isfinite(vl);                        \
+    const F inv_vl = one / vl;                                                                        \
+    ST(tx, SEL(smooth_tangent, vx* inv_vl, tx));                                                      \
+    ST(ty, SEL(smooth_tangent, vy* inv_vl, ty));                                                      \
+    ST(tz, SEL(smooth_tangent, vz* inv_vl, tz));                                                      \
     ST(nx, gx);                                                                                       \
     ST(ny, gy);                                                                                       \
     ST(nz, gz);                                                                                       \

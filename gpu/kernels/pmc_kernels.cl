@@ -228,6 +228,13 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   L->t0u[k] = uvs ? tri->t[0] : 0.0f, L->t0v[k] = uvs ? tri->t[1] : 0.0f;
   L->t1u[k] = uvs ? tri->t[2] : 1.0f, L->t1v[k] = uvs ? tri->t[3] : 0.0f;
   L->t2u[k] = uvs ? tri->t[4] : 0.0f, L->t2v[k] = uvs ? tri->t[5] : 1.0f;
+  const int tangents = (tri->flags & PMC_TRI_TANGENTS) != 0u;
+  L->tangents[k] = tangents ? -1 : 0;
+  const uint w0 = tangents ? tri->tangent[0] : 0u, w1 = tangents ? tri->tangent[1] : 0u;
+  const uint w2 = tangents ? tri->tangent[2] : 0u;
+  L->o0x[k] = pmc_snorm16(w0), L->o0y[k] = pmc_snorm16(w0 >> 16);
+  L->o1x[k] = pmc_snorm16(w1), L->o1y[k] = pmc_snorm16(w1 >> 16);
+  L->o2x[k] = pmc_snorm16(w2), L->o2y[k] = pmc_snorm16(w2 >> 16);
   /* Ray cone at the hit: uv gradients for texture LOD (and the material cache). */
   const float cone_width = path->cone_width + hit.t * frame->cam_spread;
   L->radius[k] = 0.5f * cone_width;
@@ -319,26 +326,15 @@ static inline void pmc_lights_seen_lanes(__constant PmcFrame* frame, const PmcSc
   }
 }
 
-/* Pass 1c: a hit's geometry from its lane, and the smooth corner tangents
- * (core/vertex_tangents.h) where the mesh has them. */
-static inline void pmc_hit_store(const PmcSceneData* scene, const PmcHitLanes* L, int k, PmcHitPoint* hp) {
+/* Pass 1c: a hit's geometry from its lane (the smooth corner tangents of
+ * core/vertex_tangents.h included: PMC_HIT_GEOMETRY). */
+static inline void pmc_hit_store(const PmcHitLanes* L, int k, PmcHitPoint* hp) {
   if (!hp->surface) return;
-  const float3 ns = make_float3(L->sx[k], L->sy[k], L->sz[k]);
-  float3 tangent = make_float3(L->tx[k], L->ty[k], L->tz[k]);
-  __global const PmcTriangleRecord* tri = &scene->triangles[hp->prim];
-  if (tri->flags & PMC_TRI_TANGENTS) {
-    const float b1 = L->b1[k], b2 = L->b2[k], b0 = 1.0f - b1 - b2;
-    float3 tv = pmc_oct_decode(tri->tangent[0]) * b0 + pmc_oct_decode(tri->tangent[1]) * b1 +
-                pmc_oct_decode(tri->tangent[2]) * b2;
-    tv = tv - ns * dot(ns, tv);
-    const float tvl = length(tv);
-    if (tvl > 1e-6f && isfinite(tvl)) tangent = tv * (1.0f / tvl);
-  }
   hp->dir = make_float3(L->dx[k], L->dy[k], L->dz[k]);
   hp->pos = make_float3(L->px[k], L->py[k], L->pz[k]);
   hp->ng = make_float3(L->nx[k], L->ny[k], L->nz[k]);
-  hp->ns = ns;
-  hp->tangent = tangent;
+  hp->ns = make_float3(L->sx[k], L->sy[k], L->sz[k]);
+  hp->tangent = make_float3(L->tx[k], L->ty[k], L->tz[k]);
   hp->uv = make_float2(L->u[k], L->v[k]);
   hp->area2 = L->area2[k];
   hp->hit_scale = L->scale[k]; /* for the ray offsets (pmc_geometry.h) */
@@ -1328,7 +1324,7 @@ __kernel void pmc_shade(__constant PmcFrame* frame,
   uint counts[PMC_CSTAT_COUNT];
   for (int c = 0; c < PMC_CSTAT_COUNT; ++c) counts[c] = 0u;
   if (surfaces) {
-    for (int k = 0; k < n; ++k) pmc_hit_store(scene, &lanes, k, &hp[k]);
+    for (int k = 0; k < n; ++k) pmc_hit_store(&lanes, k, &hp[k]);
     pmc_ray_cone_lanes(&lanes, n, hp);
     if (frame->cache_on) {
       float jitter_u[PMC_LANES], jitter_v[PMC_LANES];

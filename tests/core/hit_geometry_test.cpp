@@ -15,6 +15,10 @@
 //  * the uv is the corners' uvs combined (the barycentrics without uvs);
 //  * the tangent is unit, orthogonal to the shading normal, and along dp/du
 //    where the uvs give one;
+//  * with the mesh's smooth tangents (PMC_TRI_TANGENTS: the corners'
+//    octahedral words, as the shade kernel loads them), the tangent is their
+//    barycentric combination orthogonalised to the shading normal, and equals
+//    pmc_oct_decode's vectors so combined in single precision;
 // and a triangle without area gives the reversed ray as its normal.
 #include <gtest/gtest.h>
 
@@ -23,6 +27,7 @@
 #include <random>
 
 #include "core/device/pmc_hit_geometry.h"
+#include "core/device/pmc_octahedral.h"
 
 namespace pmc {
 namespace {
@@ -144,6 +149,76 @@ TEST(HitGeometry, MatchesTheDefinitionsInDoublePrecision) {
   }
   EXPECT_GT(smooth_seen, 100);
   EXPECT_GT(tangents_seen, 3000);
+}
+
+// The corners' tangents as the shade kernel loads them (pmc_hit_load).
+void load_tangents(const pmc_u32 words[3], PmcHitLanes& L) {
+  float* o[3][2] = {{L.o0x, L.o0y}, {L.o1x, L.o1y}, {L.o2x, L.o2y}};
+  for (int i = 0; i < 3; ++i) o[i][0][0] = pmc_snorm16(words[i]), o[i][1][0] = pmc_snorm16(words[i] >> 16);
+  L.tangents[0] = -1;
+}
+
+TEST(HitGeometry, SmoothTangentsAreTheCornersCombinedAndOrthogonalised) {
+  std::mt19937 g(11);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
+  int checked = 0;
+  for (int i = 0; i < 2000; ++i) {
+    Case c;
+    for (int j = 0; j < 3; ++j) {
+      c.p[j] = {3 * u(g), 3 * u(g), 3 * u(g)};
+      c.n[j] = random_unit(g);
+      c.t[j][0] = 2 * u(g), c.t[j][1] = 2 * u(g);
+    }
+    c.dir = random_unit(g);
+    c.b1 = w(g), c.b2 = w(g) * (1 - c.b1);
+    c.normals = i % 2 == 0;
+    c.uvs = true;
+    pmc_u32 words[3];
+    V corner[3];
+    const V base = random_unit(g);  // corners near one direction, as a smooth mesh's are
+    for (int j = 0; j < 3; ++j) {
+      const V t = unit(base + random_unit(g) * 0.3);
+      words[j] = pmc_oct_encode(make_float3(float(t.x), float(t.y), float(t.z)));
+      const float3 d = pmc_oct_decode(words[j]);
+      corner[j] = {d.x, d.y, d.z};
+    }
+    PmcHitLanes L;
+    load(c, L);
+    load_tangents(words, L);
+    pmc_hit_geometry_at(&L, 0);
+    SCOPED_TRACE(i);
+    const V ns = {L.sx[0], L.sy[0], L.sz[0]};
+    const double b0 = 1 - c.b1 - c.b2;
+    V t = corner[0] * b0 + corner[1] * c.b1 + corner[2] * c.b2;
+    t = t - ns * dot(ns, t);
+    if (len(t) < 1e-3) continue;  // too short to say which way it points
+    const V got = {L.tx[0], L.ty[0], L.tz[0]};
+    EXPECT_NEAR(len(got), 1.0, 1e-5);
+    EXPECT_NEAR(dot(got, ns), 0.0, 1e-5);
+    EXPECT_GT(dot(got, unit(t)), 1 - 1e-5);
+    ++checked;
+  }
+  EXPECT_GT(checked, 1900);
+}
+
+TEST(HitGeometry, NoSmoothTangentsWithoutTheFlag) {
+  Case c{};
+  c.p[0] = {0, 0, 0}, c.p[1] = {1, 0, 0}, c.p[2] = {0, 1, 0};
+  c.t[1][0] = 1, c.t[2][1] = 1;  // dp/du = x
+  c.uvs = true;
+  c.dir = unit({0.1, 0.2, -1});
+  c.b1 = 0.2, c.b2 = 0.3;
+  const pmc_u32 y = pmc_oct_encode(make_float3(0, 1, 0));
+  const pmc_u32 words[3] = {y, y, y};
+  PmcHitLanes L;
+  load(c, L);
+  load_tangents(words, L);
+  L.tangents[0] = 0;  // the words are there, the flag is not
+  pmc_hit_geometry_at(&L, 0);
+  EXPECT_NEAR(L.tx[0], 1.0f, 1e-6);
+  load_tangents(words, L);  // with the flag: the corners' y
+  pmc_hit_geometry_at(&L, 0);
+  EXPECT_NEAR(L.ty[0], 1.0f, 1e-4);
 }
 
 TEST(HitGeometry, ATriangleWithoutAreaFacesTheRay) {
