@@ -21,6 +21,17 @@ ns per hit" section of docs/BENCHMARKS.md.
     scripts/python -m bench.shade --runs 1 --doc -         this tree only, a quick look
     scripts/python -m bench.shade --perf --variant no-nee=DIR  what a part costs: DIR holds a copy of
                                                            the kernel sources with that part disabled
+    scripts/python -m bench.shade --perf --paired --variant new=DIR   the two side by side
+
+--paired runs a scene's two configurations at the same time, one thread each,
+each pinned to its own core (taskset; the cores swap every round), instead
+of one after the other: whatever else the machine runs then falls on both
+alike, and the per-round ratios are tighter (on the shared 2-core machine,
+the same kernel against itself, 5 rounds: paired rounds 0.88-1.13, medians
+0.97-0.99; interleaved 0.79-1.43, medians 0.94-1.16). It needs exactly two configurations (a baseline or one
+variant, and current), --threads 1 and two cores; the two runs share the
+caches and memory of one machine, so the absolute figures are those of a
+loaded machine, and a change to memory traffic shows in both.
 """
 import os
 import re
@@ -29,6 +40,7 @@ import shutil
 import subprocess
 import sys
 import time
+from concurrent.futures import ThreadPoolExecutor
 
 from bench import common, peer_scenes
 
@@ -55,13 +67,21 @@ def parse(argv=None):
                         "repeatable")
     p.add_argument("--perf", action="store_true",
                    help="also measure the shade kernel's CPU time per hit with Linux perf (default off)")
+    p.add_argument("--paired", action="store_true",
+                   help="run a scene's two configurations at the same time, each pinned to a core of its own "
+                        "(see above; default: one after the other)")
     p.add_argument("--extra", default="", metavar="ARGS",
                    help="render options added to every render, space-separated (default none)")
     p.add_argument("--note", default="", metavar="TEXT",
                    help="a paragraph added to the section: what the baseline and variants are (default none)")
     common.add_out_dir(p, "out/bench-shade")
     common.add_doc(p)
-    return common.parse_args(p, "shade", None, argv)
+    a = common.parse_args(p, "shade", None, argv)
+    configurations = 1 + bool(a.baseline_pmc) + len(a.variant)
+    if a.paired and (configurations != 2 or a.threads != 1):
+        p.error(f"--paired needs exactly two configurations (--baseline-pmc or one --variant, and current) and "
+                f"--threads 1; got {configurations} with --threads {a.threads}")
+    return a
 
 
 def scene_list(text):
@@ -128,15 +148,18 @@ def main(argv=None):
         if not os.path.isfile(os.path.join(folder, "gpu", "kernels", "pmc_kernels.cl")):
             sys.exit(f"{PROG}: --variant {name}={folder}: no gpu/kernels/pmc_kernels.cl there")
         binaries[name] = ["env", f"PMC_KERNEL_DIR={os.path.abspath(folder)}", pmc]
+    if a.paired and ((os.cpu_count() or 1) < 2 or not shutil.which("taskset")):
+        sys.exit(f"{PROG}: --paired needs two cores and taskset (util-linux)")
     if a.perf and not shutil.which("perf"):
         sys.exit(f"{PROG}: --perf needs Linux perf on the PATH")
     jobs = {s: peer_scenes.write_scene_files(s, os.path.join(out, "scenes", s)) for s in a.scenes}
     configs = [(b, s) for s in a.scenes for b in binaries]
     extra = a.extra.split()
 
-    def render(which, scene, name, spp=None):
+    def render(which, scene, name, spp=None, cpu=None):
         js = f"{out}/{name}.json"
-        cmd = [*binaries[which], "render", *scene_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
+        pin = ["taskset", "-c", str(cpu)] if cpu is not None else []
+        cmd = [*pin, *binaries[which], "render", *scene_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
                "-o", f"{out}/{name}.exr", "--stats", js, *common.size_args(a.width, a.height, spp or a.spp), *extra]
         data = f"{out}/{name}.perf"
         if a.perf:
@@ -156,9 +179,18 @@ def main(argv=None):
     res = {k: [] for k in configs}
     t0 = time.time()
     for r in range(a.runs):
-        for which, scene in common.round_order(configs, r):
-            res[(which, scene)].append(render(which, scene, f"{which}_{scene}"))
-            loads.sample()
+        if a.paired:  # a scene's two configurations at once, on cores that swap every round
+            for scene in a.scenes:
+                pair = [(w, s) for w, s in configs if s == scene]
+                with ThreadPoolExecutor(2) as pool:
+                    runs = [pool.submit(render, w, s, f"{w}_{s}", None, (i + r) % 2) for i, (w, s) in enumerate(pair)]
+                    for (w, s), run in zip(pair, runs):
+                        res[(w, s)].append(run.result())
+                loads.sample()
+        else:
+            for which, scene in common.round_order(configs, r):
+                res[(which, scene)].append(render(which, scene, f"{which}_{scene}"))
+                loads.sample()
         print(f"  round {r + 1}/{a.runs}  " +
               "  ".join(f"{w} {s} {res[(w, s)][-1]['ns']:6.0f} ns" for w, s in configs), flush=True)
     elapsed = time.time() - t0
@@ -210,7 +242,7 @@ def main(argv=None):
 
 Produced by `{command}` on {common.utc_now()} ({elapsed / 60:.1f} minutes of timed runs).
 Machine: {common.machine(device)}; {loads.note()}.
-{base_line}Current: {common.git_rev(ignore=["docs"])}. Median of {a.runs} interleaved rounds, each scene
+{base_line}Current: {common.git_rev(ignore=["docs"])}. Median of {a.runs} {'paired rounds (the two configurations at the same time, a core each)' if a.paired else 'interleaved rounds'}, each scene
 bench.peers writes (scripts/bench/peer_scenes.py) rendered as
 
     PMC_CACHE_COSTS={os.environ["PMC_CACHE_COSTS"]} build/pmc render SCENE.obj --lights SCENE.lights.json --camera-from ... --max-depth 8 --threads {a.threads} {size}{(' ' + a.extra) if a.extra else ''}

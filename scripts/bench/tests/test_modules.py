@@ -57,6 +57,16 @@ class CommandLines(unittest.TestCase):
         self.assertEqual(parse("speed", ["--only", "cold,scaling"]).parts, ["cold", "scaling"])
         self.assertEqual(parse("speed", ["--baseline-pmc", "old/pmc"]).parts, ["before", "cold", "scaling"])
 
+    def test_shade_pairs_exactly_two_single_thread_configurations(self):
+        self.assertTrue(parse("shade", ["--paired", "--variant", "new=k"]).paired)
+        self.assertTrue(parse("shade", ["--paired", "--baseline-pmc", "old/pmc"]).paired)
+        for bad in (["--paired"], ["--paired", "--variant", "a=x", "--variant", "b=y"],
+                    ["--paired", "--variant", "new=k", "--threads", "2"]):
+            with self.subTest(argv=bad), redirect_stdout(io.StringIO()), mock.patch("sys.stderr", io.StringIO()), \
+                    self.assertRaises(SystemExit) as e:
+                parse("shade", bad)
+            self.assertEqual(e.exception.code, 2)
+
     def test_heavy_takes_supersample_counts_and_reports_them(self):
         from bench import heavy
         self.assertEqual(parse("heavy", ["--supersample", "1,4,16,0"]).supersample, [1, 4, 16, 0])
