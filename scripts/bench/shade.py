@@ -23,15 +23,18 @@ ns per hit" section of docs/BENCHMARKS.md.
                                                            the kernel sources with that part disabled
     scripts/python -m bench.shade --perf --paired --variant new=DIR   the two side by side
 
---paired runs a scene's two configurations at the same time, one thread each,
-each pinned to its own core (taskset; the cores swap every round), instead
-of one after the other: whatever else the machine runs then falls on both
-alike, and the per-round ratios are tighter (on the shared 2-core machine,
-the same kernel against itself, 5 rounds: paired rounds 0.88-1.13, medians
-0.97-0.99; interleaved 0.79-1.43, medians 0.94-1.16). It needs exactly two configurations (a baseline or one
-variant, and current), --threads 1 and two cores; the two runs share the
-caches and memory of one machine, so the absolute figures are those of a
-loaded machine, and a change to memory traffic shows in both.
+--paired runs a scene's two configurations at the same time, one thread
+each, each pinned to its own core (taskset; the cores swap every round),
+instead of one after the other: whatever else the machine runs then falls on
+both alike, and the per-round ratios are tighter (on the shared 2-core
+machine, the same kernel against itself, 5 rounds: paired rounds 0.88-1.13,
+medians 0.97-0.99; interleaved 0.79-1.43, medians 0.94-1.16). It needs
+exactly two configurations (a baseline or one variant, and current),
+--threads 1 and two cores; the two runs share the caches and memory of one
+machine, so the absolute figures are those of a loaded machine. Two
+processes sharing the caches also evict each other's prefetched lines, so a
+change to memory traffic (prefetching, layout) can read better paired than
+it renders with two threads: confirm those interleaved, --threads 2.
 """
 import os
 import re
