@@ -179,6 +179,19 @@ PMC_FN_INLINE PmcHitNumbers pmc_hit_numbers_random(pmc_u32 key, pmc_u32 bounce) 
   return h;
 }
 
+/* The cache's bilinear texel jitter of bounce `bounce` (the pair
+ * pmc_rand2(s, bounce, PMC_DIM_CACHE_U, PMC_DIM_CACHE_V) draws), for the
+ * Sobol and the random sampler: the forms the shade kernel's loop over a
+ * batch's lanes calls (pmc_draw_cache_jitter). */
+PMC_FN_INLINE float2 pmc_cache_jitter_sobol(pmc_u32 key, pmc_u32 sample, pmc_u32 bounce) {
+  return pmc_sobol_set2(key, sample, bounce, PMC_SET_CACHE);
+}
+
+PMC_FN_INLINE float2 pmc_cache_jitter_random(pmc_u32 key, pmc_u32 bounce) {
+  return make_float2(pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_CACHE_U)),
+                     pmc_rand_hashed(key, bounce, PMC_DIM_NUMBER(PMC_DIM_CACHE_V)));
+}
+
 PMC_FN PmcHitNumbers pmc_hit_numbers(PmcSampler s, pmc_u32 bounce) {
   return s.kind == PMC_SAMPLER_RANDOM ? pmc_hit_numbers_random(s.key, bounce)
                                       : pmc_hit_numbers_sobol(s.key, s.sample, bounce);

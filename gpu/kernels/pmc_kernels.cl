@@ -393,15 +393,15 @@ static inline void pmc_draw_cache_jitter(__constant PmcFrame* frame, const PmcHi
   const uint seed = frame->seed;
   if (frame->sampler == PMC_SAMPLER_RANDOM) {
     for (int k = 0; k < n; ++k) {
-      const uint key = pmc_path_key(seed, pixel[k], sample[k]);
-      jitter_u[k] = pmc_rand_hashed(key, bounce[k], PMC_DIM_NUMBER(PMC_DIM_CACHE_U));
-      jitter_v[k] = pmc_rand_hashed(key, bounce[k], PMC_DIM_NUMBER(PMC_DIM_CACHE_V));
+      const float2 j = pmc_cache_jitter_random(pmc_path_key(seed, pixel[k], sample[k]), bounce[k]);
+      jitter_u[k] = j.x; /* two arrays: PoCL did not vectorise stores of float2 */
+      jitter_v[k] = j.y;
     }
   } else {
     for (int k = 0; k < n; ++k) {
       const uint key = pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel[k], sample[k]).key;
-      const float2 j = pmc_sobol_set2(key, sample[k], bounce[k], PMC_SET_CACHE);
-      jitter_u[k] = j.x; /* two arrays: PoCL did not vectorise stores of float2 */
+      const float2 j = pmc_cache_jitter_sobol(key, sample[k], bounce[k]);
+      jitter_u[k] = j.x;
       jitter_v[k] = j.y;
     }
   }

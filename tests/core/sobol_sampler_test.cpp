@@ -151,7 +151,8 @@ TEST(SobolSampler, ValuesLieInTheUnitInterval) {
 }
 
 // The shade kernel draws a hit's numbers together (pmc_hit_numbers, one
-// loop over a batch's lanes); each must be the number its own pmc_rand or
+// loop over a batch's lanes), and the cache's texel jitter in another
+// (pmc_cache_jitter_*); each must be the number its own pmc_rand or
 // pmc_rand2 call draws, so that images do not change.
 TEST(SobolSampler, HitNumbersDrawnTogetherAreTheSingleDraws) {
   uint32_t state = 11;
@@ -171,6 +172,12 @@ TEST(SobolSampler, HitNumbersDrawnTogetherAreTheSingleDraws) {
       ASSERT_EQ(h.bsdf_u, bsdf.x);
       ASSERT_EQ(h.bsdf_v, bsdf.y);
       ASSERT_EQ(h.rr, pmc_rand(s, bounce, PMC_DIM_RR));
+      // the cache's texel jitter, which the kernel also draws in a loop over the lanes
+      const float2 jitter = pmc_rand2(s, bounce, PMC_DIM_CACHE_U, PMC_DIM_CACHE_V);
+      const float2 drawn = kind == PMC_SAMPLER_SOBOL ? pmc_cache_jitter_sobol(s.key, s.sample, bounce)
+                                                     : pmc_cache_jitter_random(s.key, bounce);
+      ASSERT_EQ(drawn.x, jitter.x);
+      ASSERT_EQ(drawn.y, jitter.y);
     }
 }
 
