@@ -381,7 +381,7 @@ static inline void pmc_ray_cone_lanes(const PmcHitLanes* c, int n, PmcHitPoint* 
  * the lanes for the frame's sampler, which PoCL's compiler vectorises as it
  * does pmc_draw_hit_numbers'. Every lane draws; a hit without cache points
  * does not read its pair. Drawn one hit at a time inside pmc_hit_cache_keys,
- * the pair cost the cached default room more than its lookups did. */
+ * the pair cost a cached wall of the default room more than its lookup did. */
 static inline void pmc_draw_cache_jitter(__constant PmcFrame* frame, const PmcHitPoint* hp, int n,
                                          float* jitter_u, float* jitter_v) {
   uint pixel[PMC_LANES], sample[PMC_LANES], bounce[PMC_LANES];
@@ -463,8 +463,8 @@ static inline int pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneD
  * pmc_hit_cache_keys' answers), in loops over the lanes that PoCL's compiler
  * vectorises: the level from the gradients' exponent bits, the indices and
  * the four 64-bit hashes, for every lane, kept where a texel is needed.
- * Computed one hit at a time, they cost the cached default room more than
- * its lookups did. A bias that is not an integer (the level takes a log2)
+ * Computed one hit at a time, they cost a cached wall of the default room
+ * more than its lookup did. A bias that is not an integer (the level takes a log2)
  * goes one hit at a time. */
 static inline void pmc_cache_texels_lanes(__constant PmcFrame* frame, PmcHitPoint* hp, const int* level_floor,
                                           int n) {
