@@ -376,6 +376,18 @@ static inline void pmc_ray_cone_lanes(const PmcHitLanes* c, int n, PmcHitPoint* 
   }
 }
 
+/* What a batch's hits draw their numbers by (pmc_rng.h), one array each:
+ * the pixel, the sample and the bounce (the hit's depth + 1: bounce 0 is
+ * the camera ray's dimensions). */
+static inline void pmc_hit_sample_ids(__constant PmcFrame* frame, const PmcHitPoint* hp, int n, uint* pixel,
+                                      uint* sample, uint* bounce) {
+  for (int k = 0; k < n; ++k) {
+    pixel[k] = hp[k].pixel;
+    sample[k] = pmc_path_sample(frame, hp[k].path);
+    bounce[k] = hp[k].depth + 1u;
+  }
+}
+
 /* The cache's bilinear texel jitter of a batch's hits (the set
  * PMC_SET_CACHE of their bounce, as pmc_rand2 draws it), in one loop over
  * the lanes for the frame's sampler, which PoCL's compiler vectorises as it
@@ -385,11 +397,7 @@ static inline void pmc_ray_cone_lanes(const PmcHitLanes* c, int n, PmcHitPoint* 
 static inline void pmc_draw_cache_jitter(__constant PmcFrame* frame, const PmcHitPoint* hp, int n,
                                          float* jitter_u, float* jitter_v) {
   uint pixel[PMC_LANES], sample[PMC_LANES], bounce[PMC_LANES];
-  for (int k = 0; k < n; ++k) {
-    pixel[k] = hp[k].pixel;
-    sample[k] = pmc_path_sample(frame, hp[k].path);
-    bounce[k] = hp[k].depth + 1u; /* bounce 0 is the camera ray's dimensions */
-  }
+  pmc_hit_sample_ids(frame, hp, n, pixel, sample, bounce);
   const uint seed = frame->seed;
   if (frame->sampler == PMC_SAMPLER_RANDOM) {
     for (int k = 0; k < n; ++k) {
@@ -788,11 +796,7 @@ static inline PmcHitNumbers pmc_load_hit_numbers(const PmcBatchNumbers* u, int k
 static inline void pmc_draw_hit_numbers(__constant PmcFrame* frame, const PmcHitPoint* hp, int n,
                                         PmcBatchNumbers* u) {
   uint pixel[PMC_LANES], sample[PMC_LANES], bounce[PMC_LANES];
-  for (int k = 0; k < n; ++k) {
-    pixel[k] = hp[k].pixel;
-    sample[k] = pmc_path_sample(frame, hp[k].path);
-    bounce[k] = hp[k].depth + 1u; /* bounce 0 is the camera ray's dimensions */
-  }
+  pmc_hit_sample_ids(frame, hp, n, pixel, sample, bounce);
   const uint seed = frame->seed;
   if (frame->sampler == PMC_SAMPLER_RANDOM) {
     for (int k = 0; k < n; ++k)

@@ -55,6 +55,21 @@ V random_unit(std::mt19937& g) {
   return unit({nd(g), nd(g), nd(g)});
 }
 
+// A random triangle, ray and barycentrics; every other one with vertex normals.
+Case random_case(std::mt19937& g, int i) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
+  Case c;
+  for (int j = 0; j < 3; ++j) {
+    c.p[j] = {3 * u(g), 3 * u(g), 3 * u(g)};
+    c.n[j] = random_unit(g);
+    c.t[j][0] = 2 * u(g), c.t[j][1] = 2 * u(g);
+  }
+  c.dir = random_unit(g);
+  c.b1 = w(g), c.b2 = w(g) * (1 - c.b1);
+  c.normals = i % 2 == 0;
+  return c;
+}
+
 void load(const Case& c, PmcHitLanes& L) {
   const int k = 0;
   pmc_hit_lane_clear(&L, k);
@@ -75,18 +90,9 @@ void load(const Case& c, PmcHitLanes& L) {
 
 TEST(HitGeometry, MatchesTheDefinitionsInDoublePrecision) {
   std::mt19937 g(7);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
   int smooth_seen = 0, tangents_seen = 0;
   for (int i = 0; i < 4000; ++i) {
-    Case c;
-    for (int j = 0; j < 3; ++j) {
-      c.p[j] = {3 * u(g), 3 * u(g), 3 * u(g)};
-      c.n[j] = random_unit(g);
-      c.t[j][0] = 2 * u(g), c.t[j][1] = 2 * u(g);
-    }
-    c.dir = random_unit(g);
-    c.b1 = w(g), c.b2 = w(g) * (1 - c.b1);
-    c.normals = i % 2 == 0;
+    Case c = random_case(g, i);
     c.uvs = i % 3 != 0;
     PmcHitLanes L;
     load(c, L);
@@ -160,18 +166,9 @@ void load_tangents(const pmc_u32 words[3], PmcHitLanes& L) {
 
 TEST(HitGeometry, SmoothTangentsAreTheCornersCombinedAndOrthogonalised) {
   std::mt19937 g(11);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), w(0.0, 1.0);
   int checked = 0;
   for (int i = 0; i < 2000; ++i) {
-    Case c;
-    for (int j = 0; j < 3; ++j) {
-      c.p[j] = {3 * u(g), 3 * u(g), 3 * u(g)};
-      c.n[j] = random_unit(g);
-      c.t[j][0] = 2 * u(g), c.t[j][1] = 2 * u(g);
-    }
-    c.dir = random_unit(g);
-    c.b1 = w(g), c.b2 = w(g) * (1 - c.b1);
-    c.normals = i % 2 == 0;
+    Case c = random_case(g, i);
     c.uvs = true;
     pmc_u32 words[3];
     V corner[3];
