@@ -104,16 +104,6 @@ enum { PMC_CACHE_COUNTERS(PMC_CSTAT_ENUMERATOR_) PMC_CSTAT_COUNT };
 
 /* ---- virtual mip level and texel indices --------------------------------- */
 
-/* Integer virtual mip level floor(-log2(m) + bias) of a footprint of size m
- * (pmc_cache_lambda: m = min(|g1|, |g2|) from the uv gradients; position
- * keys: the cone radius in scene units); always finite and clamped. Degenerate footprints
- * (zero-area uv triangles, no cone, |g| overflowing or underflowing float)
- * use the finest level so distinct points never share a coarse texel by
- * accident. Lengths are sqrt(x^2 + y^2) on both sides (an overflow-safe
- * library length() on the device would disagree with the host at 1e30).
- * With an integral bias (the usual case) the level comes exactly from m's
- * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
- * a library log2 cost about as much as the rest of a lookup on PoCL. */
 /* Whether a bias takes pmc_cache_level_integral (as (int)bias). */
 PMC_FN_INLINE int pmc_cache_bias_integral(float bias) {
   float b = isfinite(bias) ? bias : 0.0f;
@@ -130,6 +120,16 @@ PMC_FN_INLINE int pmc_cache_level_integral(float m, int bias) {
   return level < PMC_LAMBDA_MIN ? PMC_LAMBDA_MIN : (level > PMC_LAMBDA_MAX ? PMC_LAMBDA_MAX : level);
 }
 
+/* Integer virtual mip level floor(-log2(m) + bias) of a footprint of size m
+ * (pmc_cache_lambda: m = min(|g1|, |g2|) from the uv gradients; position
+ * keys: the cone radius in scene units); always finite and clamped. Degenerate footprints
+ * (zero-area uv triangles, no cone, |g| overflowing or underflowing float)
+ * use the finest level so distinct points never share a coarse texel by
+ * accident. Lengths are sqrt(x^2 + y^2) on both sides (an overflow-safe
+ * library length() on the device would disagree with the host at 1e30).
+ * With an integral bias (the usual case) the level comes exactly from m's
+ * exponent bits: floor(-log2(m)) = -E - (mantissa != 0) for m = 1.f * 2^E;
+ * a library log2 cost about as much as the rest of a lookup on PoCL. */
 PMC_FN_INLINE int pmc_cache_level(float m, float bias) {
   float b = isfinite(bias) ? bias : 0.0f;
   if (pmc_cache_bias_integral(b)) return pmc_cache_level_integral(m, (int)b);
