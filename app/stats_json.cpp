@@ -126,6 +126,7 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
                         {"film", st.stages.film},     {"transfer", st.stages.transfer}};
   j["transfer_mode"] = st.transfer;
   j["shade_lanes"] = st.shade_lanes;
+  j["waves_in_flight"] = st.waves_in_flight;
   j["device"] = st.device;
   j["cache"] = cache_json(s, st.cache);
   return j;

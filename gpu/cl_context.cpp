@@ -132,13 +132,38 @@ ClContext::ClContext(const std::string& device_filter) {
   cl_int st = CL_SUCCESS;
   context_ = clCreateContext(nullptr, 1, &info_.device_id, nullptr, nullptr, &st);
   cl_check(st, "clCreateContext");
-  queue_ = clCreateCommandQueue(context_, info_.device_id, CL_QUEUE_PROFILING_ENABLE, &st);
-  cl_check(st, "clCreateCommandQueue");
+  queue_ = ClQueue(context_, info_.device_id);
 }
 
 ClContext::~ClContext() {
-  if (queue_) clReleaseCommandQueue(queue_);
+  queue_ = ClQueue();  // before the context
   if (context_) clReleaseContext(context_);
+}
+
+ClQueue::ClQueue(cl_context ctx, cl_device_id device) {
+  cl_int st = CL_SUCCESS;
+  queue_ = clCreateCommandQueue(ctx, device, CL_QUEUE_PROFILING_ENABLE, &st);
+  cl_check(st, "clCreateCommandQueue");
+}
+
+ClQueue::~ClQueue() {
+  if (queue_) clReleaseCommandQueue(queue_);
+}
+
+ClQueue& ClQueue::operator=(ClQueue&& o) noexcept {
+  if (this != &o) {
+    if (queue_) clReleaseCommandQueue(queue_);
+    queue_ = std::exchange(o.queue_, nullptr);
+  }
+  return *this;
+}
+
+ClBuffer ClBuffer::share() const {
+  ClBuffer b;
+  if (mem_) cl_check(clRetainMemObject(mem_), "clRetainMemObject");
+  b.mem_ = mem_;
+  b.bytes_ = bytes_;
+  return b;
 }
 
 ClBuffer ClContext::buffer(size_t bytes, const void* data, cl_mem_flags flags) const {
@@ -153,19 +178,30 @@ ClBuffer ClContext::shared_buffer(size_t bytes, const void* data) const {
   return ClBuffer(context_, bytes, CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, const_cast<void*>(data));
 }
 
-void ClContext::write(const ClBuffer& b, size_t offset, size_t bytes, const void* src, bool blocking) const {
+void queue_write(cl_command_queue q, const ClBuffer& b, size_t offset, size_t bytes, const void* src,
+                 bool blocking) {
   if (bytes == 0) return;
-  cl_check(clEnqueueWriteBuffer(queue_, b.get(), blocking ? CL_TRUE : CL_FALSE, offset, bytes, src, 0,
-                                nullptr, nullptr),
+  cl_check(clEnqueueWriteBuffer(q, b.get(), blocking ? CL_TRUE : CL_FALSE, offset, bytes, src, 0, nullptr,
+                                nullptr),
            "clEnqueueWriteBuffer");
 }
 
-void ClContext::read(const ClBuffer& b, size_t offset, size_t bytes, void* dst) const {
+void queue_read(cl_command_queue q, const ClBuffer& b, size_t offset, size_t bytes, void* dst) {
   if (bytes == 0) return;
-  cl_check(clEnqueueReadBuffer(queue_, b.get(), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr),
+  cl_check(clEnqueueReadBuffer(q, b.get(), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr),
            "clEnqueueReadBuffer");
 }
 
-void ClContext::finish() const { cl_check(clFinish(queue_), "clFinish"); }
+void queue_finish(cl_command_queue q) { cl_check(clFinish(q), "clFinish"); }
+
+void ClContext::write(const ClBuffer& b, size_t offset, size_t bytes, const void* src, bool blocking) const {
+  queue_write(queue(), b, offset, bytes, src, blocking);
+}
+
+void ClContext::read(const ClBuffer& b, size_t offset, size_t bytes, void* dst) const {
+  queue_read(queue(), b, offset, bytes, dst);
+}
+
+void ClContext::finish() const { queue_finish(queue()); }
 
 }  // namespace pmc

@@ -49,11 +49,38 @@ class ClBuffer {
   ClBuffer& operator=(const ClBuffer&) = delete;
   cl_mem get() const { return mem_; }
   size_t bytes() const { return bytes_; }
+  // Another handle to the same memory (one more reference): buffers that
+  // several waves in flight share (the film, the cache table).
+  ClBuffer share() const;
 
  private:
   cl_mem mem_ = nullptr;
   size_t bytes_ = 0;
 };
+
+// An in-order command queue with profiling. A context has one; a render
+// with two waves in flight gives the second its own, so that the host's
+// blocking maps and reads of one wave wait for that wave's commands only.
+class ClQueue {
+ public:
+  ClQueue() = default;
+  ClQueue(cl_context ctx, cl_device_id device);
+  ~ClQueue();
+  ClQueue(ClQueue&& o) noexcept : queue_(std::exchange(o.queue_, nullptr)) {}
+  ClQueue& operator=(ClQueue&& o) noexcept;
+  ClQueue(const ClQueue&) = delete;
+  ClQueue& operator=(const ClQueue&) = delete;
+  cl_command_queue get() const { return queue_; }
+
+ private:
+  cl_command_queue queue_ = nullptr;
+};
+
+// Checked transfers and waits on a given queue (ClContext's own use its queue).
+void queue_write(cl_command_queue q, const ClBuffer& b, size_t offset, size_t bytes, const void* src,
+                 bool blocking);
+void queue_read(cl_command_queue q, const ClBuffer& b, size_t offset, size_t bytes, void* dst);  // blocking
+void queue_finish(cl_command_queue q);
 
 class ClContext {
  public:
@@ -64,7 +91,8 @@ class ClContext {
   ClContext& operator=(const ClContext&) = delete;
 
   cl_context context() const { return context_; }
-  cl_command_queue queue() const { return queue_; }
+  cl_command_queue queue() const { return queue_.get(); }
+  ClQueue new_queue() const { return ClQueue(context_, info_.device_id); }
   cl_device_id device() const { return info_.device_id; }
   const ClDeviceInfo& info() const { return info_; }
   std::string description() const { return info_.name + " (" + info_.platform + ")"; }
@@ -92,7 +120,7 @@ class ClContext {
  private:
   ClDeviceInfo info_;
   cl_context context_ = nullptr;
-  cl_command_queue queue_ = nullptr;
+  ClQueue queue_;
 };
 
 }  // namespace pmc

@@ -23,7 +23,9 @@ const char* transfer_mode_name(TransferMode mode) {
   }
 }
 
-HostLink::HostLink(const ClContext& cl, TransferMode mode) : cl_(cl) {
+HostLink::HostLink(const ClContext& cl, TransferMode mode) : HostLink(cl, mode, cl.queue()) {}
+
+HostLink::HostLink(const ClContext& cl, TransferMode mode, cl_command_queue queue) : queue_(queue) {
   zero_copy_ = mode == TransferMode::ZeroCopy ||
                (mode == TransferMode::Auto && (cl.info().host_unified_memory || cl.info().is_cpu));
 }
@@ -32,8 +34,8 @@ HostLink::~HostLink() {
   // Views still open (an exception between read/write and publish): unmap
   // them so the buffers can be released; errors are moot at this point.
   for (const Pending& p : pending_)
-    if (p.mapped) clEnqueueUnmapMemObject(cl_.queue(), p.mem, p.ptr, 0, nullptr, nullptr);
-  if (!pending_.empty()) clFinish(cl_.queue());
+    if (p.mapped) clEnqueueUnmapMemObject(queue_, p.mem, p.ptr, 0, nullptr, nullptr);
+  if (!pending_.empty()) clFinish(queue_);
 }
 
 void HostLink::staging_too_small(size_t have, size_t need) {
@@ -49,14 +51,14 @@ const void* HostLink::read_bytes(const ClBuffer& b, size_t offset, size_t bytes,
   if (bytes == 0) return staging;
   if (zero_copy_) {
     cl_int st = CL_SUCCESS;
-    void* p = clEnqueueMapBuffer(cl_.queue(), b.get(), CL_TRUE, CL_MAP_READ, offset, bytes, 0, nullptr,
-                                 nullptr, &st);
+    void* p =
+        clEnqueueMapBuffer(queue_, b.get(), CL_TRUE, CL_MAP_READ, offset, bytes, 0, nullptr, nullptr, &st);
     cl_check(st, "clEnqueueMapBuffer(read)");
     pending_.push_back({b.get(), p, offset, bytes, true});
     return p;
   }
   char* dst = static_cast<char*>(staging) + staging_offset;
-  cl_check(clEnqueueReadBuffer(cl_.queue(), b.get(), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr),
+  cl_check(clEnqueueReadBuffer(queue_, b.get(), CL_TRUE, offset, bytes, dst, 0, nullptr, nullptr),
            "clEnqueueReadBuffer");
   return dst;
 }
@@ -67,8 +69,8 @@ void* HostLink::write_bytes(const ClBuffer& b, size_t offset, size_t bytes, void
   if (zero_copy_) {
     cl_int st = CL_SUCCESS;
     // Write-invalidate: the host overwrites the whole range, nothing is read back.
-    void* p = clEnqueueMapBuffer(cl_.queue(), b.get(), CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, offset, bytes,
-                                 0, nullptr, nullptr, &st);
+    void* p = clEnqueueMapBuffer(queue_, b.get(), CL_TRUE, CL_MAP_WRITE_INVALIDATE_REGION, offset, bytes, 0,
+                                 nullptr, nullptr, &st);
     cl_check(st, "clEnqueueMapBuffer(write)");
     pending_.push_back({b.get(), p, offset, bytes, true});
     return p;
@@ -81,12 +83,10 @@ void* HostLink::write_bytes(const ClBuffer& b, size_t offset, size_t bytes, void
 void HostLink::publish() {
   for (const Pending& p : pending_) {
     if (p.mapped)
-      cl_check(clEnqueueUnmapMemObject(cl_.queue(), p.mem, p.ptr, 0, nullptr, nullptr),
-               "clEnqueueUnmapMemObject");
+      cl_check(clEnqueueUnmapMemObject(queue_, p.mem, p.ptr, 0, nullptr, nullptr), "clEnqueueUnmapMemObject");
     else  // non-blocking: the staging array outlives the copy (the next blocking read orders it)
-      cl_check(
-          clEnqueueWriteBuffer(cl_.queue(), p.mem, CL_FALSE, p.offset, p.bytes, p.ptr, 0, nullptr, nullptr),
-          "clEnqueueWriteBuffer");
+      cl_check(clEnqueueWriteBuffer(queue_, p.mem, CL_FALSE, p.offset, p.bytes, p.ptr, 0, nullptr, nullptr),
+               "clEnqueueWriteBuffer");
   }
   pending_.clear();
 }

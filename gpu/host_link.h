@@ -12,7 +12,9 @@
 // `auto` picks zero-copy for devices that report host-unified memory (every
 // CPU device) and copy otherwise; both are tested on PoCL. A view is valid
 // until publish(), which unmaps what was mapped (or enqueues the staged
-// writes); kernels that use the buffers must be enqueued after it.
+// writes); kernels that use the buffers must be enqueued after it. Every
+// command goes to one queue: the context's, or a wave's own (two waves in
+// flight, gpu/wavefront_renderer.cpp).
 #pragma once
 
 #include <cstddef>
@@ -31,6 +33,7 @@ const char* transfer_mode_name(TransferMode mode);
 class HostLink {
  public:
   HostLink(const ClContext& cl, TransferMode mode);
+  HostLink(const ClContext& cl, TransferMode mode, cl_command_queue queue);
   ~HostLink();
   HostLink(const HostLink&) = delete;
   HostLink& operator=(const HostLink&) = delete;
@@ -78,7 +81,7 @@ class HostLink {
     size_t offset, bytes;
     bool mapped;  // else a staged write to enqueue
   };
-  const ClContext& cl_;
+  cl_command_queue queue_;
   bool zero_copy_ = false;
   std::vector<Pending> pending_;
 };

@@ -35,6 +35,10 @@ class MaterialSorter {
   // how often each material ran, for the cache's predicted savings.
   const std::vector<uint64_t>& material_hits() const { return hits_; }
   void reset_counts() { std::fill(hits_.begin(), hits_.end(), 0); }
+  // Adds another sorter's counts (a second wave in flight's).
+  void add_counts(const std::vector<uint64_t>& hits) {
+    for (size_t i = 0; i < hits_.size() && i < hits.size(); ++i) hits_[i] += hits[i];
+  }
 
  private:
   std::vector<int32_t> material_;

@@ -157,6 +157,14 @@ ClProgram::~ClProgram() {
   if (program_) clReleaseProgram(program_);
 }
 
+ClProgram ClProgram::share() const {
+  ClProgram p;
+  if (program_) cl_check(clRetainProgram(program_), "clRetainProgram");
+  p.program_ = program_;
+  p.build_seconds_ = build_seconds_;
+  return p;
+}
+
 cl_kernel ClProgram::kernel(const std::string& name) {
   auto it = kernels_.find(name);
   if (it != kernels_.end()) return it->second;

@@ -35,6 +35,9 @@ class ClProgram {
   ClProgram(const ClProgram&) = delete;
   ClProgram& operator=(const ClProgram&) = delete;
   cl_kernel kernel(const std::string& name);  // created once, owned by the program
+  // The same built program with kernel objects of its own: a kernel's
+  // arguments are state, so two host threads launching one kernel need two.
+  ClProgram share() const;
   double build_seconds() const { return build_seconds_; }
 
  private:

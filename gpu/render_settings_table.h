@@ -243,7 +243,12 @@ constexpr double kNone = std::numeric_limits<double>::infinity();
     "texels at 256; 'pmc info --dump-cache-plan' shows it)")                                                \
   X(chunk_rays, "chunk_rays", "--chunk-rays", int64_t, 65536, 0, settings_table::kNone,                     \
     "must not be negative", Machine, NO, S(chunk_rays), NONE, "", "N",                                      \
-    "rays per streamed chunk with --transfer copy (0: the whole queue)")
+    "rays per streamed chunk with --transfer copy (0: the whole queue)")                                   \
+  X(waves_in_flight, "waves_in_flight", "--waves-in-flight", int, 2, 1, 2, "must be 1 or 2, got {}",        \
+    Machine, NO, S(waves_in_flight), NONE, "", "N",                                                         \
+    "wave loops at once, each on half of the pixels with its own queue: the host traces one's rays while "  \
+    "the device shades the other's, so neither waits for the other (faster on small and simple frames; "   \
+    "the same image); 1: one loop, the host and the device taking turns. Adaptive sampling runs one")
 // clang-format on
 
 // ---- the table's expansions --------------------------------------------------

@@ -38,4 +38,17 @@ WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, si
   }
 }
 
+WaveBuffers::WaveBuffers(const ClContext& cl, const HostLink& link, size_t n, size_t order_entries,
+                         bool passes, const WaveBuffers& first)
+    : WaveBuffers(cl, link, n, order_entries, 0, 0, passes) {
+  film = first.film.share();
+  active = first.active.share();
+  pass_film = first.pass_film.share();
+  cache_entries = first.cache_entries.share();
+  cache_stats = first.cache_stats.share();
+  film_bytes = first.film_bytes;
+  cache_bytes = first.cache_bytes;
+  pass_film_bytes = first.pass_film_bytes;
+}
+
 }  // namespace pmc

@@ -56,6 +56,11 @@ struct WaveBuffers {
   // fills the pass buffers (PmcFrame.passes_on).
   WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t order_capacity, size_t pixels,
               size_t cache_words, bool passes = false);
+  // A second wave in flight: queues and path states of its own, and the
+  // render-wide buffers of `first` (the film, the active pixels, the pass
+  // film, the cache table and its counters), shared.
+  WaveBuffers(const ClContext& cl, const HostLink& link, size_t paths, size_t order_capacity, bool passes,
+              const WaveBuffers& first);
 };
 
 }  // namespace pmc

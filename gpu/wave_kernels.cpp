@@ -41,8 +41,17 @@ WaveKernels::WaveKernels(const ClContext& cl, const MaterialSet& materials, int 
     : WaveKernels(cl, lanes, wave_program_options(materials, lanes, cl.info().is_gpu)) {}
 
 WaveKernels::WaveKernels(const ClContext& cl, int lanes, const std::string& program_options)
-    : cl_(cl), lanes_(lanes), program_(cl, "pmc_kernels.cl", program_options) {
+    : cl_(cl), queue_(cl.queue()), lanes_(lanes), program_(cl, "pmc_kernels.cl", program_options) {
   PMC_CHECK(lanes >= 1 && size_t(lanes) <= kLocalSize && (lanes & (lanes - 1)) == 0, "shade lanes ", lanes);
+  create_kernels();
+}
+
+WaveKernels::WaveKernels(const WaveKernels& base, cl_command_queue queue)
+    : cl_(base.cl_), queue_(queue), lanes_(base.lanes_), program_(base.program_.share()) {
+  create_kernels();
+}
+
+void WaveKernels::create_kernels() {
   camera_ = program_.kernel("pmc_camera_rays");
   shade_ = program_.kernel("pmc_shade");
   resolve_ = program_.kernel("pmc_resolve_shadows");
@@ -54,7 +63,7 @@ WaveKernels::WaveKernels(const ClContext& cl, int lanes, const std::string& prog
 void WaveKernels::launch(cl_kernel k, size_t count, size_t local, cl_event* done) {
   const size_t items = std::max<size_t>({count, warm_up_items_, 1});
   const size_t global = (items + local - 1) / local * local;
-  cl_check(clEnqueueNDRangeKernel(cl_.queue(), k, 1, nullptr, &global, &local, 0, nullptr, done),
+  cl_check(clEnqueueNDRangeKernel(queue_, k, 1, nullptr, &global, &local, 0, nullptr, done),
            "clEnqueueNDRangeKernel");
 }
 
@@ -82,7 +91,7 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
     if (at(zero_items)) zero(wave.cache_stats, 0);
   }
   warm_up_items_ = 0;
-  cl_.finish();
+  queue_finish(queue_);
 }
 
 void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
@@ -126,7 +135,7 @@ void WaveKernels::clear(WaveBuffers& w) {
   zero(w.pass_film, w.pass_film_bytes);
   zero(w.cache_entries, w.cache_bytes);
   zero(w.cache_stats, PMC_CSTAT_COUNT * sizeof(uint64_t));
-  cl_.finish();
+  queue_finish(queue_);
 }
 
 void WaveKernels::zero(const ClBuffer& b, size_t bytes) {

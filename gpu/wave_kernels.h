@@ -40,6 +40,10 @@ class WaveKernels {
   // The same from wave_program_options(materials, lanes, ...), computed
   // beforehand: the build needs nothing else, so it can run on another thread.
   WaveKernels(const ClContext& cl, int lanes, const std::string& program_options);
+  // The same program's kernels launched on another queue (a second wave in
+  // flight): kernel objects of their own, so two threads never share one's
+  // arguments.
+  WaveKernels(const WaveKernels& base, cl_command_queue queue);
   double build_seconds() const { return program_.build_seconds(); }
   int lanes() const { return lanes_; }
 
@@ -64,7 +68,9 @@ class WaveKernels {
 
  private:
   void launch(cl_kernel k, size_t count, size_t local, cl_event* done);
+  void create_kernels();
   const ClContext& cl_;
+  cl_command_queue queue_;
   int lanes_;
   ClProgram program_;
   void zero(const ClBuffer& b, size_t bytes);

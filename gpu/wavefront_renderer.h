@@ -116,6 +116,8 @@ struct RenderSettings {
   Camera camera;
   size_t chunk_rays = 65536;        // copy transfers: rays per streamed chunk (0: whole queue at once)
   size_t max_wave_paths = 1 << 20;  // paths in flight per wave (several samples of each pixel when it can)
+  int waves_in_flight =
+      2;  // wave loops at once (two: host and device work overlap; gpu/wavefront_renderer.cpp)
   TransferMode transfer = TransferMode::Auto;
   uint32_t sampler = PMC_SAMPLER_SOBOL;  // PMC_SAMPLER_* (core/device/pmc_rng.h)
   CacheSettings cache;
@@ -142,6 +144,7 @@ struct RenderStats {
   double kernel_warmup_seconds = 0;  // first (empty) launches: PoCL compiles work-group code there
   std::string transfer;              // "zero-copy" or "copy"
   int shade_lanes = 1;               // hits per shade work-item
+  int waves_in_flight = 1;           // wave loops run at once (RenderSettings::waves_in_flight)
   uint64_t paths = 0;
   uint64_t rays = 0;  // camera + continuation + shadow rays traced
   uint64_t shadow_rays = 0;

@@ -122,7 +122,7 @@ TEST(CacheLobeRender, RoughBouncesShareCoarserCellsAndKeepTheImage) {
 // every counter is deterministic (measured: identical over repeated runs);
 // with two, two threads missing one texel at once both count a miss, and the
 // misses vary by up to 1.3% between runs (seen in CI), so these renders run
-// on one thread and must agree exactly.
+// on one thread and one wave loop (--waves-in-flight 1) and must agree exactly.
 void expect_same_cache_events(const nlohmann::json& a, const nlohmann::json& b, const char* what) {
   for (const char* k :
        {"lookups", "camera_lookups", "position_lookups", "bypassed", "hits", "misses", "inserts"})
@@ -131,18 +131,20 @@ void expect_same_cache_events(const nlohmann::json& a, const nlohmann::json& b, 
 
 TEST(CacheLobeRender, CameraRaysAndUvTexelsKeepThePapersCone) {
   const std::string dir = test::temp_dir();
-  // One surface hit per path: no bounce, nothing to widen.
-  const Render a = render(dir, "direct0", "--threads 1 --cache-lobe-spread 0", "solid_materials.mtlx", 1);
-  const Render b = render(dir, "direct1", "--threads 1 --cache-lobe-spread 0.25", "solid_materials.mtlx", 1);
+  // One surface hit per path: no bounce, nothing to widen. The cache's event
+  // counts depend on the order of the lookups: one thread, one wave loop.
+  const std::string serial = "--threads 1 --waves-in-flight 1";
+  const Render a = render(dir, "direct0", serial + " --cache-lobe-spread 0", "solid_materials.mtlx", 1);
+  const Render b = render(dir, "direct1", serial + " --cache-lobe-spread 0.25", "solid_materials.mtlx", 1);
   ASSERT_FALSE(a.image.pixels.empty());
   ASSERT_FALSE(b.image.pixels.empty());
   EXPECT_GT(a.cache["lookups"].get<uint64_t>(), 0u);
   EXPECT_TRUE(a.image.pixels == b.image.pixels) << "camera hits must keep their cells";
   expect_same_cache_events(a.cache, b.cache, "camera hits");
   // The default scene on uv keys only: its texels never widen.
-  const Render u0 = render(dir, "uv0", "--threads 1 --cache-keys uv --cache-lobe-spread 0", "materials.mtlx");
+  const Render u0 = render(dir, "uv0", serial + " --cache-keys uv --cache-lobe-spread 0", "materials.mtlx");
   const Render u1 =
-      render(dir, "uv1", "--threads 1 --cache-keys uv --cache-lobe-spread 0.25", "materials.mtlx");
+      render(dir, "uv1", serial + " --cache-keys uv --cache-lobe-spread 0.25", "materials.mtlx");
   ASSERT_FALSE(u0.image.pixels.empty());
   ASSERT_FALSE(u1.image.pixels.empty());
   EXPECT_GT(u0.cache["lookups"].get<uint64_t>(), 0u);

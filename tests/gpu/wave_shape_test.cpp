@@ -14,6 +14,7 @@
 
 #include "core/film_sum.h"
 #include "core/image_metrics.h"
+#include "core/render_passes.h"
 #include "gpu/render_session.h"
 #include "tests/support/test_support.h"
 
@@ -88,6 +89,56 @@ TEST(WaveShape, SampleRangesInLargeWavesAddUpToTheFrame) {
     add_film(sum, session.render(s).film, 0, 0);
   }
   expect_same_film(whole.film, sum);
+}
+
+// Two wave loops in flight (each half of the window's pixels, its own queue,
+// thread and buffers) render the one loop's film word for word: cacheless
+// with every render pass, with the cache, through zero-copy and through
+// chunked copies, in waves of several samples and in several waves per
+// sample, on a cropped window of an odd pixel count. Adaptive sampling keeps
+// one loop.
+TEST(WaveShape, TwoWavesInFlightRenderTheOneLoopsFilm) {
+  for (bool cache : {false, true})
+    for (TransferMode mode : {TransferMode::ZeroCopy, TransferMode::Copy}) {
+      SCOPED_TRACE(std::string(cache ? "cache on" : "cache off") +
+                   (mode == TransferMode::Copy ? ", copy" : ", zero-copy"));
+      RenderConfig c = room(cache, 5);
+      c.transfer = mode;
+      c.chunk_rays = 97;
+      RenderSession session(c, test::cl());
+      for (size_t wave : {size_t(1) << 20, size_t(300)})
+        for (bool cropped : {false, true}) {
+          SCOPED_TRACE("max_wave_paths " + std::to_string(wave) + (cropped ? ", cropped" : ""));
+          RenderSettings s = session.settings();
+          s.max_wave_paths = wave;
+          if (!cache) s.passes = kPassAll;
+          if (cropped) s.crop[0] = 3, s.crop[1] = 2, s.crop[2] = 40, s.crop[3] = 23;  // 37 x 21 pixels
+          s.waves_in_flight = 1;
+          const RenderOutput one = session.render(s);
+          EXPECT_EQ(one.stats.waves_in_flight, 1);
+          s.waves_in_flight = 2;
+          int last_done = 0;
+          const RenderOutput two = session.render(s, [&](int done, int total, uint64_t) {
+            EXPECT_EQ(total, 5);
+            EXPECT_GE(done, last_done);
+            if (done > 0) EXPECT_GT(done, last_done) << "progress repeats";
+            last_done = done;
+          });
+          EXPECT_EQ(two.stats.waves_in_flight, 2);
+          EXPECT_EQ(last_done, 5);
+          expect_same_film(one.film, two.film);
+          EXPECT_EQ(one.film.pass_sum, two.film.pass_sum);
+          EXPECT_GT(test::image_mean(two.image), 0.0);
+          EXPECT_EQ(one.stats.rays, two.stats.rays);
+          EXPECT_EQ(one.stats.shadow_rays, two.stats.shadow_rays);
+          EXPECT_EQ(one.stats.paths, two.stats.paths);
+          EXPECT_EQ(one.stats.material_hits, two.stats.material_hits);
+          if (cache) EXPECT_EQ(one.stats.cache.lookups, two.stats.cache.lookups);
+        }
+      RenderSettings s = session.settings();
+      s.adaptive_threshold = 0.05;
+      EXPECT_EQ(session.render(s).stats.waves_in_flight, 1);
+    }
 }
 
 // relMSE of `spp`-sample renders against a 512-sample random reference, summed over seeds.
