@@ -165,7 +165,9 @@ void declare_render_options(CLI::App& app, RenderConfig& c, CacheFlags cache_fla
 
   app.option_defaults()->group("machine");
   setter<int>(
-      app, "--threads", "threads", [&c](const int& v) { c.threads = v; }, "T", "host and PoCL worker threads")
+      app, "--threads", "threads", [&c](const int& v) { c.threads = v; }, "T",
+      "host and PoCL worker threads, T of each; with two waves in flight (--waves-in-flight) the two kinds "
+      "work at the same time, so up to about 2T threads are busy: --waves-in-flight 1 keeps it to T")
       ->default_str("all cores");
   field(app, "--device", "device", c.device, "NAME",
         "OpenCL device or platform name substring (see 'pmc info --devices')")

@@ -17,7 +17,9 @@ Method (also written into the section):
              (bench.peer_cycles, bench.peer_mitsuba)
   renderers  pmc (defaults: the material cache on; its reference with the
              cache off), Cycles (bpy, CPU), Mitsuba 3 llvm_ad_rgb and
-             scalar_rgb; every one on --threads threads, max depth matched;
+             scalar_rgb; every one on --threads threads, max depth matched
+             (pmc: with fewer threads than the machine has cores, one wave
+             loop, so that its host and device threads never add up to more);
              pmc+oidn and cycles+oidn: the same with Open Image Denoise,
              against the plain renderer's reference, the denoiser's time added;
              pmc+adaptive: pmc with --adaptive-threshold (a timed render's
@@ -129,6 +131,8 @@ def run_pmc(args, job, spps, seed, folder, cache, denoise=False, adaptive=False)
     out = {}
     extra = ["--adaptive-threshold", str(args.adaptive_threshold), "--adaptive-min-spp",
              str(args.adaptive_min_spp)] if adaptive else []
+    if args.threads < (os.cpu_count() or 1):  # two loops would keep up to 2 x threads busy
+        extra += ["--waves-in-flight", "1"]
     for spp in [1] + spps:
         exr = os.path.join(folder, f"pmc_{cache}{'_oidn' if denoise else ''}{'_ad' if adaptive else ''}_{spp}_s{seed}.exr")
         stats = exr[:-4] + ".json"
