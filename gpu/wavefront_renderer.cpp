@@ -209,28 +209,39 @@ class WaveLoop {
 // the caches, smaller ones pay per-wave costs more often.
 constexpr size_t kWaveTargetPaths = size_t(1) << 16;
 
+// The samples each pixel draws in the next round of waves: at most `left`,
+// enough to fill the small frames' target, within a wave's `wave_paths`.
+int round_samples(size_t left, size_t block, int wave_samples, size_t target, size_t wave_paths) {
+  return int(
+      std::min<size_t>({left, std::max<size_t>(size_t(wave_samples), std::min(target, wave_paths) / block),
+                        wave_paths / block}));
+}
+
+// One round: waves over the window's pixels [lo, hi) (or the active list's
+// entries), `block` pixels and `samples` samples from `sample` each.
+void run_round(WaveLoop& loop, PmcFrame frame, int sample, int samples, size_t lo, size_t hi, size_t block,
+               const std::atomic<bool>& stop) {
+  for (size_t at = lo; at < hi && !stop; at += block) {
+    frame.sample = uint32_t(sample);
+    frame.pixel_offset = uint32_t(at);
+    frame.wave_pixels = uint32_t(std::min(block, hi - at));
+    frame.wave_samples = uint32_t(samples);
+    frame.path_count = frame.wave_pixels * frame.wave_samples;
+    loop.run(frame);
+  }
+}
+
 // Renders every sample in [first_sample, end_sample) of the window's pixels
-// [lo, hi) (no active list): waves of up to `block_pixels` pixels and
-// `wave_samples` samples (more when the part has fewer pixels than a block),
-// at most `wave_paths` paths. After each round of samples: done(samples so
-// far). Stops early when `stop` is set (the other wave loop failed).
-void run_window_part(WaveLoop& loop, PmcFrame frame, size_t lo, size_t hi, int first_sample, int end_sample,
-                     size_t block_pixels, int wave_samples, size_t target, size_t wave_paths,
+// [lo, hi) (no active list) in rounds of waves of up to `block_pixels`
+// pixels. After each round: done(samples so far). Stops early when `stop` is
+// set (the other wave loop failed).
+void run_window_part(WaveLoop& loop, const PmcFrame& frame, size_t lo, size_t hi, int first_sample,
+                     int end_sample, size_t block_pixels, int wave_samples, size_t target, size_t wave_paths,
                      const std::atomic<bool>& stop, const std::function<void(int)>& done) {
-  const size_t count = hi - lo;
-  const size_t block = std::min(count, block_pixels);
+  const size_t block = std::min(hi - lo, block_pixels);
   for (int sample = first_sample; sample < end_sample && !stop;) {
-    const int samples = int(std::min<size_t>(
-        {size_t(end_sample - sample),
-         std::max<size_t>(size_t(wave_samples), std::min(target, wave_paths) / block), wave_paths / block}));
-    for (size_t at = lo; at < hi && !stop; at += block) {
-      frame.sample = uint32_t(sample);
-      frame.pixel_offset = uint32_t(at);
-      frame.wave_pixels = uint32_t(std::min(block, hi - at));
-      frame.wave_samples = uint32_t(samples);
-      frame.path_count = frame.wave_pixels * frame.wave_samples;
-      loop.run(frame);
-    }
+    const int samples = round_samples(size_t(end_sample - sample), block, wave_samples, target, wave_paths);
+    run_round(loop, frame, sample, samples, lo, hi, block, stop);
     sample += samples;
     done(sample - first_sample);
   }
@@ -489,21 +500,16 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
     m.sorter.add_counts(hits2);
     adaptive.add_samples(end_sample - first_sample);
   }
+  const std::atomic<bool> no_stop{false};
   for (int sample = first_sample; slots == 1 && sample < end_sample && !adaptive.active().empty();) {
     const size_t active = adaptive.active().size();
     // Fewer active pixels leave room for more samples of each in a wave (within the buffers).
     const size_t block = std::min(active, block_pixels);
-    const int samples = int(std::min<size_t>(
-        {size_t(end_sample - sample), size_t(adaptive.samples_to_next_check(sample - first_sample)),
-         std::max<size_t>(size_t(wave_samples), std::min(target, wave_paths) / block), wave_paths / block}));
-    for (size_t at = 0; at < active; at += block) {
-      frame.sample = uint32_t(sample);
-      frame.pixel_offset = uint32_t(at);
-      frame.wave_pixels = uint32_t(std::min(block, active - at));
-      frame.wave_samples = uint32_t(samples);
-      frame.path_count = frame.wave_pixels * frame.wave_samples;
-      loop.run(frame);
-    }
+    const int samples =
+        round_samples(std::min<size_t>(size_t(end_sample - sample),
+                                       size_t(adaptive.samples_to_next_check(sample - first_sample))),
+                      block, wave_samples, target, wave_paths);
+    run_round(loop, frame, sample, samples, 0, active, block, no_stop);
     adaptive.add_samples(samples);
     sample += samples;
     if (adaptive.on() && sample < end_sample &&
