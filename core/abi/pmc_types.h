@@ -224,7 +224,10 @@ typedef struct PmcLight {
  * light (`second` = its table index). The bounds of everything below:
  * box [lo, hi], intensity `energy` (luminance, W/sr: what the lights emit
  * at most in one direction, summed), and the orientation cone: emission
- * leaves within theta_o of `axis`, spreading at most theta_e beyond it. */
+ * leaves within theta_o of `axis`, spreading at most theta_e beyond it.
+ * The shade kernel reads the first 48 bytes as three float4 (lo + energy,
+ * hi + cos_theta_o, axis + cos_theta_e: pmc_tree_importance_lanes), so
+ * their order is part of the layout. */
 #define PMC_TREE_LEAF 1u
 #define PMC_TREE_TWO_SIDED 2u /* some light emits on both sides of its normal */
 typedef struct PmcLightTreeNode {
