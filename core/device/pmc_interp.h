@@ -1010,22 +1010,16 @@ PMC_FN int pmc_interp_pattern(PMC_OP_PARAMS) {
       break;
     }
     case PMC_OP_WORLEY2D:
-      PMC_FETCH4(A, WORLEY2D, texcoord);
-      PMC_FETCH4(B, WORLEY2D, jitter);
-      PMC_FETCH4(T, WORLEY2D, style);
-      for (int k = 0; k < PMC_BATCH(nn); ++k)
-        pmc_set_lanes4(R, k,
-                       pmc_op_worley2d(make_float2(A[0][k], A[1][k]), B[0][k], pmc_to_int(T[0][k]), width));
+    case PMC_OP_WORLEY3D: {
+      const int dims = op == PMC_OP_WORLEY3D ? 3 : 2;
+      pmc_fetch(code, stack, PMC_OPERAND(WORLEY2D, texcoord), dims, nn, A);
+      pmc_fetch(code, stack, PMC_OPERAND(WORLEY2D, jitter), 1, nn, B);
+      pmc_fetch(code, stack, PMC_OPERAND(WORLEY2D, style), 1, nn, T);
+      int style[PMC_LANES];
+      for (int k = 0; k < PMC_BATCH(nn); ++k) style[k] = pmc_to_int(T[0][k]);
+      pmc_worley_lanes(dims, A[0], A[1], A[2], B[0], style, width, nn, R);
       break;
-    case PMC_OP_WORLEY3D:
-      PMC_FETCH4(A, WORLEY3D, position);
-      PMC_FETCH4(B, WORLEY3D, jitter);
-      PMC_FETCH4(T, WORLEY3D, style);
-      for (int k = 0; k < PMC_BATCH(nn); ++k)
-        pmc_set_lanes4(
-            R, k,
-            pmc_op_worley3d(make_float3(A[0][k], A[1][k], A[2][k]), B[0][k], pmc_to_int(T[0][k]), width));
-      break;
+    }
     case PMC_OP_RAMPLR:
       pmc_fetch(code, stack, PMC_OPERAND(RAMPLR, texcoord), 2, nn, T);
       PMC_CW(PMC_A; PMC_B, A[c][k] + (B[c][k] - A[c][k]) * clamp(T[0][k], 0.0f, 1.0f))

@@ -685,6 +685,128 @@ PMC_FN void pmc_fractal_lanes(int dims, const float* px, const float* py, const 
     if (bad[k]) out[0][k] = out[1][k] = out[2][k] = out[3][k] = 0.0f;
 }
 
+/* One candidate feature point at squared distance d of the point whose
+ * three nearest so far are e0 <= e1 <= e2 (pmc_noise_worley_insert's chain as
+ * selects, so that the loops over points vectorise); *nearest says whether
+ * it became the nearest. */
+#define PMC_WORLEY_TAKE(d, e0, e1, e2, nearest) \
+  {                                             \
+    nearest = (d) < e0;                         \
+    e2 = (d) < e1 ? e1 : ((d) < e2 ? (d) : e2); \
+    e1 = nearest ? e0 : ((d) < e1 ? (d) : e1);  \
+    e0 = nearest ? (d) : e0;                    \
+  }
+
+/* The worley cells' search of pmc_op_worley2d for a batch of finite points:
+ * the three nearest squared distances and the nearest feature's cell. The
+ * loop over points is the innermost one, each cell offset an outer loop in
+ * the single-point form's order, so that the compiler vectorises it (it does
+ * not vectorise a loop that holds another). */
+PMC_FN void pmc_worley2_search_lanes(const float* px, const float* py, const float* jitter, int n, float* d0,
+                                     float* d1, float* d2, pmc_u32* bx, pmc_u32* by) {
+  pmc_u32 X[PMC_LANES], Y[PMC_LANES];
+  float lx[PMC_LANES], ly[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    lx[k] = pmc_noise_floorfrac(px[k], &X[k]), ly[k] = pmc_noise_floorfrac(py[k], &Y[k]);
+    d0[k] = d1[k] = d2[k] = 1e6f;
+    bx[k] = X[k], by[k] = Y[k];
+  }
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j)
+      for (int k = 0; k < n; ++k) {
+        const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j;
+        const float ox = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 0u)) - 0.5f) * jitter[k] + 0.5f;
+        const float oy = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 1u)) - 0.5f) * jitter[k] + 0.5f;
+        const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k];
+        float e0 = d0[k], e1 = d1[k], e2 = d2[k];
+        int nearest;
+        PMC_WORLEY_TAKE(dx * dx + dy * dy, e0, e1, e2, nearest)
+        d0[k] = e0, d1[k] = e1, d2[k] = e2;
+        bx[k] = nearest ? cx + pmc_noise_cell(floor(ox)) : bx[k];
+        by[k] = nearest ? cy + pmc_noise_cell(floor(oy)) : by[k];
+      }
+}
+
+/* The same for pmc_op_worley3d. */
+PMC_FN void pmc_worley3_search_lanes(const float* px, const float* py, const float* pz, const float* jitter,
+                                     int n, float* d0, float* d1, float* d2, pmc_u32* bx, pmc_u32* by,
+                                     pmc_u32* bz) {
+  pmc_u32 X[PMC_LANES], Y[PMC_LANES], Z[PMC_LANES];
+  float lx[PMC_LANES], ly[PMC_LANES], lz[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    lx[k] = pmc_noise_floorfrac(px[k], &X[k]), ly[k] = pmc_noise_floorfrac(py[k], &Y[k]);
+    lz[k] = pmc_noise_floorfrac(pz[k], &Z[k]);
+    d0[k] = d1[k] = d2[k] = 1e6f;
+    bx[k] = X[k], by[k] = Y[k], bz[k] = Z[k];
+  }
+  for (int i = -1; i <= 1; ++i)
+    for (int j = -1; j <= 1; ++j)
+      for (int l = -1; l <= 1; ++l)
+        for (int k = 0; k < n; ++k) {
+          const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j, cz = Z[k] + (pmc_u32)l;
+          const float ox = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 0u)) - 0.5f) * jitter[k] + 0.5f;
+          const float oy = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 1u)) - 0.5f) * jitter[k] + 0.5f;
+          const float oz = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 2u)) - 0.5f) * jitter[k] + 0.5f;
+          const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k],
+                      dz = ((float)l + oz) - lz[k];
+          float e0 = d0[k], e1 = d1[k], e2 = d2[k];
+          int nearest;
+          PMC_WORLEY_TAKE(dx * dx + dy * dy + dz * dz, e0, e1, e2, nearest)
+          d0[k] = e0, d1[k] = e1, d2[k] = e2;
+          bx[k] = nearest ? cx + pmc_noise_cell(floor(ox)) : bx[k];
+          by[k] = nearest ? cy + pmc_noise_cell(floor(oy)) : by[k];
+          bz[k] = nearest ? cz + pmc_noise_cell(floor(oz)) : bz[k];
+        }
+}
+#undef PMC_WORLEY_TAKE
+
+/* pmc_op_worley2d / pmc_op_worley3d for a batch (dims 2 or 3; pz unused for
+ * 2): out[c][k] is component c of point k's result, the single-point form's
+ * value. Each point's jitter and style are its own. Scalar, one point's 9
+ * (27) cells with 2 (3) hashes each made worley the costliest noise per
+ * point by far (bench.node_costs); these loops run eight or sixteen points
+ * per instruction. */
+PMC_FN void pmc_worley_lanes(int dims, const float* px, const float* py, const float* pz, const float* jitter,
+                             const int* style, pmc_u32 width, int n, float out[4][PMC_LANES]) {
+  float qx[PMC_LANES], qy[PMC_LANES], qz[PMC_LANES], jit[PMC_LANES], d0[PMC_LANES], d1[PMC_LANES],
+      d2[PMC_LANES];
+  pmc_u32 bx[PMC_LANES], by[PMC_LANES], bz[PMC_LANES];
+  int bad[PMC_LANES];
+  for (int k = 0; k < n; ++k) {
+    bad[k] = !pmc_noise_finite(px[k]) || !pmc_noise_finite(py[k]) ||
+             (dims == 3 && !pmc_noise_finite(pz[k])) || !pmc_noise_finite(jitter[k]);
+    qx[k] = bad[k] ? 0.0f : px[k];
+    qy[k] = bad[k] ? 0.0f : py[k];
+    qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k];
+    jit[k] = bad[k] ? 0.0f : jitter[k];
+  }
+  if (dims == 3) {
+    pmc_worley3_search_lanes(qx, qy, qz, jit, n, d0, d1, d2, bx, by, bz);
+  } else {
+    pmc_worley2_search_lanes(qx, qy, jit, n, d0, d1, d2, bx, by);
+    for (int k = 0; k < n; ++k) bz[k] = 0u;
+  }
+  for (int k = 0; k < n; ++k) {
+    /* style 1: the cell noise of the nearest feature's cell (pmc_noise_worley_out) */
+    float c0, c1, c2;
+    if (dims == 3) {
+      c0 = pmc_noise_to01(width <= 1u ? pmc_noise_hash3(bx[k], by[k], bz[k])
+                                      : pmc_noise_hash4(bx[k], by[k], bz[k], 0u));
+      c1 = pmc_noise_to01(pmc_noise_hash4(bx[k], by[k], bz[k], 1u));
+      c2 = pmc_noise_to01(pmc_noise_hash4(bx[k], by[k], bz[k], 2u));
+    } else {
+      c0 = pmc_noise_to01(width <= 1u ? pmc_noise_hash2(bx[k], by[k]) : pmc_noise_hash3(bx[k], by[k], 0u));
+      c1 = pmc_noise_to01(pmc_noise_hash3(bx[k], by[k], 1u));
+      c2 = pmc_noise_to01(pmc_noise_hash3(bx[k], by[k], 2u));
+    }
+    const float4 r = pmc_noise_worley_out(style[k], width, d0[k], d1[k], d2[k], c0, c1, c2);
+    out[0][k] = bad[k] ? 0.0f : r.x;
+    out[1][k] = bad[k] ? 0.0f : r.y;
+    out[2][k] = bad[k] ? 0.0f : r.z;
+    out[3][k] = bad[k] ? 0.0f : r.w;
+  }
+}
+
 /* pmc_op_cellnoise2d / 3d for a batch. */
 PMC_FN void pmc_cellnoise_lanes(int dims, const float* px, const float* py, const float* pz, int n,
                                 float* out) {
