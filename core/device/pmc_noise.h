@@ -522,6 +522,16 @@ PMC_FN void pmc_perlin2_lanes(const float* px, const float* py, int n, int three
   }
 }
 
+/* 3D Perlin of finite points, as pmc_perlin2_lanes. The three channels are
+ * written out one after another (no loop over them inside the loop over
+ * points: the compiler vectorises only loops that hold none). */
+#define PMC_PERLIN3_AT(sh)                                                                                 \
+  (0.9820f *                                                                                               \
+   pmc_noise_trilerp(pmc_noise_grad3(h000 >> (sh), fx, fy, fz), pmc_noise_grad3(h100 >> (sh), gx, fy, fz), \
+                     pmc_noise_grad3(h010 >> (sh), fx, gy, fz), pmc_noise_grad3(h110 >> (sh), gx, gy, fz), \
+                     pmc_noise_grad3(h001 >> (sh), fx, fy, gz), pmc_noise_grad3(h101 >> (sh), gx, fy, gz), \
+                     pmc_noise_grad3(h011 >> (sh), fx, gy, gz), pmc_noise_grad3(h111 >> (sh), gx, gy, gz), \
+                     u, v, w))
 PMC_FN void pmc_perlin3_lanes(const float* px, const float* py, const float* pz, int n, int three, float* o0,
                               float* o1, float* o2) {
   for (int k = 0; k < n; ++k) {
@@ -534,24 +544,14 @@ PMC_FN void pmc_perlin3_lanes(const float* px, const float* py, const float* pz,
     pmc_u32 h001 = pmc_noise_hash3(X, Y, Z + 1u), h101 = pmc_noise_hash3(X + 1u, Y, Z + 1u);
     pmc_u32 h011 = pmc_noise_hash3(X, Y + 1u, Z + 1u), h111 = pmc_noise_hash3(X + 1u, Y + 1u, Z + 1u);
     float gx = fx - 1.0f, gy = fy - 1.0f, gz = fz - 1.0f;
-    for (int c = 0; c < (three ? 3 : 1); ++c) {
-      int sh = 8 * c;
-      float r =
-          0.9820f *
-          pmc_noise_trilerp(pmc_noise_grad3(h000 >> sh, fx, fy, fz), pmc_noise_grad3(h100 >> sh, gx, fy, fz),
-                            pmc_noise_grad3(h010 >> sh, fx, gy, fz), pmc_noise_grad3(h110 >> sh, gx, gy, fz),
-                            pmc_noise_grad3(h001 >> sh, fx, fy, gz), pmc_noise_grad3(h101 >> sh, gx, fy, gz),
-                            pmc_noise_grad3(h011 >> sh, fx, gy, gz), pmc_noise_grad3(h111 >> sh, gx, gy, gz),
-                            u, v, w);
-      if (c == 0)
-        o0[k] = r;
-      else if (c == 1)
-        o1[k] = r;
-      else
-        o2[k] = r;
+    o0[k] = PMC_PERLIN3_AT(0);
+    if (three) {
+      o1[k] = PMC_PERLIN3_AT(8);
+      o2[k] = PMC_PERLIN3_AT(16);
     }
   }
 }
+#undef PMC_PERLIN3_AT
 
 /* Octave sums (pmc_noise_fbm2/3) for a batch: a point stops at its own
  * octave count or once its position or amplitude is no longer finite. `dims`
