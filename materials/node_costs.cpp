@@ -14,13 +14,14 @@ namespace {
 
 // Unit nodes per node of each costly family: docs/BENCHMARKS.md "Node costs"
 // (bench.node_costs, PoCL, 2026-11-27; images 2026-11-29: a bilinear read
-// through a 1024x1024 texture's mip chain, RGB or grey). A fractal's figure
-// is per octave. Every other node costs one unit.
+// through a 1024x1024 texture's mip chain, RGB or grey; the Worley noises and
+// the 3D Perlin noises 2026-11-30, once their batch loops vectorised). A
+// fractal's figure is per octave. Every other node costs one unit.
 const std::map<std::string, double>& family_weights() {
   static const std::map<std::string, double> w = {
-      {"noise2d", 1.0},       {"fractal2d", 1.5},      {"cellnoise2d", 0.8}, {"worleynoise2d", 24.1},
-      {"tiledhexagons", 3.5}, {"tiledcircles", 2.3},   {"noise3d", 9.5},     {"fractal3d", 9.7},
-      {"cellnoise3d", 0.8},   {"worleynoise3d", 69.3}, {"image", 30.0},
+      {"noise2d", 1.0},       {"fractal2d", 1.5},      {"cellnoise2d", 0.8}, {"worleynoise2d", 6.1},
+      {"tiledhexagons", 3.5}, {"tiledcircles", 2.3},   {"noise3d", 1.8},     {"fractal3d", 2.3},
+      {"cellnoise3d", 0.8},   {"worleynoise3d", 25.6}, {"image", 30.0},
   };
   return w;
 }

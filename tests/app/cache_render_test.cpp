@@ -224,7 +224,9 @@ TEST(CacheRender, HitChecksFailWhenTheyShould) {
 }
 
 TEST(CacheRender, PositionDrivenMarbleIsCachedOnPositionKeys) {
-  const Render& on = render("marble_on", marble() + kView + kFull + " --cache on");
+  // By the node count: with the vectorised 3D noises the marble's point no
+  // longer pays by the cost model (measured 1.005x at 640x360, 16 spp).
+  const Render& on = render("marble_on", marble() + kView + kFull + " --cache on" + kByNodeCount);
   const Render& off = render("marble_off", marble() + kView + kFull + " --cache off");
   ASSERT_FALSE(on.image.pixels.empty());
   ASSERT_FALSE(off.image.pixels.empty());
@@ -244,7 +246,8 @@ TEST(CacheRender, PositionDrivenMarbleIsCachedOnPositionKeys) {
               c["position_hit_rate"].get<double>());
   EXPECT_GT(p, kMinMarblePsnr);
   EXPECT_LT(p, 1e9) << "the cache must change something";
-  const Render& coarse = render("marble_coarse", marble() + kView + kFull + " --cache on --mip-bias -2");
+  const Render& coarse =
+      render("marble_coarse", marble() + kView + kFull + " --cache on --mip-bias -2" + kByNodeCount);
   ASSERT_FALSE(coarse.image.pixels.empty());
   EXPECT_LT(clamped_psnr(coarse.image, off.image), kMinMarblePsnr) << "the check can fail";
 }

@@ -1,6 +1,6 @@
 // cache_cost_model_test.cpp — the cache plan's cost model (materials/node_costs.h)
 // on graphs built in code, against figures computed by hand:
-//  (a) node weights: a 3D Worley noise is 69.3 unit nodes, a fractal its
+//  (a) node weights: a 3D Worley noise is 25.6 unit nodes, a fractal its
 //      per-octave weight times its octaves, key inputs nothing;
 //  (b) the expected hit rate from the samples, the path depth and the key kind;
 //  (c) a cheap uv sub-graph is not cached (its reason gives the figures), an
@@ -76,11 +76,11 @@ TEST(CacheCostModel, NodeWeightsFollowTheMeasuredFamilies) {
   int sum = add(g, "s", "add", VT::Float, {{"in1", link(worley)}, {"in2", link(fractal)}});
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(tc)]), 0.0);
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(pos)]), 0.0);
-  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(worley)]), 69.3);
-  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(fractal)]), 4 * 9.7);
+  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(worley)]), 25.6);
+  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(fractal)]), 4 * 2.3);
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(sum)]), 1.0);
   // The position node is shared: counted once.
-  EXPECT_DOUBLE_EQ(subgraph_cost(g, sum), 69.3 + 4 * 9.7 + 1.0);
+  EXPECT_DOUBLE_EQ(subgraph_cost(g, sum), 25.6 + 4 * 2.3 + 1.0);
 }
 
 TEST(CacheCostModel, HitRateFromSamplesDepthAndKeyKind) {
@@ -125,15 +125,15 @@ TEST(CacheCostModel, CheapSubgraphIsNotCachedAndExpensiveOneIs) {
   }
   {
     Graph g = test::new_graph("Expensive");
-    int top = roughness_chain(g, "worleynoise2d");  // 1 + 24.1 + 1 = 26.1 units
+    int top = roughness_chain(g, "fractal2d", 16);  // 1 + 16 octaves x 1.5 + 1 = 26 units
     CachePlan plan = plan_cache(g, 1, true, 0.0, &m);
     ASSERT_EQ(plan.points.size(), 1u);
     const CachePoint& p = plan.points[0];
     EXPECT_EQ(p.node, top);
     ASSERT_TRUE(p.modelled);
-    EXPECT_NEAR(p.economics.cost, 26.1, 1e-9);
+    EXPECT_NEAR(p.economics.cost, 26.0, 1e-9);
     EXPECT_NEAR(p.economics.hit_rate, h, 1e-12);
-    EXPECT_NEAR(p.economics.gain, h * 26.1 - 10.0 - (1.0 - h) * 10.0, 1e-9);
+    EXPECT_NEAR(p.economics.gain, h * 26.0 - 10.0 - (1.0 - h) * 10.0, 1e-9);
     // Saved per frame: gain x 100 x 50 pixels x 16 spp x 1.6 lookups x 2 ns.
     EXPECT_NEAR(p.economics.frame_seconds, p.economics.gain * 100 * 50 * 16 * 1.6 * 2e-9, 1e-12);
   }
@@ -158,7 +158,7 @@ TEST(CacheCostModel, FewSamplesPerKeyTurnAMarginalPointOff) {
 
 TEST(CacheCostModel, NodeCountStaysAFloor) {
   Graph g = test::new_graph("Costly but small");
-  int top = roughness_chain(g, "worleynoise2d");  // 4 nodes, 26.1 units: pays at 16 spp
+  int top = roughness_chain(g, "fractal2d", 16);  // 4 nodes, 26 units: pays at 16 spp
   const CacheCostModel m = model(16);
   ASSERT_EQ(plan_cache(g, 4, true, 0.0, &m).points.size(), 1u);
   CachePlan plan = plan_cache(g, 5, true, 0.0, &m);
@@ -185,17 +185,17 @@ TEST(CacheCostModel, CompilerAppliesTheModel) {
 
 TEST(CacheCostModel, SubSamplesScaleTheMissAndCanTurnAPointOff) {
   Graph g = test::new_graph("Supersampled");
-  int top = roughness_chain(g, "worleynoise2d");  // 26.1 units
+  int top = roughness_chain(g, "fractal2d", 16);  // 26 units
   CacheCostModel m = model(16);
   m.costs.miss_per_cost = 1.0;
-  const double h = 1.0 - 3.25 / 25.6, c = 26.1;
+  const double h = 1.0 - 3.25 / 25.6, c = 26.0;
   const PointEconomics one = point_economics(c, false, m.costs, m.frame);
   EXPECT_NEAR(one.miss, 10.0 + c, 1e-9);
   EXPECT_EQ(one.samples, 1);
   const PointEconomics four = point_economics(c, false, m.costs, m.frame, 4);
   EXPECT_NEAR(four.miss, 10.0 + c + 3 * 2.0 * c, 1e-9);
   EXPECT_NEAR(four.gain, h * c - 10.0 - (1.0 - h) * (10.0 + 7.0 * c), 1e-9);
-  // K = 1: h C 22.8 > 10 + 0.127 x 36.1 = 14.6: pays. K = 16: 10 + 0.127 x (36.1 + 30 x 26.1) = 113.9: does
+  // K = 1: h C 22.7 > 10 + 0.127 x 36 = 14.6: pays. K = 16: 10 + 0.127 x (36 + 30 x 26) = 113.6: does
   // not.
   ASSERT_EQ(plan_cache(g, 1, true, 0.0, &m).points.size(), 1u);
   EXPECT_EQ(plan_cache(g, 1, true, 0.0, &m).points[0].supersample, 1);
