@@ -698,65 +698,99 @@ PMC_FN void pmc_fractal_lanes(int dims, const float* px, const float* py, const 
   }
 
 /* The worley cells' search of pmc_op_worley2d for a batch of finite points:
- * the three nearest squared distances and the nearest feature's cell. The
- * loop over points is the innermost one, each cell offset an outer loop in
- * the single-point form's order, so that the compiler vectorises it (it does
- * not vectorise a loop that holds another). */
-PMC_FN void pmc_worley2_search_lanes(const float* px, const float* py, const float* jitter, int n, float* d0,
-                                     float* d1, float* d2, pmc_u32* bx, pmc_u32* by) {
+ * the three nearest squared distances and, with `cells` (some point has
+ * style 1), the nearest feature's cell. The loop over points is the innermost
+ * one, each cell offset an outer loop in the single-point form's order, so
+ * that the compiler vectorises it (it does not vectorise a loop that holds
+ * another). The nearest feature's cell is cx + pmc_noise_cell(floor(ox)) of
+ * the nearest candidate's cell and offset, which the search keeps and
+ * converts once at the end. */
+PMC_FN void pmc_worley2_search_lanes(const float* px, const float* py, const float* jitter, int n, int cells,
+                                     float* d0, float* d1, float* d2, pmc_u32* bx, pmc_u32* by) {
   pmc_u32 X[PMC_LANES], Y[PMC_LANES];
-  float lx[PMC_LANES], ly[PMC_LANES];
+  float lx[PMC_LANES], ly[PMC_LANES], box[PMC_LANES], boy[PMC_LANES];
   for (int k = 0; k < n; ++k) {
     lx[k] = pmc_noise_floorfrac(px[k], &X[k]), ly[k] = pmc_noise_floorfrac(py[k], &Y[k]);
     d0[k] = d1[k] = d2[k] = 1e6f;
     bx[k] = X[k], by[k] = Y[k];
+    box[k] = boy[k] = 0.0f;
+  }
+#define PMC_WORLEY2_CELL(TRACK)                                                               \
+  for (int k = 0; k < n; ++k) {                                                               \
+    const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j;                             \
+    const float ox = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 0u)) - 0.5f) * jitter[k] + 0.5f; \
+    const float oy = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 1u)) - 0.5f) * jitter[k] + 0.5f; \
+    const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k];                   \
+    float e0 = d0[k], e1 = d1[k], e2 = d2[k];                                                 \
+    int nearest;                                                                              \
+    PMC_WORLEY_TAKE(dx* dx + dy * dy, e0, e1, e2, nearest)                                    \
+    d0[k] = e0, d1[k] = e1, d2[k] = e2;                                                       \
+    if (TRACK) {                                                                              \
+      bx[k] = nearest ? cx : bx[k], by[k] = nearest ? cy : by[k];                             \
+      box[k] = nearest ? ox : box[k], boy[k] = nearest ? oy : boy[k];                         \
+    }                                                                                         \
   }
   for (int i = -1; i <= 1; ++i)
-    for (int j = -1; j <= 1; ++j)
-      for (int k = 0; k < n; ++k) {
-        const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j;
-        const float ox = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 0u)) - 0.5f) * jitter[k] + 0.5f;
-        const float oy = (pmc_noise_to01(pmc_noise_hash3(cx, cy, 1u)) - 0.5f) * jitter[k] + 0.5f;
-        const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k];
-        float e0 = d0[k], e1 = d1[k], e2 = d2[k];
-        int nearest;
-        PMC_WORLEY_TAKE(dx * dx + dy * dy, e0, e1, e2, nearest)
-        d0[k] = e0, d1[k] = e1, d2[k] = e2;
-        bx[k] = nearest ? cx + pmc_noise_cell(floor(ox)) : bx[k];
-        by[k] = nearest ? cy + pmc_noise_cell(floor(oy)) : by[k];
+    for (int j = -1; j <= 1; ++j) {
+      if (cells) {
+        PMC_WORLEY2_CELL(1)
+      } else {
+        PMC_WORLEY2_CELL(0)
       }
+    }
+#undef PMC_WORLEY2_CELL
+  if (cells) /* the own cell, offset 0, where no candidate was nearer than 1e6 */
+    for (int k = 0; k < n; ++k) {
+      bx[k] += pmc_noise_cell(floor(box[k]));
+      by[k] += pmc_noise_cell(floor(boy[k]));
+    }
 }
 
 /* The same for pmc_op_worley3d. */
 PMC_FN void pmc_worley3_search_lanes(const float* px, const float* py, const float* pz, const float* jitter,
-                                     int n, float* d0, float* d1, float* d2, pmc_u32* bx, pmc_u32* by,
-                                     pmc_u32* bz) {
+                                     int n, int cells, float* d0, float* d1, float* d2, pmc_u32* bx,
+                                     pmc_u32* by, pmc_u32* bz) {
   pmc_u32 X[PMC_LANES], Y[PMC_LANES], Z[PMC_LANES];
-  float lx[PMC_LANES], ly[PMC_LANES], lz[PMC_LANES];
+  float lx[PMC_LANES], ly[PMC_LANES], lz[PMC_LANES], box[PMC_LANES], boy[PMC_LANES], boz[PMC_LANES];
   for (int k = 0; k < n; ++k) {
     lx[k] = pmc_noise_floorfrac(px[k], &X[k]), ly[k] = pmc_noise_floorfrac(py[k], &Y[k]);
     lz[k] = pmc_noise_floorfrac(pz[k], &Z[k]);
     d0[k] = d1[k] = d2[k] = 1e6f;
     bx[k] = X[k], by[k] = Y[k], bz[k] = Z[k];
+    box[k] = boy[k] = boz[k] = 0.0f;
+  }
+#define PMC_WORLEY3_CELL(TRACK)                                                                           \
+  for (int k = 0; k < n; ++k) {                                                                           \
+    const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j, cz = Z[k] + (pmc_u32)l;                 \
+    const float ox = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 0u)) - 0.5f) * jitter[k] + 0.5f;         \
+    const float oy = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 1u)) - 0.5f) * jitter[k] + 0.5f;         \
+    const float oz = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 2u)) - 0.5f) * jitter[k] + 0.5f;         \
+    const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k], dz = ((float)l + oz) - lz[k]; \
+    float e0 = d0[k], e1 = d1[k], e2 = d2[k];                                                             \
+    int nearest;                                                                                          \
+    PMC_WORLEY_TAKE(dx* dx + dy * dy + dz * dz, e0, e1, e2, nearest)                                      \
+    d0[k] = e0, d1[k] = e1, d2[k] = e2;                                                                   \
+    if (TRACK) {                                                                                          \
+      bx[k] = nearest ? cx : bx[k], by[k] = nearest ? cy : by[k], bz[k] = nearest ? cz : bz[k];           \
+      box[k] = nearest ? ox : box[k], boy[k] = nearest ? oy : boy[k], boz[k] = nearest ? oz : boz[k];     \
+    }                                                                                                     \
   }
   for (int i = -1; i <= 1; ++i)
     for (int j = -1; j <= 1; ++j)
-      for (int l = -1; l <= 1; ++l)
-        for (int k = 0; k < n; ++k) {
-          const pmc_u32 cx = X[k] + (pmc_u32)i, cy = Y[k] + (pmc_u32)j, cz = Z[k] + (pmc_u32)l;
-          const float ox = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 0u)) - 0.5f) * jitter[k] + 0.5f;
-          const float oy = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 1u)) - 0.5f) * jitter[k] + 0.5f;
-          const float oz = (pmc_noise_to01(pmc_noise_hash4(cx, cy, cz, 2u)) - 0.5f) * jitter[k] + 0.5f;
-          const float dx = ((float)i + ox) - lx[k], dy = ((float)j + oy) - ly[k],
-                      dz = ((float)l + oz) - lz[k];
-          float e0 = d0[k], e1 = d1[k], e2 = d2[k];
-          int nearest;
-          PMC_WORLEY_TAKE(dx * dx + dy * dy + dz * dz, e0, e1, e2, nearest)
-          d0[k] = e0, d1[k] = e1, d2[k] = e2;
-          bx[k] = nearest ? cx + pmc_noise_cell(floor(ox)) : bx[k];
-          by[k] = nearest ? cy + pmc_noise_cell(floor(oy)) : by[k];
-          bz[k] = nearest ? cz + pmc_noise_cell(floor(oz)) : bz[k];
+      for (int l = -1; l <= 1; ++l) {
+        if (cells) {
+          PMC_WORLEY3_CELL(1)
+        } else {
+          PMC_WORLEY3_CELL(0)
         }
+      }
+#undef PMC_WORLEY3_CELL
+  if (cells)
+    for (int k = 0; k < n; ++k) {
+      bx[k] += pmc_noise_cell(floor(box[k]));
+      by[k] += pmc_noise_cell(floor(boy[k]));
+      bz[k] += pmc_noise_cell(floor(boz[k]));
+    }
 }
 #undef PMC_WORLEY_TAKE
 
@@ -780,21 +814,23 @@ PMC_FN void pmc_worley_lanes(int dims, const float* px, const float* py, const f
     qz[k] = bad[k] || dims != 3 ? 0.0f : pz[k];
     jit[k] = bad[k] ? 0.0f : jitter[k];
   }
+  int cells = 0; /* some point wants the nearest feature's cell noise (style 1) */
+  for (int k = 0; k < n; ++k) cells |= style[k] == 1;
   if (dims == 3) {
-    pmc_worley3_search_lanes(qx, qy, qz, jit, n, d0, d1, d2, bx, by, bz);
+    pmc_worley3_search_lanes(qx, qy, qz, jit, n, cells, d0, d1, d2, bx, by, bz);
   } else {
-    pmc_worley2_search_lanes(qx, qy, jit, n, d0, d1, d2, bx, by);
+    pmc_worley2_search_lanes(qx, qy, jit, n, cells, d0, d1, d2, bx, by);
     for (int k = 0; k < n; ++k) bz[k] = 0u;
   }
   for (int k = 0; k < n; ++k) {
     /* style 1: the cell noise of the nearest feature's cell (pmc_noise_worley_out) */
-    float c0, c1, c2;
-    if (dims == 3) {
+    float c0 = 0.0f, c1 = 0.0f, c2 = 0.0f;
+    if (cells && dims == 3) {
       c0 = pmc_noise_to01(width <= 1u ? pmc_noise_hash3(bx[k], by[k], bz[k])
                                       : pmc_noise_hash4(bx[k], by[k], bz[k], 0u));
       c1 = pmc_noise_to01(pmc_noise_hash4(bx[k], by[k], bz[k], 1u));
       c2 = pmc_noise_to01(pmc_noise_hash4(bx[k], by[k], bz[k], 2u));
-    } else {
+    } else if (cells) {
       c0 = pmc_noise_to01(width <= 1u ? pmc_noise_hash2(bx[k], by[k]) : pmc_noise_hash3(bx[k], by[k], 0u));
       c1 = pmc_noise_to01(pmc_noise_hash3(bx[k], by[k], 1u));
       c2 = pmc_noise_to01(pmc_noise_hash3(bx[k], by[k], 2u));

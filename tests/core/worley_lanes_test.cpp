@@ -3,8 +3,8 @@
 // every worleynoise2d/3d node, against the single-point form
 // (pmc_op_worley2d/3d, whose MaterialX semantics node_math_test checks):
 // bit for bit, lane by lane, in batches of every size up to PMC_LANES, with
-// per-point jitter and style, every output width, and the inputs that take
-// the early exit (NaN, infinities, huge coordinates).
+// per-point jitter (none, ordinary, huge) and style, every output width, and
+// the inputs that take the early exit (NaN, infinities, huge coordinates).
 #define PMC_LANES 16
 #include <gtest/gtest.h>
 
@@ -49,7 +49,11 @@ TEST(WorleyLanes, EveryLaneMatchesTheSinglePointForm) {
     for (int k = 0; k < n; ++k) {
       px[k] = coordinate(rng), py[k] = coordinate(rng), pz[k] = coordinate(rng);
       const float j = u(rng);
-      jitter[k] = j < 0.05f ? std::numeric_limits<float>::infinity() : (j < 0.2f ? 0.0f : 1.5f * j);
+      // not finite; none; so large that candidates may all lie beyond the search's start (1e6); ordinary
+      jitter[k] = j < 0.05f  ? std::numeric_limits<float>::infinity()
+                  : j < 0.2f ? 0.0f
+                  : j < 0.3f ? std::ldexp(1.0f, 10 + int(20.0f * u(rng)))
+                             : 1.5f * j;
       style[k] = u(rng) < 0.5f ? 1 : 0;
     }
     float out[4][PMC_LANES];
