@@ -1,6 +1,6 @@
 // cache_cost_model_test.cpp — the cache plan's cost model (materials/node_costs.h)
 // on graphs built in code, against figures computed by hand:
-//  (a) node weights: a 3D Worley noise is 25.6 unit nodes, a fractal its
+//  (a) node weights: a 3D Worley noise is 8.1 unit nodes, a fractal its
 //      per-octave weight times its octaves, key inputs nothing;
 //  (b) the expected hit rate from the samples, the path depth and the key kind;
 //  (c) a cheap uv sub-graph is not cached (its reason gives the figures), an
@@ -76,11 +76,11 @@ TEST(CacheCostModel, NodeWeightsFollowTheMeasuredFamilies) {
   int sum = add(g, "s", "add", VT::Float, {{"in1", link(worley)}, {"in2", link(fractal)}});
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(tc)]), 0.0);
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(pos)]), 0.0);
-  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(worley)]), 25.6);
-  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(fractal)]), 4 * 2.3);
+  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(worley)]), 8.1);
+  EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(fractal)]), 4 * 2.2);
   EXPECT_DOUBLE_EQ(node_cost(g.nodes[size_t(sum)]), 1.0);
   // The position node is shared: counted once.
-  EXPECT_DOUBLE_EQ(subgraph_cost(g, sum), 25.6 + 4 * 2.3 + 1.0);
+  EXPECT_DOUBLE_EQ(subgraph_cost(g, sum), 8.1 + 4 * 2.2 + 1.0);
 }
 
 TEST(CacheCostModel, HitRateFromSamplesDepthAndKeyKind) {
