@@ -687,7 +687,7 @@ PMC_FN void pmc_fractal_lanes(int dims, const float* px, const float* py, const 
 
 /* One candidate feature point at squared distance d of the point whose
  * three nearest so far are e0 <= e1 <= e2 (pmc_noise_worley_insert's chain as
- * selects, so that the loops over points vectorise); *nearest says whether
+ * selects, so that the loops over points vectorise); `nearest` says whether
  * it became the nearest. */
 #define PMC_WORLEY_TAKE(d, e0, e1, e2, nearest) \
   {                                             \
