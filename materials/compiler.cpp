@@ -43,6 +43,10 @@ CachePlan plan_cache_points(const Graph& g, const CompileOptions& options) {
                                              ? "node id beyond the 14 bits a cache instruction holds"
                                              : "the material already has 32 cache points (one miss mask)"});
     }
+  // One group per key kind, uv first (ProgramEmitter::cache_groups): the
+  // points in the order their lookups run, which is their rank.
+  std::stable_partition(kept.begin(), kept.end(),
+                        [](const CachePoint& p) { return p.key != CacheKey::Position; });
   plan.points = kept;
   return plan;
 }
@@ -126,22 +130,33 @@ class ProgramEmitter {
     };
   }
 
-  // The cache group: every cache point's LOOKUP first, then the union of
-  // their sub-graphs (each node once, its own texcoord included, in
-  // block-local slots), then one STORE per point. A LOOKUP's skip word
-  // carries PMC_CACHE_KEY_POSITION for a position-keyed point and its
-  // sub-samples (PMC_CACHE_SAMPLES_*: the union replays once per
-  // sub-sample in cache_eval center; the STOREs' destinations, allocated
-  // before it, are never its slots, so they can sum the sub-samples); the last
-  // LOOKUP jumps past the group when every lookup hit. On any miss the whole
-  // union runs once (shared nodes are not evaluated per point) and each
-  // STORE inserts and delivers only the values that missed.
-  void cache_group(const CachePlan& plan) {
-    if (plan.points.empty()) return;
+  // The cache groups, one per key kind in the plan's order (uv points
+  // first: plan_cache_points), each emitted by cache_group().
+  void cache_groups(const CachePlan& plan) {
+    for (size_t first = 0; first < plan.points.size();) {
+      size_t end = first;
+      while (end < plan.points.size() && plan.points[end].key == plan.points[first].key) ++end;
+      cache_group(
+          std::vector<CachePoint>(plan.points.begin() + long(first), plan.points.begin() + long(end)));
+      first = end;
+    }
+  }
+
+  // One cache group: every point's LOOKUP first, then the union of their
+  // sub-graphs (each node once, its own texcoord included, in block-local
+  // slots), then one STORE per point. A LOOKUP's skip word carries
+  // PMC_CACHE_KEY_POSITION for a position-keyed point and its sub-samples
+  // (PMC_CACHE_SAMPLES_*: the union replays once per sub-sample in
+  // cache_eval center; the STOREs' destinations, allocated before it, are
+  // never its slots, so they can sum the sub-samples); the last LOOKUP jumps
+  // past the group when every lookup hit. On any miss the whole union runs
+  // once (shared nodes are not evaluated per point) and each STORE inserts
+  // and delivers only the values that missed.
+  void cache_group(const std::vector<CachePoint>& points) {
     std::vector<int> point_dst;
     size_t last_lookup = 0;
     uint32_t last_kind = 0;
-    for (const CachePoint& p : plan.points) {
+    for (const CachePoint& p : points) {
       const Node& n = g_.nodes[size_t(p.node)];
       int dst = slots_.allocate(width_of(p.node), "cache point '" + n.name + "'");
       slot_of_[size_t(p.node)] = dst;
@@ -154,7 +169,7 @@ class ProgramEmitter {
     size_t after_lookups = em_.size();
     std::vector<int> group;
     std::vector<char> seen(g_.nodes.size(), 0);
-    for (const CachePoint& p : plan.points)
+    for (const CachePoint& p : points)
       for (int i : subgraph_order(g_, p.node))
         if (!seen[size_t(i)]) {
           seen[size_t(i)] = 1;
@@ -162,12 +177,12 @@ class ProgramEmitter {
         }
     std::vector<int> block_slots(g_.nodes.size(), -1);
     std::vector<int> block_uses = count_uses(g_, group, layout_.is_point, false);
-    for (const CachePoint& p : plan.points) ++block_uses[size_t(p.node)];  // read by its STORE
+    for (const CachePoint& p : points) ++block_uses[size_t(p.node)];  // read by its STORE
     operand_slots_ = &block_slots;
     emit_nodes(group, block_uses);
     operand_slots_ = &slot_of_;
-    for (size_t k = 0; k < plan.points.size(); ++k) {
-      const CachePoint& p = plan.points[k];
+    for (size_t k = 0; k < points.size(); ++k) {
+      const CachePoint& p = points[k];
       int w = width_of(p.node);
       em_.instr(PMC_OP_CACHE_STORE, w, uint32_t(p.node) | (p.encoding << 14), uint32_t(point_dst[k]),
                 {Emitter::slot(uint32_t(block_slots[size_t(p.node)]), w)});
@@ -317,7 +332,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   if (options.cache) cm.cache_plan = plan_cache_points(g, options);  // cache plan
   const Layout layout = lay_out(g, cm.cache_plan);                   // layout
   ProgramEmitter emit(g, textures, layout);                          // emit
-  emit.cache_group(cm.cache_plan);
+  emit.cache_groups(cm.cache_plan);
   emit.outside_nodes();
   emit.surface_outputs(deps, cm);
   constant_emission(g, cm.constant_emission);

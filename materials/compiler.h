@@ -10,12 +10,15 @@
 // ever loaded. A program that needs more stack than PMC_STACK_SIZE is
 // refused with an error naming the material.
 //
-// With the cache on, a material's cache points form one group at the start
-// of its program: a CACHE_LOOKUP per point (uv points share the shading
-// point's texel, position points its cell), then the union of their sub-graphs
-// (each node once, its own texcoord included, in group-local slots), then a
-// CACHE_STORE per point that inserts and delivers the values that missed.
-// The last lookup jumps past the group when every lookup hit. The group is
+// With the cache on, a material's cache points form a group per key kind at
+// the start of its program, its uv points' (which share the shading point's
+// texel) before its position points' (which share its cell): a CACHE_LOOKUP
+// per point, then the union of their sub-graphs (each node once, its own
+// texcoord included, in group-local slots), then a CACHE_STORE per point
+// that inserts and delivers the values that missed. A group's last lookup
+// jumps past it when every lookup hit. The kinds miss apart (a new cell is
+// not a new texel), so each group runs for the points that missed its own
+// kind only. A group is
 // self-contained, so a hit skips all of its work and cache_eval center can
 // re-evaluate it at a texel centre, or replay it at K sub-sample points
 // (cache_supersample; each LOOKUP's skip word carries its point's K). With the cache off the program has no

@@ -19,13 +19,16 @@
  * items itself); the shade kernel on CPU devices sets it higher. Both compile
  * this same file, so tests run every opcode through both and compare.
  *
- * The material cache: a program's cache points form one group at its start
- * (lookups, the union of their sub-graphs, stores; materials/compiler.h).
- * Each point looks its values up; the group's sub-graphs then run only for
- * the points that missed, packed into the first lanes ("virtual lanes" that
- * read their shading inputs through lane_of[]), and each store inserts and
- * delivers those values back to the points they belong to. A batch in which
- * every point hit skips the group entirely.
+ * The material cache: a program's cache points form a group per key kind at
+ * its start, its uv points' first, then its position points' (lookups, the
+ * union of their sub-graphs, stores; materials/compiler.h). Each point looks
+ * its values up; a group's sub-graphs then run only for the points that
+ * missed one of its lookups, packed into the first lanes ("virtual lanes"
+ * that read their shading inputs through lane_of[]), and each store inserts
+ * and delivers those values back to the points they belong to. A batch in
+ * which every point hit a group's lookups skips that group entirely. The
+ * kinds miss apart (a point's uv points share its texel, its position points
+ * its cell), so a point whose cell is new does not rerun its uv sub-graphs.
  *
  * A cache point is keyed on the shading point's uv texel or, when its
  * sub-graph reads the position only, on its position cell (pmc_cache.h); each
@@ -306,12 +309,14 @@ PMC_FN void pmc_lanes_all(PmcLanes* lanes, const PmcShadingInputs* in, int n) {
   (void)n; /* unused when PMC_LANES is 1 */
 }
 
-/* The cache group of a program as the batch runs it: lookups and stores so
- * far, which of them are keyed on position, and per point which lookups
- * missed (bit i: the group's i-th point); every uv point of a point shares
- * its texel, every position point its cell. */
+/* The cache groups of a program as the batch runs them: lookups and stores
+ * so far (over all groups: the i-th store belongs to the i-th lookup, whose
+ * rank in the material is i), the current group's first lookup, which
+ * lookups are keyed on position, and per point which lookups missed (bit i:
+ * the i-th lookup); every uv point of a point shares its texel, every
+ * position point its cell. */
 typedef struct PmcCacheGroup {
-  pmc_u32 lookups, stores, by_position;
+  pmc_u32 lookups, stores, first, by_position;
   pmc_u32 samples_uv, samples_position; /* sub-samples of its uv and position points */
   pmc_u32 pass, passes;                 /* the sub-sample the sub-graphs run at, and how many */
   pmc_u32 replay_pc;                    /* the group's first instruction after its lookups */
@@ -321,7 +326,7 @@ typedef struct PmcCacheGroup {
 
 PMC_FN void pmc_cache_group_begin(PmcCacheGroup* g, int n, const PmcCacheContext* cache) {
   (void)n; /* unused when PMC_LANES is 1 */
-  g->lookups = g->stores = g->by_position = 0u;
+  g->lookups = g->stores = g->first = g->by_position = 0u;
   g->samples_uv = g->samples_position = 1u;
   g->pass = 0u;
   g->passes = 1u;
@@ -380,6 +385,12 @@ PMC_FN pmc_u32 pmc_group_bypassed(const PmcCacheGroup* g, int k) {
          (g->cell[k].ready && g->cell[k].bypass ? g->by_position : 0u);
 }
 
+/* The current group's lookups: bits [first, lookups). */
+PMC_FN pmc_u32 pmc_group_bits(const PmcCacheGroup* g) {
+  const pmc_u32 upto = g->lookups >= 32u ? 0xffffffffu : (1u << g->lookups) - 1u;
+  return upto & ~((1u << (g->first & 31u)) - 1u);
+}
+
 /* Packs the points that need pass g->pass of the group into the first lanes,
  * reading their texel's and cell's centres (sub-samples) in cache_eval center:
  * on the last pass every point that missed a lookup, before it only those
@@ -389,10 +400,11 @@ PMC_FN pmc_u32 pmc_group_bypassed(const PmcCacheGroup* g, int k) {
 PMC_FN int pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
                                  const PmcCacheContext* cache) {
   const int last = g->pass + 1u >= g->passes;
+  const pmc_u32 bits = pmc_group_bits(g);
   int nn = 0;
   (void)n; /* unused when PMC_LANES is 1 */
   for (int k = 0; k < PMC_BATCH(n); ++k)
-    if ((last ? g->missed[k] : g->missed[k] & ~pmc_group_bypassed(g, k)) != 0u) {
+    if ((last ? g->missed[k] & bits : g->missed[k] & bits & ~pmc_group_bypassed(g, k)) != 0u) {
       pmc_lanes_set(lanes, nn, k, in);
       pmc_lanes_place(lanes, nn, k, g, cache);
       ++nn;
@@ -416,6 +428,11 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
   const int positional = (word & PMC_CACHE_KEY_POSITION) != 0u;
   const pmc_u32 rank = g->lookups;
   const pmc_u32 samples = pmc_cache_samples_of(word);
+  if (g->stores == g->lookups) { /* no group open: this lookup begins one */
+    g->first = g->lookups;
+    g->samples_uv = g->samples_position = 1u;
+    g->pass = 0u;
+  }
   if (positional) {
     g->by_position |= bit;
     if (samples > g->samples_position) g->samples_position = samples;
@@ -454,6 +471,7 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
     }
     if (lanes->n == 0) { /* every point hit: skip the sub-graphs and stores */
       pc += skip;
+      g->stores = g->lookups; /* the group is closed */
       lanes->n = n;
       for (int k = 0; k < PMC_BATCH(n); ++k) lanes->lane_of[k] = k;
     }
@@ -517,7 +535,7 @@ PMC_FN pmc_u32 pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc
   if (g->stores == g->lookups) {
     if (!last_pass) { /* the next sub-sample: the sub-graphs again */
       g->pass += 1u;
-      g->stores = 0u;
+      g->stores = g->first;
       if (g->pass + 1u < g->passes) {
         for (int j = 0; j < PMC_BATCH(nn); ++j) pmc_lanes_place(lanes, j, lanes->lane_of[j], g, cache);
       } else {

@@ -5,7 +5,8 @@
 // base_color) next to a uv chain (-> roughness):
 //  - the plan makes the mix a position-keyed point and the uv chain's top a
 //    uv-keyed one; with position keys off only the uv point remains;
-//  - the compiled group marks the position lookup (disassembly says so);
+//  - the compiled groups mark the position lookup (disassembly says so), one
+//    group per key kind, the uv point's first;
 //  - with a host cache table, a second point in the same position cell hits
 //    and gets the first point's value; a point one cell over misses;
 //  - in --cache-eval center the value delivered equals the cacheless program
@@ -13,6 +14,7 @@
 //    on the cell alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -147,6 +149,57 @@ struct OffAndOn {
   const CompiledMaterial& off() const { return prog.materials[0]; }
   const CompiledMaterial& on() const { return prog.materials[1]; }
 };
+
+// The two key kinds compile to two groups, the uv point's first: each
+// group's lookups, then its own sub-graph (no node of the other kind's), then
+// its stores, and its last lookup skips exactly to the end of its stores. So a
+// point whose cell is new while its texel is not reruns the position
+// sub-graph alone.
+TEST(CachePositionPlan, EachKeyKindIsAGroupOfItsOwn) {
+  const OffAndOn m;
+  const MaterialProgram& prog = m.prog;
+  const CompiledMaterial& cm = m.on();
+  ASSERT_EQ(cm.cache_plan.points.size(), 2u);
+  EXPECT_EQ(cm.cache_plan.points[0].key, CacheKey::Uv) << "the plan lists its points in rank order";
+  EXPECT_EQ(cm.cache_plan.points[1].key, CacheKey::Position);
+  struct Group {
+    bool position = false;
+    size_t skip_to = 0, stores_end = 0;
+    std::vector<uint32_t> body;  // opcodes between the lookups and the stores
+  };
+  std::vector<Group> groups;
+  bool in_stores = false;
+  for (size_t pc = cm.entry; pc < prog.code.size();) {
+    const uint32_t h = prog.code[pc], op = pmc_op_code(h);
+    const size_t next = pc + 2 + pmc_op_nargs(h);
+    if (op == PMC_OP_END) break;
+    if (op == PMC_OP_CACHE_LOOKUP) {
+      if (groups.empty() || in_stores || !groups.back().body.empty()) groups.emplace_back();
+      in_stores = false;
+      const uint32_t word = prog.code[pc + 2];
+      groups.back().position = (word & PMC_CACHE_KEY_POSITION) != 0u;
+      const uint32_t skip = word & ~(PMC_CACHE_KEY_POSITION | PMC_CACHE_SAMPLES_MASK);
+      if (skip != 0u) groups.back().skip_to = next + skip;
+    } else if (op == PMC_OP_CACHE_STORE) {
+      ASSERT_FALSE(groups.empty());
+      in_stores = true;
+      groups.back().stores_end = next;
+    } else if (!groups.empty() && !in_stores) {
+      groups.back().body.push_back(op);
+    }
+    pc = next;
+  }
+  ASSERT_EQ(groups.size(), 2u) << disassemble(prog, cm);
+  EXPECT_FALSE(groups[0].position);
+  EXPECT_TRUE(groups[1].position);
+  for (const Group& g : groups) {
+    EXPECT_EQ(g.skip_to, g.stores_end) << "a group's hit skips its own sub-graph and stores";
+    const uint32_t other = g.position ? PMC_OP_TEXCOORD : PMC_OP_POSITION;
+    const uint32_t own = g.position ? PMC_OP_POSITION : PMC_OP_TEXCOORD;
+    EXPECT_EQ(std::count(g.body.begin(), g.body.end(), other), 0) << disassemble(prog, cm);
+    EXPECT_EQ(std::count(g.body.begin(), g.body.end(), own), 1) << disassemble(prog, cm);
+  }
+}
 
 TEST(CachePositionPlan, SameCellHitsAndTheNextCellMisses) {
   const OffAndOn m;
