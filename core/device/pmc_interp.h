@@ -274,8 +274,9 @@ PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x
 #define PMC_FETCH4(V, op, slot) pmc_fetch(code, stack, PMC_OPERAND(op, slot), 4, nn, V)
 
 /* The active lanes of a batch: n of them; virtual lane k is point lane_of[k]
- * (the identity but inside a cache group's sub-graphs, where the points that
- * missed are packed to the front). uv / footprint are the uv and the texture
+ * (the identity but inside a cache group's sub-graphs, where the `live`
+ * points that missed are packed to the front and padded to n with copies of
+ * the first: pmc_lanes_pack_missed). uv / footprint are the uv and the texture
  * footprint the virtual lane's nodes read: the point's own, or in cache_eval
  * center the centre and width of its texel, so the stored value depends on
  * the texel alone (and the footprint is round there: no ellipse, axis 0);
@@ -283,7 +284,7 @@ PMC_FN float pmc_round1(float x) { return x < 0.0f ? -floor(-x + 0.5f) : floor(x
  * inputs must be listed in program_is_uniform (materials/compiler.cpp):
  * a program without such opcodes runs once for a whole batch. */
 typedef struct PmcLanes {
-  int n;
+  int n, live;
   int lane_of[PMC_LANES];
   float2 uv[PMC_LANES];
   float footprint[PMC_LANES];
@@ -304,7 +305,7 @@ PMC_FN void pmc_lanes_set(PmcLanes* lanes, int k, int p, const PmcShadingInputs*
 
 /* Every point of the batch, each in its own lane. */
 PMC_FN void pmc_lanes_all(PmcLanes* lanes, const PmcShadingInputs* in, int n) {
-  lanes->n = n;
+  lanes->n = lanes->live = n;
   for (int k = 0; k < PMC_BATCH(n); ++k) pmc_lanes_set(lanes, k, k, in);
   (void)n; /* unused when PMC_LANES is 1 */
 }
@@ -391,12 +392,23 @@ PMC_FN pmc_u32 pmc_group_bits(const PmcCacheGroup* g) {
   return upto & ~((1u << (g->first & 31u)) - 1u);
 }
 
+/* The packed lanes of a group run in multiples of this many (where the batch
+ * has room): the vector width PoCL's loops take on x86 (eight floats). A
+ * group usually runs for a few of a batch's points (about 14 of 64 on the
+ * heavy scene), and its loops then spent as much time in their scalar
+ * remainders as in their vector bodies; copies of a packed point fill the
+ * spare lanes instead (docs/BENCHMARKS.md, "Heavy procedural scene"). */
+#define PMC_LANE_PAD 8
+
 /* Packs the points that need pass g->pass of the group into the first lanes,
  * reading their texel's and cell's centres (sub-samples) in cache_eval center:
  * on the last pass every point that missed a lookup, before it only those
  * with a miss that is not bypassed. A bypassed point keeps its last pass's
  * value, so with sub-samples it joins the last pass alone and its sub-graphs
- * run once, not once per sub-sample (at 256 spp, 4-8 times). Returns how many. */
+ * run once, not once per sub-sample (at 256 spp, 4-8 times). Lanes past them
+ * up to a multiple of PMC_LANE_PAD repeat the first (its inputs, so every
+ * node reads valid ones; the stores skip them: lanes->live). Returns how
+ * many points it packed. */
 PMC_FN int pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const PmcShadingInputs* in, int n,
                                  const PmcCacheContext* cache) {
   const int last = g->pass + 1u >= g->passes;
@@ -409,8 +421,21 @@ PMC_FN int pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const 
       pmc_lanes_place(lanes, nn, k, g, cache);
       ++nn;
     }
+  lanes->live = nn;
+#if PMC_LANES >= PMC_LANE_PAD
+  if (nn > 0) {
+    const int k0 = lanes->lane_of[0];
+    int padded = (nn + PMC_LANE_PAD - 1) / PMC_LANE_PAD * PMC_LANE_PAD;
+    if (padded > PMC_LANES) padded = PMC_LANES;
+    for (int j = nn; j < padded; ++j) {
+      pmc_lanes_set(lanes, j, k0, in);
+      pmc_lanes_place(lanes, j, k0, g, cache);
+    }
+    nn = padded;
+  }
+#endif
   lanes->n = nn;
-  return nn;
+  return lanes->live;
 }
 
 /* CACHE_LOOKUP for every point of the batch. imm: node id (bits 0-13) |
@@ -472,7 +497,7 @@ PMC_FN pmc_u32 pmc_interp_cache_lookup(PMC_GLOBAL const pmc_u32* code, pmc_u32 p
     if (lanes->n == 0) { /* every point hit: skip the sub-graphs and stores */
       pc += skip;
       g->stores = g->lookups; /* the group is closed */
-      lanes->n = n;
+      lanes->n = lanes->live = n;
       for (int k = 0; k < PMC_BATCH(n); ++k) lanes->lane_of[k] = k;
     }
   }
@@ -513,12 +538,13 @@ PMC_FN pmc_u32 pmc_interp_cache_store(PMC_GLOBAL const pmc_u32* code, pmc_u32 pc
   const pmc_u32 h = code[pc], imm = pmc_op_imm(h), width = pmc_op_width(h), dst = code[pc + 1u];
   const pmc_u32 bit = 1u << (g->stores & 31u);
   const pmc_u32 rank = g->stores;
-  const int nn = lanes->n;
+  const int nn = lanes->n, live = lanes->live;
   const int last_pass = g->pass + 1u >= g->passes;
+  (void)live; /* unused when PMC_LANES is 1 */
   const pmc_u32 samples = (g->by_position & bit) ? g->samples_position : g->samples_uv;
   g->stores += 1u;
   PMC_FETCH4(A, CACHE_STORE, value);
-  for (int j = 0; j < PMC_BATCH(nn); ++j) {
+  for (int j = 0; j < PMC_BATCH(live); ++j) {
     int k = lanes->lane_of[j];
     if (!(g->missed[k] & bit)) continue;
     float4 v = pmc_lanes4(A, j);

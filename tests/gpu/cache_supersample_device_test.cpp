@@ -11,7 +11,9 @@
 // point's roughness must equal half the reference interpreter's mean of the
 // uv stripes over the texel's 4 sub-sample points plus half its mean of the
 // x stripes over the cell's 16, evaluated on the host without a cache (the
-// independent answer), to float rounding and the device's sin.
+// independent answer), to float rounding and the device's sin. A group's
+// packed lanes are padded to 8 with copies of its first point
+// (PMC_LANE_PAD): a copy that stored would add that point's sub-sample twice.
 //
 // Bypassed keys (a level floor more than max_refine levels finer than the
 // footprint) are evaluated at the point's own inputs once, in the group's
