@@ -1,9 +1,10 @@
 // wave_clear_test.cpp — WaveKernels::clear zeroes the film, the cache table
 // and its counters on the device, whole, whatever the buffers held before:
 // the film and the table are larger than the zeroing kernel's fixed grid
-// (4096 groups of 64 work-items, each striding over the words), and their
-// byte sizes are not multiples of the grid, so every stride and the tail
-// are exercised. The buffers are filled with a pattern from the host first
+// (4096 groups of 64 work-items, each group zeroing a contiguous block), and
+// their word counts are not multiples of the groups, so the blocks' rounding
+// and the last, shorter block are exercised; the counters (26 words) take
+// one group with work-items to spare. The buffers are filled with a pattern from the host first
 // and read back after the clear.
 #include <gtest/gtest.h>
 
