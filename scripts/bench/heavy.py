@@ -17,9 +17,11 @@ Method:
      --cache-bandwidth on` (texels no coarser than the patterns: the answer
      to patterns finer than a pixel) and `--cache-bandwidth camera` (those
      floors at camera-ray hits only) at WIDTHxHEIGHT and SPP with --stats,
-     and of the room with room.mtl's constant materials instead of the
-     networks (--cache off: a free material, the ceiling of any cache), the
-     order rotated every round; the median render_seconds of each, off / each
+     of the networks' own shaders with every input a network drives set to a
+     constant (flat_materials, --cache off: the networks free, the BSDF's
+     lobes the same: the ceiling of any cache), and of the room with room.mtl's
+     constant materials instead (simpler shaders: no coat, sheen or metal),
+     the order rotated every round; the median render_seconds of each, off / each
      over the medians and the range of the per-round ratios. Hit rates (all
      lookups, uv keys, position keys) and the table's memory come from the
      cached renders' stats (the same every round: centre mode is
@@ -56,13 +58,17 @@ from bench import common
 PROG = "bench.heavy"
 SECTION = "## Heavy procedural scene: the cache's own benchmark (scripts/bench-heavy)"
 SCENE = ["data/heavy/room.obj", "--mtlx", "data/heavy/materials.mtlx"]
-# Timed configurations: name, scene, pmc options. "free": the same room with room.mtl's
-# constant materials instead of the networks, cacheless: what any cache could reach.
-# The cached ones (CACHED) are also compared with the cacheless render for their bias.
+# Timed configurations: name, scene, pmc options. "flat": the networks' shaders with constant
+# inputs (flat_materials; scene None: written into --out-dir), cacheless: what any cache could
+# reach. "free": room.mtl's constant materials, whose simpler shaders also drop the coat, sheen
+# and metal lobes. The cached ones (CACHED) are also compared with the cacheless render for their bias.
 CONFIGS = [("off", SCENE, ["--cache", "off"]), ("on", SCENE, ["--cache", "on"]),
            ("bandwidth", SCENE, ["--cache", "on", "--cache-bandwidth", "on"]),
            ("camera", SCENE, ["--cache", "on", "--cache-bandwidth", "camera"]),
-           ("free", SCENE[:1], ["--cache", "off"])]
+           ("flat", None, ["--cache", "off"]), ("free", SCENE[:1], ["--cache", "off"])]
+FLAT_MTLX = "materials_flat.mtlx"  # flat_materials' document, in --out-dir
+# flat_materials' constant per input type: mid values, so every lobe a network weighs stays on.
+FLAT_VALUES = {"float": "0.5", "color3": "0.5, 0.5, 0.5"}
 CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`",
           "camera": "cache on, `--cache-bandwidth camera`"}
 # The cached configurations whose bias is read apart from the noise with a second seed.
@@ -132,14 +138,42 @@ def parse_plan(text):
     return plans
 
 
+def flat_materials(src, dst):
+    """Writes `src`'s MaterialX document to `dst` with every shader input that a node graph drives
+    set to a constant (FLAT_VALUES: the same shaders and lobes, the networks unused, which pmc does
+    not compile). Returns how many inputs it set; an input type without a constant is an error."""
+    import xml.etree.ElementTree as ET
+    tree = ET.parse(src)
+    count = 0
+    for shader in tree.getroot():
+        if shader.tag in ("nodegraph", "surfacematerial"):
+            continue
+        for inp in shader.findall("input"):
+            if "nodegraph" not in inp.attrib:
+                continue
+            value = FLAT_VALUES.get(inp.get("type"))
+            if value is None:
+                raise SystemExit(f"{PROG}: {src}: {shader.get('name')}.{inp.get('name')}: no flat constant "
+                                 f"for type {inp.get('type')!r}")
+            for attr in ("nodegraph", "output"):
+                inp.attrib.pop(attr, None)
+            inp.set("value", value)
+            count += 1
+    tree.write(dst, encoding="unicode", xml_declaration=True)
+    return count
+
+
 class Measure:
     def __init__(self, args):
         self.a = args
         self.out = args.out_dir
         self.log = os.path.join(self.out, "log.txt")
         open(self.log, "w").close()
+        self.flat_scene = [SCENE[0], "--mtlx", os.path.join(self.out, FLAT_MTLX)]
+        flat_materials(SCENE[2], self.flat_scene[2])
 
     def render(self, name, scene, extra, spp):
+        scene = self.flat_scene if scene is None else scene
         exr, js = f"{self.out}/{name}.exr", f"{self.out}/{name}.json"
         cmd = [self.a.pmc, "render", *scene, "-o", exr, "--stats", js, *extra,
                *common.size_args(self.a.width, self.a.height, spp)]
@@ -208,6 +242,7 @@ class Measure:
                     runs=self.a.runs, psnr_width=self.a.psnr_width, psnr_height=self.a.psnr_height,
                     psnr_spp=self.a.psnr_spp, times=times, t_off=common.median(times["off"]),
                     t_free=common.median(times["free"]), ratios_free=common.round_ratios(times["off"], times["free"]),
+                    t_flat=common.median(times["flat"]), ratios_flat=common.round_ratios(times["off"], times["flat"]),
                     cached=cached, two_seeds=biases["on"], camera_bias=biases["camera"], supersample=supersampled,
                     plan=parse_plan(plan))
 
@@ -275,22 +310,33 @@ def plan_rows(plan):
     return rows
 
 
-def free_row(d):
-    """The free-material row (none in results of runs before it was measured)."""
-    if d.get("t_free") is None:
-        return []
-    lo, hi = min(d["ratios_free"]), max(d["ratios_free"])
-    return [["materials free (room.mtl's constants, cache off)", f"{d['t_free']:.2f}",
-             f"{d['t_off'] / d['t_free']:.2f}x ({lo:.2f}-{hi:.2f})", "-", "-", "-", "-"]]
+FREE_ROWS = (("flat", "networks free: their shaders with constant inputs (cache off)"),
+             ("free", "materials free: room.mtl's constants, simpler shaders (cache off)"))
+
+
+def free_rows(d):
+    """The free-material rows (each absent from results of runs before it was measured)."""
+    rows = []
+    for key, label in FREE_ROWS:
+        if d.get(f"t_{key}") is None:
+            continue
+        t, ratios = d[f"t_{key}"], d[f"ratios_{key}"]
+        rows.append([label, f"{t:.2f}", f"{d['t_off'] / t:.2f}x ({min(ratios):.2f}-{max(ratios):.2f})",
+                     "-", "-", "-", "-"])
+    return rows
 
 
 def ceiling_text(d, speed):
-    if d.get("t_free") is None:
+    """The cache's speed-up against the ceiling: the networks-free row, else (older results) room.mtl's."""
+    key = "flat" if d.get("t_flat") is not None else "free"
+    if d.get(f"t_{key}") is None:
         return ""
-    ceiling = d["t_off"] / d["t_free"]
-    return (f"\nThe free-material row is the ceiling of any cache on this scene: the cache reaches "
-            f"{speed:.2f}x of {ceiling:.2f}x, {100 * (speed - 1) / (ceiling - 1):.0f}% of the time a free "
-            f"material would save.\n")
+    ceiling = d["t_off"] / d[f"t_{key}"]
+    which = ("The networks-free row (the same shaders, so the same lobes, with constant inputs) is the "
+             "ceiling of any cache on this scene" if key == "flat" else
+             "The free-material row is the ceiling of any cache on this scene")
+    return (f"\n{which}: the cache reaches {speed:.2f}x of {ceiling:.2f}x, "
+            f"{100 * (speed - 1) / (ceiling - 1):.0f}% of the time free networks would save.\n")
 
 
 def cached_results(d):
@@ -470,7 +516,7 @@ def report(d):
         ["render", f"time (s), {size}", "off / this", "hit rate (uv / position)", "cache memory",
          f"PSNR vs off, {psnr_size}", "worst 16x16 tile (trimmed)"],
         [["cache off", f"{d['t_off']:.2f}", "1.00x", "-", "-", "-", "-"],
-         *[cached_row(d, name, r) for name, r in cached.items()], *free_row(d)])
+         *[cached_row(d, name, r) for name, r in cached.items()], *free_rows(d)])
     plan = common.md_table(["material", "nodes after pmc's passes", "cache points: sub-graph nodes (key)",
                             "nodes reading uv and position (not cacheable)"], plan_rows(d["plan"]))
     render_cmd = " ".join(["build/pmc", "render", *SCENE, "-o", "OUT.exr", "--stats", "OUT.json", "--cache",

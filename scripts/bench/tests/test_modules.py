@@ -67,6 +67,45 @@ class CommandLines(unittest.TestCase):
                 parse("shade", bad)
             self.assertEqual(e.exception.code, 2)
 
+    def test_heavy_flattens_the_networks_shader_inputs_to_constants(self):
+        import MaterialX as mx
+        from bench import heavy
+        src = os.path.join(os.path.dirname(__file__), "..", "..", "..", "data", "heavy", "materials.mtlx")
+        with tempfile.TemporaryDirectory() as tmp:
+            dst = os.path.join(tmp, "flat.mtlx")
+            count = heavy.flat_materials(src, dst)
+            doc, flat = mx.createDocument(), mx.createDocument()
+            mx.readFromXmlFile(doc, src)
+            mx.readFromXmlFile(flat, dst)
+        # MaterialX's own reading: the same materials and shaders, each driven input now a value of its type.
+        self.assertEqual([m.getName() for m in flat.getMaterialNodes()], [m.getName() for m in doc.getMaterialNodes()])
+        driven = 0
+        for shader in doc.getNodes("standard_surface"):
+            twin = flat.getNode(shader.getName())
+            for inp in shader.getInputs():
+                got = twin.getInput(inp.getName())
+                self.assertEqual(got.getType(), inp.getType())
+                if inp.getNodeGraphString():
+                    driven += 1
+                    self.assertEqual(got.getNodeGraphString(), "")
+                    self.assertEqual(got.getValueString(), heavy.FLAT_VALUES[inp.getType()])
+                else:
+                    self.assertEqual(got.getValueString(), inp.getValueString())
+        self.assertEqual(count, driven)
+        self.assertGreaterEqual(driven, 12)  # six materials, 2-3 driven inputs each
+        valid, why = flat.validate()
+        self.assertTrue(valid, why)
+
+    def test_heavy_measures_the_ceiling_against_the_networks_free(self):
+        from bench import heavy
+        d = dict(t_off=4.8, t_flat=2.0, ratios_flat=[2.3, 2.5], t_free=1.6, ratios_free=[3.0, 3.1])
+        rows = heavy.free_rows(d)
+        self.assertEqual([r[2] for r in rows], ["2.40x (2.30-2.50)", "3.00x (3.00-3.10)"])
+        self.assertIn("reaches 1.20x of 2.40x, 14%", heavy.ceiling_text(d, 1.2))
+        old = dict(t_off=4.8, t_free=1.6, ratios_free=[3.0, 3.1])  # results before the flat row
+        self.assertEqual(len(heavy.free_rows(old)), 1)
+        self.assertIn("reaches 1.20x of 3.00x, 10%", heavy.ceiling_text(old, 1.2))
+
     def test_heavy_takes_supersample_counts_and_reports_them(self):
         from bench import heavy
         self.assertEqual(parse("heavy", ["--supersample", "1,4,16,0"]).supersample, [1, 4, 16, 0])
