@@ -14,7 +14,9 @@ calibration; kernel builds are never in render_seconds); then
 RUNS rounds, every render once per round, the order rotated; medians of
 `render_seconds` and of the rounds' off / on ratios. The default scene also
 renders with every material constant (bench.materials' trivial.mtlx): the
-ceiling a free cache could reach. The prediction: `pmc render --stats`
+ceiling a free cache could reach; the heavy procedural scene renders its
+networks' own shaders with constant inputs (bench.heavy's flat_materials: the
+same lobes, no network). The prediction: `pmc render --stats`
 reports cache.model.predicted_saving_seconds (each point's gain per lookup,
 h C - L - (1 - h) M in unit nodes, times the lookups its material's shaded
 hits made, times the calibrated unit node's time); the predicted speedup
@@ -26,6 +28,7 @@ import os
 import time
 
 from bench import common
+from bench import heavy as bench_heavy
 from bench import materials as bench_materials
 
 PROG = "bench.cache_model"
@@ -36,6 +39,7 @@ SPONZA = [f"{SHARED}/sponza/sponza.obj", "--camera-from", "-110,20,0", "--camera
 BRICK = f"{SHARED}/materialx/standard_surface_brick_procedural.mtlx"
 SCENES = [
     ("default", "default room (`data/default`)", ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]),
+    ("heavy", "heavy procedural room (`data/heavy`)", bench_heavy.SCENE),
     ("teapot", "brick teapot (`M_BrickPattern`)",
      [f"{SHARED}/materialx/geometry/teapot.obj", "--mtlx", BRICK, "--material", "M_BrickPattern", "--env", "1,1,1",
       "--camera-from", "0.75,1.0,2.45", "--camera-at", "-0.09,0.05,-0.01", "--fov", "45"]),
@@ -82,6 +86,11 @@ class Measure:
         t0 = time.time()
         trivial = os.path.join(self.out, "trivial.mtlx")
         bench_materials.write_trivial(trivial)
+        flat = os.path.join(self.out, bench_heavy.FLAT_MTLX)
+        bench_heavy.flat_materials(bench_heavy.SCENE[2], flat, bench_heavy.stand_in_colours(bench_heavy.STAND_INS))
+        # Per scene, the renders of its ceiling (cacheless, no network runs).
+        ceilings = {"default": ["data/default/room.obj", "--mtlx", trivial, "--cache", "off"],
+                    "heavy": [bench_heavy.SCENE[0], "--mtlx", flat, "--cache", "off"]}
         only = [s for s in self.a.only.split(",") if s]
         sizes = [tuple(int(v) for v in s.split("x")) for s in self.a.sizes.split(",")]
         jobs = {}  # name -> (args, size)
@@ -93,9 +102,8 @@ class Measure:
                     if cfg == "nodes" and key not in self.a.nodes.split(","):
                         continue
                     jobs[f"{key}_{size[0]}x{size[1]}_{cfg}"] = (args + extra, size)
-                if key == "default":
-                    jobs[f"{key}_{size[0]}x{size[1]}_ceiling"] = (
-                        ["data/default/room.obj", "--mtlx", trivial, "--cache", "off"], size)
+                if key in ceilings:
+                    jobs[f"{key}_{size[0]}x{size[1]}_ceiling"] = (ceilings[key], size)
         for name, (args, size) in jobs.items():  # untimed, small: kernel builds, file cache, calibration
             self.render(name, args, (32, 18), spp=1)
         load = common.LoadSampler()
@@ -220,7 +228,8 @@ nodes) times the lookups its material's shaded hits made, times the calibrated t
 same with the measured hit rates. "Measured ns per predicted unit node" divides the measured saving
 (off - on) by the predicted unit nodes: were the model right up to its time scale, it would be the
 same on every row (the median here: {unit:.1f} ns). Costs: {costs or 'none reported'}. The ceiling renders the default scene with
-every material constant (no network runs), what a cache that always hit for free could reach.
+every material constant, and the heavy scene with its networks' shaders given constant inputs (the same
+lobes), so that no network runs: what a cache that always hit for free could reach.
 
     build/pmc render SCENE --cache off|on [--cache-model nodes] -o OUT.exr --stats OUT.json --width W --height H --spp {data['spp']} --quiet
 
@@ -234,7 +243,7 @@ Cache on with the cost model below 0.98x of off (median of the rounds): {', '.jo
 def main(argv=None):
     args = parse(argv)
     common.measure_and_report(args, PROG, SECTION, lambda a: Measure(a).all(), report,
-                              inputs=("data/default/room.obj",))
+                              inputs=("data/default/room.obj", bench_heavy.SCENE[0], bench_heavy.SCENE[2]))
 
 
 if __name__ == "__main__":

@@ -67,7 +67,9 @@ CONFIGS = [("off", SCENE, ["--cache", "off"]), ("on", SCENE, ["--cache", "on"]),
            ("camera", SCENE, ["--cache", "on", "--cache-bandwidth", "camera"]),
            ("flat", None, ["--cache", "off"]), ("free", SCENE[:1], ["--cache", "off"])]
 FLAT_MTLX = "materials_flat.mtlx"  # flat_materials' document, in --out-dir
-# flat_materials' constant per input type: mid values, so every lobe a network weighs stays on.
+STAND_INS = "data/heavy/room.mtl"  # the generator's constant stand-ins: each network's look as a Kd
+# flat_materials' constant per input type where no stand-in colour applies: mid values, so every
+# lobe a network weighs stays on.
 FLAT_VALUES = {"float": "0.5", "color3": "0.5, 0.5, 0.5"}
 CACHED = {"on": "cache on", "bandwidth": "cache on, `--cache-bandwidth on`",
           "camera": "cache on, `--cache-bandwidth camera`"}
@@ -138,20 +140,43 @@ def parse_plan(text):
     return plans
 
 
-def flat_materials(src, dst):
+def stand_in_colours(mtl_path):
+    """{material: "r, g, b"}: the Kd of each material of an MTL file."""
+    colours, name = {}, None
+    with open(mtl_path) as f:
+        for line in f:
+            words = line.split()
+            if words[:1] == ["newmtl"] and len(words) == 2:
+                name = words[1]
+            elif words[:1] == ["Kd"] and name and len(words) == 4:
+                colours[name] = ", ".join(words[1:])
+    return colours
+
+
+def flat_materials(src, dst, base_colours=None):
     """Writes `src`'s MaterialX document to `dst` with every shader input that a node graph drives
-    set to a constant (FLAT_VALUES: the same shaders and lobes, the networks unused, which pmc does
-    not compile). Returns how many inputs it set; an input type without a constant is an error."""
+    set to a constant: a material's `base_colours[material]` for its base_color (the stand-in
+    albedo, so paths last about as long as with the network), FLAT_VALUES for the rest. The same
+    shaders and lobes; the networks are unused, and pmc does not compile them. Returns how many
+    inputs it set; an input type without a constant is an error."""
     import xml.etree.ElementTree as ET
     tree = ET.parse(src)
+    root = tree.getroot()
+    material_of = {}  # shader name -> material name
+    for mat in root.iter("surfacematerial"):
+        for inp in mat.findall("input"):
+            if inp.get("name") == "surfaceshader" and inp.get("nodename"):
+                material_of[inp.get("nodename")] = mat.get("name")
     count = 0
-    for shader in tree.getroot():
+    for shader in root:
         if shader.tag in ("nodegraph", "surfacematerial"):
             continue
         for inp in shader.findall("input"):
             if "nodegraph" not in inp.attrib:
                 continue
             value = FLAT_VALUES.get(inp.get("type"))
+            if inp.get("name") == "base_color" and inp.get("type") == "color3":
+                value = (base_colours or {}).get(material_of.get(shader.get("name")), value)
             if value is None:
                 raise SystemExit(f"{PROG}: {src}: {shader.get('name')}.{inp.get('name')}: no flat constant "
                                  f"for type {inp.get('type')!r}")
@@ -170,7 +195,7 @@ class Measure:
         self.log = os.path.join(self.out, "log.txt")
         open(self.log, "w").close()
         self.flat_scene = [SCENE[0], "--mtlx", os.path.join(self.out, FLAT_MTLX)]
-        flat_materials(SCENE[2], self.flat_scene[2])
+        flat_materials(SCENE[2], self.flat_scene[2], stand_in_colours(STAND_INS))
 
     def render(self, name, scene, extra, spp):
         scene = self.flat_scene if scene is None else scene
