@@ -3,8 +3,10 @@
 //  * The bundled default scene at 160x90, 4 spp, with PMC_CACHE_TRACE set:
 //    the trace holds exactly the render's lookups (--stats), and replaying
 //    it under the render's own policy and table reproduces the render's hit
-//    rate within 1 point (the replay is sequential, the kernels race within
-//    a launch), for keep-first and priority, with a table small enough
+//    rate within 1 point and its camera-ray hit rate within 2.5 (the replay
+//    is sequential and inserts at once; the kernels insert after a group's
+//    sub-graphs and race within a launch, so the replay hits a little more),
+//    for keep-first and priority, with a table small enough
 //    (--cache-cells 512) that the policies differ and cells fill.
 //  * Belady's MIN on the same trace and table hits at least as often.
 //  * A capacity smaller than the lookups keeps the first records and counts
@@ -71,8 +73,16 @@ TEST(CacheTrace, ReplayReproducesTheRendersOwnHitRates) {
                                                 : replay_keep_first(t.records, t.cells, t.ways);
     const double measured = c["hit_rate"].get<double>();
     EXPECT_LT(measured, 0.8);  // the table is small enough for the policy to matter
-    EXPECT_NEAR(r.hit_rate(), measured, 0.01);
-    EXPECT_NEAR(r.camera_hit_rate(), c["camera_hit_rate"].get<double>(), 0.01);
+    // The replay inserts a missed key at its lookup; a launch inserts after the group's sub-graphs
+    // ran, so the key's other lookups in that launch miss in the render and hit in the replay, and
+    // the threads' races come on top. The replay therefore hits as often or a little more: over 40
+    // runs of this test, +0.02 to +0.44 points over all lookups and +0.0 to +1.5 points at the 25k
+    // camera-ray lookups (median +0.65), for both policies.
+    EXPECT_GE(r.hit_rate(), measured - 0.005);
+    EXPECT_LE(r.hit_rate(), measured + 0.01);
+    const double camera_measured = c["camera_hit_rate"].get<double>();
+    EXPECT_GE(r.camera_hit_rate(), camera_measured - 0.005);
+    EXPECT_LE(r.camera_hit_rate(), camera_measured + 0.025);
     EXPECT_GE(replay_belady(t.records, t.cells * t.ways).hits, r.hits);
   }
 }
