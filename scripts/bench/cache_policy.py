@@ -323,7 +323,7 @@ is that of coarser texels, at any table size.
     return section, "\n" + table + "\n\n" + "\n".join(lines) + bias_text + "\n"
 
 
-PLOT = "docs/plots/cache_policy.png"
+PLOT = "cache_policy.png"  # in plots/ beside the --doc file (common.plot_path)
 
 
 def plot(data, path):
@@ -373,7 +373,7 @@ def main(argv=None):
     args = parse(argv)
     common.measure_and_report(args, PROG, SECTION, lambda a: Measure(a).all(), report, inputs=(DEFAULT_ARGS[0],))
     if args.doc != "-":  # the curves go with the section
-        plot(common.read_json(os.path.join(args.out_dir, "results.json")), PLOT)
+        plot(common.read_json(os.path.join(args.out_dir, "results.json")), common.plot_path(args, PLOT))
 
 
 if __name__ == "__main__":

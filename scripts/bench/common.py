@@ -398,6 +398,15 @@ def size_args(w, h, spp):
     return ["--width", str(w), "--height", str(h), "--spp", str(spp), "--quiet"]
 
 
+def plot_path(args, name):
+    """Where a section's plot goes: plots/NAME beside the --doc file (the section links it as
+    plots/NAME), or OUT_DIR/NAME when --doc - only prints, so a run for another file or none never
+    touches docs/plots."""
+    if args.doc == "-":
+        return os.path.join(args.out_dir, name)
+    return os.path.join(os.path.dirname(args.doc), "plots", name)
+
+
 def add_report_only(p):
     p.add_argument("--report-only", action="store_true",
                    help="render nothing: rewrite the table and the section from OUT_DIR/results.json of the last run")

@@ -6,7 +6,7 @@ for each sample count `pmc compare SCENE --reference REF --denoise` renders
 the frame cacheless and cached, denoises the cached render (albedo and
 normal passes) and measures all three against the reference. Each sample
 count runs --runs times in rounds that rotate the order; times are medians.
-Plots relMSE against seconds (docs/plots/denoise.png) and writes the
+Plots relMSE against seconds (plots/denoise.png beside the --doc file) and writes the
 "Denoising" section of docs/BENCHMARKS.md.
 
     scripts/python -m bench.denoise                                default room and Sponza
@@ -23,7 +23,7 @@ from bench import common
 
 PROG = "bench.denoise"
 SECTION = "## Denoising: time to a clean image (scripts/bench-denoise)"
-PLOT = "docs/plots/denoise.png"
+PLOT = "denoise.png"  # in plots/ beside the --doc file (common.plot_path)
 SHARED = common.SHARED_SCENES
 SCENES = {
     "default": dict(name="default room", args=["data/default/room.obj", "--mtlx", "data/default/materials.mtlx",
@@ -205,7 +205,8 @@ Cycles with OIDN (bpy from PyPI) is not installed on this machine, so it is not 
 def main(argv=None):
     a = parse(argv)
     inputs = [SCENES[k]["args"][0] for k in a.scene_keys]
-    common.measure_and_report(a, PROG, SECTION, measure, lambda d: (plot(d, PLOT), report(d))[1], inputs)
+    common.measure_and_report(a, PROG, SECTION, measure, lambda d: (plot(d, common.plot_path(a, PLOT)), report(d))[1],
+                              inputs)
 
 
 if __name__ == "__main__":

@@ -52,7 +52,7 @@ LABELS = {"pmc": "pmc", "pmc+oidn": "pmc + OIDN", "pmc+adaptive": "pmc, adaptive
           "mitsuba-llvm": "Mitsuba 3 llvm_ad_rgb",
           "mitsuba-scalar": "Mitsuba 3 scalar_rgb"}
 PY = ".venv/bin/python"
-PLOT = "docs/plots/peers.png"  # relative to the repository root, beside docs/BENCHMARKS.md
+PLOT = "peers.png"  # in plots/ beside the --doc file (common.plot_path), which links it
 
 
 def parse(argv=None):
@@ -320,8 +320,7 @@ def report(data):
         lines += [table, ""]
         printed += [name, table, ""]
     lines += summary_lines(data, top)
-    lines += ["![relMSE against render time](plots/peers.png)", ""]
-    plot(data, PLOT)
+    lines += [f"![relMSE against render time](plots/{PLOT})", ""]
     lines += [METHOD]
     return "\n".join(lines), "\n".join(printed)
 
@@ -344,6 +343,7 @@ integrator, box filter, independent sampler)."""
 def main(argv=None):
     args = parse(argv)
     common.measure_and_report(args, PROG, SECTION, measure, report)
+    plot(common.read_json(os.path.join(args.out_dir, "results.json")), common.plot_path(args, PLOT))
 
 
 if __name__ == "__main__":

@@ -91,6 +91,16 @@ class ReplaceSection(unittest.TestCase):
                 os.chdir(cwd)
 
 
+class PlotPath(unittest.TestCase):
+    def test_a_plot_goes_beside_its_doc_file_or_into_the_out_dir(self):
+        from types import SimpleNamespace
+        self.assertEqual(common.plot_path(SimpleNamespace(doc="docs/BENCHMARKS.md", out_dir="out/x"), "p.png"),
+                         "docs/plots/p.png")  # where the section's link plots/p.png points
+        self.assertEqual(common.plot_path(SimpleNamespace(doc="/tmp/s/doc.md", out_dir="out/x"), "p.png"),
+                         "/tmp/s/plots/p.png")
+        self.assertEqual(common.plot_path(SimpleNamespace(doc="-", out_dir="out/x"), "p.png"), "out/x/p.png")
+
+
 class Reductions(unittest.TestCase):
     def test_median_of_odd_and_even_counts(self):
         self.assertEqual(common.median([3.0, 1.0, 2.0]), 2.0)
