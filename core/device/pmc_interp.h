@@ -303,6 +303,16 @@ PMC_FN void pmc_lanes_set(PmcLanes* lanes, int k, int p, const PmcShadingInputs*
   lanes->pos[k] = in[p].position;
 }
 
+/* Virtual lane k reads what virtual lane j reads (placed inputs included). */
+PMC_FN void pmc_lanes_copy(PmcLanes* lanes, int k, int j) {
+  lanes->lane_of[k] = lanes->lane_of[j];
+  lanes->uv[k] = lanes->uv[j];
+  lanes->footprint[k] = lanes->footprint[j];
+  lanes->axis[k] = lanes->axis[j];
+  lanes->minor[k] = lanes->minor[j];
+  lanes->pos[k] = lanes->pos[j];
+}
+
 /* Every point of the batch, each in its own lane. */
 PMC_FN void pmc_lanes_all(PmcLanes* lanes, const PmcShadingInputs* in, int n) {
   lanes->n = lanes->live = n;
@@ -424,13 +434,9 @@ PMC_FN int pmc_lanes_pack_missed(PmcLanes* lanes, const PmcCacheGroup* g, const 
   lanes->live = nn;
 #if PMC_LANES >= PMC_LANE_PAD
   if (nn > 0) {
-    const int k0 = lanes->lane_of[0];
     int padded = (nn + PMC_LANE_PAD - 1) / PMC_LANE_PAD * PMC_LANE_PAD;
     if (padded > PMC_LANES) padded = PMC_LANES;
-    for (int j = nn; j < padded; ++j) {
-      pmc_lanes_set(lanes, j, k0, in);
-      pmc_lanes_place(lanes, j, k0, g, cache);
-    }
+    for (int j = nn; j < padded; ++j) pmc_lanes_copy(lanes, j, 0); /* placed once, copied */
     nn = padded;
   }
 #endif
