@@ -11,7 +11,13 @@ caller can subtract the fixed cost.
 
 Conversions (pmc's lights file -> Blender; measured for issue 36):
   point      power P = 4 pi I (a Blender point of P watts has intensity P/(4 pi) W/sr), radius 0
-  quad       rectangular area light, power P = pi L |edge_u| |edge_v|
+  spot       spot, power P = 4 pi I as a point's, spot_size = cone_angle_deg,
+             spot_blend = blend (Cycles fades the last `blend` of the cone's
+             cosine range by a smoothstep, pmc the last `blend` of its half
+             angle: the penumbrae differ slightly; each renderer is measured
+             against its own reference)
+  quad       rectangular area light, power P = pi L |edge_u| |edge_v|; a
+             two-sided quad is two lights back to back
   directional sun, strength = irradiance (W/m^2), angle = angle_deg
   environment world background: constant colour, or the map through an
              Environment Texture turned -90 degrees about Blender's Z so that
@@ -104,14 +110,25 @@ def build_material(mat, m):
 def add_light(spec, index):
     kind = spec["type"]
     name = f"light_{index}"
-    if kind == "point":
-        data = bpy.data.lights.new(name, "POINT")
+    if kind in ("point", "spot"):
+        data = bpy.data.lights.new(name, kind.upper())
         i = spec["intensity"]
         peak = max(i)
-        data.energy = 4.0 * math.pi * peak
+        data.energy = 4.0 * math.pi * peak  # a spot's power counts the whole sphere too
         data.color = [c / peak for c in i]
         data.shadow_soft_size = 0.0
         matrix = Matrix.Translation(bl(spec["position"]))
+        if kind == "spot":
+            data.spot_size = math.radians(spec.get("cone_angle_deg", 45.0))
+            data.spot_blend = spec.get("blend", 0.15)
+            matrix = frame_from_z(bl(spec["direction"]), bl(spec["position"]))
+    elif kind == "quad" and spec.get("two_sided"):
+        one = dict(spec, two_sided=False)
+        add_light(one, f"{index}_front")
+        # the back: the same rectangle with edge_v reversed (from the far corner), so it emits the other way
+        c, v = spec["corner"], spec["edge_v"]
+        add_light(dict(one, corner=[c[k] + v[k] for k in range(3)], edge_v=[-x for x in v]), f"{index}_back")
+        return
     elif kind == "quad":
         data = bpy.data.lights.new(name, "AREA")
         u, v = bl(spec["edge_u"]), bl(spec["edge_v"])

@@ -13,7 +13,12 @@ the first) and the seconds of a 1-sample render.
 
 Conversions from pmc's lights file:
   point        point, intensity I
-  quad         rectangle shape with an area emitter of radiance L, black
+  spot         spot, intensity I, cutoff_angle = half the cone, beam_width =
+               (1 - blend) of it (Mitsuba fades linearly in the angle, pmc by a
+               smoothstep: the penumbrae differ slightly)
+  quad         rectangle shape with an area emitter of radiance L, black; a
+               two-sided quad is two rectangles back to back, 1e-5 of the
+               quad's size apart (coincident ones would hide each other)
   directional  directional, irradiance E (a delta: Mitsuba has no sun disk)
   environment  constant radiance, or envmap turned 180 degrees about +Y so
                that pmc's lat-long convention and Mitsuba's agree (Mitsuba
@@ -74,15 +79,29 @@ def scene_dict(job, folder):
         if l["type"] == "point":
             d[f"light_{i}"] = {"type": "point", "position": l["position"],
                                "intensity": {"type": "rgb", "value": l["intensity"]}}
+        elif l["type"] == "spot":
+            half = 0.5 * l.get("cone_angle_deg", 45.0)
+            p, w = l["position"], l["direction"]
+            up = [0.0, 1.0, 0.0] if abs(w[1]) < 0.9 * sum(x * x for x in w) ** 0.5 else [1.0, 0.0, 0.0]
+            d[f"light_{i}"] = {"type": "spot", "intensity": {"type": "rgb", "value": l["intensity"]},
+                               "cutoff_angle": half, "beam_width": (1.0 - l.get("blend", 0.15)) * half,
+                               "to_world": mi.ScalarTransform4f().look_at(
+                                   origin=p, target=[p[k] + w[k] for k in range(3)], up=up)}
         elif l["type"] == "quad":
             u, v, c = l["edge_u"], l["edge_v"], l["corner"]
             n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
             ln = sum(x * x for x in n) ** 0.5
             centre = [c[k] + 0.5 * (u[k] + v[k]) for k in range(3)]
-            m = [[0.5 * u[k], 0.5 * v[k], n[k] / ln, centre[k]] for k in range(3)] + [[0, 0, 0, 1]]
-            d[f"light_{i}"] = {"type": "rectangle", "to_world": mi.ScalarTransform4f(m),
-                               "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.0}},
-                               "emitter": {"type": "area", "radiance": {"type": "rgb", "value": l["radiance"]}}}
+            sides = [1.0, -1.0] if l.get("two_sided") else [1.0]
+            for side in sides:
+                # the back: edge_v and the normal reversed, moved 1e-5 of the quad's size behind the front
+                gap = 0.0 if side > 0 else -1e-5 * ln ** 0.5
+                m = [[0.5 * u[k], 0.5 * side * v[k], side * n[k] / ln, centre[k] + gap * n[k] / ln]
+                     for k in range(3)] + [[0, 0, 0, 1]]
+                d[f"light_{i}" + ("" if side > 0 else "_back")] = {
+                    "type": "rectangle", "to_world": mi.ScalarTransform4f(m),
+                    "bsdf": {"type": "diffuse", "reflectance": {"type": "rgb", "value": 0.0}},
+                    "emitter": {"type": "area", "radiance": {"type": "rgb", "value": l["radiance"]}}}
         elif l["type"] == "directional":
             d[f"light_{i}"] = {"type": "directional", "direction": l["direction"],
                                "irradiance": {"type": "rgb", "value": l["irradiance"]}}

@@ -1,10 +1,11 @@
 """bench.peer_scenes — the scenes bench.peers renders with pmc, Cycles and
 Mitsuba 3, and the files each renderer reads.
 
-A scene is an OBJ (or several, merged) from ../shared/scenes or data/, a
-camera, lights in pmc's lights-file form and an environment. Every material
-becomes a diffuse stand-in: reflectance Kd x map_Kd (sRGB-decoded), emission
-Ke, cut-out map_d. Specular terms (Ks, Ns, Pr, ...) and bump maps are dropped,
+A scene is an OBJ (or several, merged) from ../shared/scenes or data/, and
+small OBJs the spec holds as text ("generated", written into the scene's
+folder), a camera, lights in pmc's lights-file form and an environment.
+Every material becomes a diffuse stand-in: reflectance Kd x map_Kd
+(sRGB-decoded), emission Ke, cut-out map_d. Specular terms (Ks, Ns, Pr, ...) and bump maps are dropped,
 so the three renderers shade the same BSDF and the comparison measures light
 transport and sampling; bench.material_peers compares materials.
 
@@ -25,6 +26,22 @@ import math
 import os
 
 SHARED = "../shared/scenes"
+MANY_LIGHTS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "default",
+                           "many.lights.json")
+
+# A 1 m box 18 m above the default room's roof (y = 3): the stray object of issue 36,
+# which grew the scene's bounding sphere and, with the pick by power, gave the
+# environment most of the light samples. Written into the scene's folder.
+STRAY_BOX = "".join(f"v {x} {y} {z}\n" for x in (-0.5, 0.5) for y in (21.0, 22.0) for z in (-0.5, 0.5)) + \
+    "usemtl stray\n" + "".join(f"f {a} {b} {c} {d}\n" for a, b, c, d in (
+        (1, 2, 4, 3), (5, 7, 8, 6), (1, 5, 6, 2), (3, 4, 8, 7), (1, 3, 7, 5), (2, 6, 8, 4)))
+
+
+def _many_lights():
+    """The lights and the world colour of data/default/many.lights.json."""
+    with open(MANY_LIGHTS) as f:
+        d = json.load(f)
+    return d["lights"], d["environment"]
 
 
 # ---- the scenes ----------------------------------------------------------------------
@@ -67,6 +84,16 @@ def _scenes():
             "lights": [{"type": "directional", "direction": [-0.5, -0.45, -1.0],
                         "irradiance": [12.0, 11.0, 9.5], "angle_deg": 0.53}],
             "environment": {"map": f"{SHARED}/envmaps/table_mountain.hdr"},
+        },
+        "interior": {
+            "what": "pmc's default room with its MTL stand-ins, the 30 lights of data/default/many.lights.json "
+                    "(12 points, 8 spots, 10 quads of which 4 two-sided) and its world colour, and a 1 m box "
+                    "18 m above the roof",
+            "objs": ["data/default/room.obj"],
+            "generated": {"stray.obj": STRAY_BOX},
+            "camera": ((0.0, 1.5, 4.6), (0.0, 1.3, 0.0), 45.0),
+            "lights": _many_lights()[0],
+            "environment": _many_lights()[1],
         },
     }
 
@@ -241,7 +268,12 @@ def write_scene_files(name, folder, spec=None):
     spec = spec or SCENES[name]
     os.makedirs(folder, exist_ok=True)
     mesh = Mesh()
-    for obj in spec["objs"]:
+    objs = list(spec["objs"])
+    for file_name, text in spec.get("generated", {}).items():
+        objs.append(os.path.join(folder, file_name))
+        with open(objs[-1], "w") as f:
+            f.write(text)
+    for obj in objs:
         read_obj(obj, mesh)
     materials = {}
     for lib in mesh.mtllibs:
