@@ -36,6 +36,8 @@ typedef struct PmcHit {
 
 /* Path flags. */
 #define PMC_PATH_SPECULAR 1u /* last bounce was near-specular: no MIS on emitters */
+#define PMC_PATH_EMISSION_ONLY 2u /* the ray leaves a path's last hit (max_depth): the hit it meets
+                                   * adds the emission it sees, by MIS, and ends the path */
 
 /* The state a path carries between bounces (one per path slot). */
 typedef struct PmcPathState {

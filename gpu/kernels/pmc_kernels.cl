@@ -430,6 +430,14 @@ static inline int pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneD
   const float3 pos = hp->pos, ng = hp->ng;
   const float cone_width = hp->cone_width;
   __global const PmcMaterialInfo* info = &scene->materials[hp->material];
+  /* A hit past a path's last one (PMC_PATH_EMISSION_ONLY) needs its
+   * material's emission alone: it runs without the cache (pmc_shade_batch
+   * gives it a run of its own), so it neither counts nor inserts keys that no
+   * shading uses. */
+  if (path->flags & PMC_PATH_EMISSION_ONLY) {
+    hp->cache_points = 0u;
+    return PMC_NO_TEXEL;
+  }
   hp->cache_points = info->cache_points;
   /* A camera-ray hit after the pixel's first cache_camera_samples samples
    * evaluates its points exactly (docs/DESIGN.md, "The cache at camera hits"). */
@@ -608,7 +616,6 @@ typedef struct PmcNeeInput {
   float3 origin, pick_normal; /* where the shadow ray starts, the normal the pick uses */
   float3 throughput;          /* the path's, before this hit's BSDF sample */
   int active;                 /* the BSDF scatters */
-  int mis;                    /* not the last vertex: weigh against the BSDF sample */
   float clamp;                /* the light sample's largest radiance (pmc_clamp_light; 0: none) */
 } PmcNeeInput;
 
@@ -653,6 +660,16 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
     radiance = pmc_add_light(radiance, throughput * bsdf->emission, w,
                              pmc_clamp_limit(frame, depth > 0u ? depth - 1u : 0u));
   }
+  /* Past the last hit (max_depth): the BSDF sample of the last hit met this
+   * one only to weigh the emission it sees against that hit's light sample
+   * (as pbrt-v4 ends a path); nothing more is sampled here. */
+  if (path->flags & PMC_PATH_EMISSION_ONLY) {
+    nee->active = 0;
+    path->radiance[0] = radiance.x;
+    path->radiance[1] = radiance.y;
+    path->radiance[2] = radiance.z;
+    return;
+  }
 
   depth += 1u;
   float3 t, b;
@@ -667,10 +684,12 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   /* Next-event estimation: one light, picked at `origin` with the shading
    * normal as the path stores it (pmc_lights.h), so that the next vertex can
    * recompute the pick's probability from its ray's origin and that normal;
-   * taken for the batch's lanes together after this (pmc_next_event_lanes). */
+   * taken for the batch's lanes together after this (pmc_next_event_lanes).
+   * Always weighed by MIS against the BSDF sample: at the last hit that
+   * sample is traced for the emission it meets alone (PMC_PATH_EMISSION_ONLY),
+   * so a light sample close to an emitter never takes full weight there. */
   float3 origin = pmc_offset_ray(pos, ng, hp->hit_scale);
   nee->active = has_lobes;
-  nee->mis = (int)depth < frame->max_depth;
   nee->origin = origin;
   nee->pick_normal = ns;
   nee->ng = ng;
@@ -682,7 +701,8 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   nee->clamp = pmc_clamp_limit(frame, depth - 1u);
   nee->lobes = lobes;
 
-  int alive = has_lobes && (int)depth < frame->max_depth;
+  const int last = (int)depth >= frame->max_depth;
+  int alive = has_lobes;
   if (alive) {
     float3 wi, weight;
     float pdf;
@@ -712,7 +732,7 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
       path->light_normal[0] = ns.x;
       path->light_normal[1] = ns.y;
       path->light_normal[2] = ns.z;
-      path->flags = crossed ? PMC_PATH_SPECULAR : 0u;
+      path->flags = (crossed ? PMC_PATH_SPECULAR : 0u) | (last ? PMC_PATH_EMISSION_ONLY : 0u);
       path->cone_width = hp->cone_width;
       if (frame->cache_lobe_spread > 0.0f)
         path->cache_cone = pmc_pack_cone(
@@ -1175,9 +1195,9 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     if (!(wi.z > 0.0f)) continue;
     float bsdf_pdf;
     float3 f = pmc_bsdf_eval_pdf(&in->lobes, in->wo, wi, &bsdf_pdf);
-    /* MIS against the BSDF sample, unless this is the last vertex (whose
-     * continuation is not traced, so light sampling alone covers it). */
-    float w = ls[j].pdf > 0.0f && in->mis ? pmc_mis_power(ls[j].pdf, bsdf_pdf) : 1.0f;
+    /* MIS against the BSDF sample (traced at every hit, the last one's for
+     * emission alone: pmc_shade_surface) */
+    float w = ls[j].pdf > 0.0f ? pmc_mis_power(ls[j].pdf, bsdf_pdf) : 1.0f;
     float3 c = pmc_clamp_light(in->throughput * f * ls[j].weight * (wi.z * w), in->clamp);
     if (pmc_max3(c) > 0.0f && isfinite(pmc_max3(c))) {
       PmcShadeOut* o = &out[lane[j]];
@@ -1216,10 +1236,13 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
 #endif
   for (int first = 0; first < n; ++first) {
     if (done[first]) continue;
+    /* a run: one material's hits, those that use the cache apart from those
+     * that do not (hits past a path's last one: pmc_hit_cache_keys) */
     const int material = hp[first].material;
+    const uint points = hp[first].cache_points;
     int lane[PMC_LANES], m = 0;
     for (int k = first; k < n; ++k)
-      if (!done[k] && hp[k].material == material) {
+      if (!done[k] && hp[k].material == material && hp[k].cache_points == points) {
         lane[m++] = k;
         done[k] = 1;
       }

@@ -227,6 +227,41 @@ TEST(LightsRender, SpotConeAndBlendFalloff) {
   EXPECT_LT(ring_got, 0.75 * ring_hard);
 }
 
+// A path's last hit weighs its light sample against its BSDF sample too (the
+// BSDF sample is traced for the emission it meets), so no sample there takes
+// an area light's 1/d^2 at full weight. With the power heuristic a Lambertian
+// hit's light sample adds at most L rho / 2 (w f cos / pdf_l <= f cos / (2
+// pdf_b)), and its BSDF sample's emission at most rho L: at --max-depth 1 a
+// floor sample is at most 1.5 rho L whatever its distance to the emitter,
+// and one that sees the emitter (black, Kd 0) exactly L. An emissive triangle
+// standing on the floor puts floor points as close to it as pixels go; light
+// samples there without MIS reached hundreds.
+TEST(LightsRender, LastHitsLightSampleIsWeighedByMisSoNoPixelPassesTheBound) {
+  const std::string dir = test::temp_dir();
+  RenderSettings s = top_view(64, 16);
+  s.max_depth = 1;
+  set_camera(s, {0.3, 1.2, 0.9}, {0, 0.1, 0}, {0, 1, 0},
+             50.0f);  // the triangle's face and the floor at its base
+  std::ostringstream obj;
+  obj << plane_obj(4.0, "scene") << "usemtl lamp\nv -0.5 0 0\nv 0.5 0 0\nv 0 1 0\nf 5 6 7\n";
+  const double L = 5.0, rho = 0.5;
+  RenderOutput out =
+      render_files(dir, obj.str(), std::string(kGreyMtl) + "newmtl lamp\nKd 0 0 0\nKe 5 5 5\n", s);
+  ASSERT_LT(1.5 * rho * L, L);  // so every pixel, the lamp's and the floor's alike, is at most L
+  double brightest = 0.0;
+  int lamp = 0, dark = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const double v = out.image.pixels[3 * (size_t(y) * s.width + x) + 1];
+      brightest = std::max(brightest, v);
+      lamp += v > 0.999 * L;
+      dark += v < 0.01;
+    }
+  EXPECT_GT(lamp, 100);                     // the lamp is in view...
+  EXPECT_LT(dark, s.width * s.height / 4);  // ...and so is the floor it lights
+  EXPECT_LE(brightest, L * (1.0 + 1e-4));
+}
+
 TEST(LightsRender, QuadLightEmitsFromOneSideUnlessTwoSided) {
   const std::string dir = test::temp_dir();
   const D3 corner{0.3, 1.0, -0.4}, eu{0.6, 0.0, 0.0}, ev{0.0, 0.0, 0.6};  // eu x ev = -y: faces down

@@ -609,13 +609,13 @@ TEST(Numerical, CameraInsideAClosedMeshSeesNoLightFromOutside) {
 
 TEST(Numerical, MaximumPathDepthReachedByEveryPath) {
   // Closed box, albedo 1, every wall emitting Le = 1, max depth 3. No path can
-  // escape or be absorbed (Russian roulette starts after the 3rd hit, which
-  // is the last), so every path makes exactly 3 hits. Expected pixel value:
-  // Le at the first hit (seen directly), plus the direct light of hits 1 and
-  // 2 (NEE + BSDF hits, MIS-weighted: together exactly albedo * Le = Le
-  // each), plus at hit 3 the direct light by light sampling alone (its
-  // continuation is not traced, so its NEE takes full weight): Le again.
-  // Exactly 4 Le in expectation; 3.5 would mean hit 3 kept only its MIS share.
+  // escape or be absorbed before its 3rd hit (Russian roulette starts there),
+  // so every path makes 3 hits, and the 3rd hit's BSDF sample is traced
+  // (unless Russian roulette ends it: 5% at throughput 1) for the emission it
+  // meets alone. Expected pixel value: Le at the first hit (seen directly),
+  // plus the direct light of hits 1, 2 and 3 (NEE + BSDF hits, MIS-weighted:
+  // together exactly albedo * Le = Le each). Exactly 4 Le in expectation; 3.5
+  // would mean hit 3 kept only its light sample's MIS share.
   const std::string dir = test::temp_dir();
   test::write_file(dir + "/box.mtl", "newmtl glow\nKd 1 1 1\nKs 0 0 0\nKe 1 1 1\n");
   ObjText o;
@@ -624,9 +624,9 @@ TEST(Numerical, MaximumPathDepthReachedByEveryPath) {
   o.box(lo, hi);
   test::write_file(dir + "/box.obj", o.str());
   // 64 spp: at 8 the image mean's own noise (a standard deviation of about
-  // 0.045 over seeds, light sampling's full weight at the last hit makes
-  // fireflies near the box's edges) was as wide as the tolerance, with either
-  // light selection; at 64 it is about 0.02.
+  // 0.045 over seeds when light sampling took full weight at the last hit,
+  // with fireflies near the box's edges) was as wide as the tolerance, with
+  // either light selection; at 64 it is about 0.02.
   RenderConfig s = hard::small_config(32, 32, 64, 3);
   hard::set_camera(s, 0.1, -0.2, 0.3, 1, 0.5, -1, 90.0f);
   for (bool cache : {false, true}) {
@@ -635,7 +635,11 @@ TEST(Numerical, MaximumPathDepthReachedByEveryPath) {
     hard::expect_clean(r.out, "max depth");
     const RenderStats& st = r.out.stats;
     EXPECT_EQ(st.paths, uint64_t(32 * 32 * 64));
-    EXPECT_EQ(st.rays - st.shadow_rays, 3 * st.paths) << "every path must make exactly max-depth hits";
+    // 3 hits a path, then the last hit's BSDF ray unless Russian roulette
+    // (q = 0.95 at throughput 1) ended it: about 3.95 rays a path
+    EXPECT_GT(st.rays - st.shadow_rays, 3 * st.paths + st.paths * 9 / 10)
+        << "every path makes max-depth hits";
+    EXPECT_LE(st.rays - st.shadow_rays, 4 * st.paths);
     double mean = test::image_mean(r.out.image);
     EXPECT_NEAR(mean, 4.0, 0.04);
     RecordProperty(cache ? "mean_cache_on" : "mean_cache_off", hard::num(mean));
