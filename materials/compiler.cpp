@@ -289,6 +289,20 @@ bool reads_footprint(const std::vector<uint32_t>& code) {
   return false;
 }
 
+// Whether a program writes the surface's emission or its colour: the only
+// way it emits (both default to no emission, and a constant equal to its
+// default is not written).
+bool writes_emission(const std::vector<uint32_t>& code) {
+  for (size_t pc = 0; pc < code.size(); pc += 2 + pmc_op_nargs(code[pc])) {
+    const uint32_t h = code[pc], op = pmc_op_code(h);
+    if (op == PMC_OP_END) return false;
+    if (op == PMC_OP_OUTPUT && pmc_op_imm(h) <= PMC_P_EMISSION_COLOR + 2u &&
+        pmc_op_imm(h) + pmc_op_width(h) > PMC_P_EMISSION)
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 // The interpreter's only per-point inputs are what these instructions read:
@@ -341,6 +355,7 @@ const CompiledMaterial& compile_material(Graph& g, TexturePool& textures, Materi
   cm.code_words = uint32_t(code.size());
   cm.reads_footprint = reads_footprint(code);
   cm.uniform = program_is_uniform(code);
+  cm.may_emit = writes_emission(code);
   cm.instructions = emit.emitter().instructions();
   cm.peak_stack = emit.peak_stack();
   program.code.insert(program.code.end(), code.begin(), code.end());

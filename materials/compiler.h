@@ -66,6 +66,7 @@ struct CompiledMaterial {
   bool reads_footprint = false;  // an instruction filters an image by the ray cone (PMC_MAT_FOOTPRINT)
   bool uniform = false;  // no instruction reads the shading point, none writes the normal (PMC_MAT_UNIFORM)
   float constant_emission[3] = {0, 0, 0};  // for light sampling
+  bool may_emit = false;                   // an instruction writes the emission or its colour (PMC_MAT_EMITS)
   CachePlan cache_plan;                    // the cache points emitted when the cache is on
 };
 

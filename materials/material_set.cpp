@@ -114,7 +114,7 @@ MaterialSet build_material_set(Scene& scene, const MaterialOptions& options) {
     PmcMaterialInfo& info = set.infos[i];
     info.entry = cm.entry;
     info.flags = (cm.has_cutout ? PMC_MAT_CUTOUT : 0u) | (cm.reads_footprint ? PMC_MAT_FOOTPRINT : 0u) |
-                 (cm.uniform ? PMC_MAT_UNIFORM : 0u);
+                 (cm.uniform ? PMC_MAT_UNIFORM : 0u) | (cm.may_emit ? PMC_MAT_EMITS : 0u);
     if (cm.has_cutout) {
       Graph opacity = opacity_only(set.graphs.back());
       set.cutout_entry[i] = int(compile_material(opacity, scene.textures, set.cutout_program).entry);

@@ -36,8 +36,9 @@ typedef struct PmcHit {
 
 /* Path flags. */
 #define PMC_PATH_SPECULAR 1u /* last bounce was near-specular: no MIS on emitters */
-#define PMC_PATH_EMISSION_ONLY 2u /* the ray leaves a path's last hit (max_depth): the hit it meets
-                                   * adds the emission it sees, by MIS, and ends the path */
+#define PMC_PATH_EMISSION_ONLY                                         \
+  2u /* the ray leaves a path's last hit (max_depth): the hit it meets \
+      * adds the emission it sees, by MIS, and ends the path */
 
 /* The state a path carries between bounces (one per path slot). */
 typedef struct PmcPathState {
@@ -169,6 +170,10 @@ typedef struct PmcTexture {
   4u /* its program reads nothing of the shading point and keeps its     \
       * normal: every point gets the same parameters, so a batch runs it \
       * for one point and shares the BSDF (pmc_eval_material_lanes) */
+#define PMC_MAT_EMITS                                                   \
+  8u /* its program writes the emission: only such a material's hits    \
+      * past a path's last one (PMC_PATH_EMISSION_ONLY) run it; others' \
+      * add nothing and skip it (pmc_shade_batch) */
 typedef struct PmcMaterialInfo {
   pmc_u32 entry;
   pmc_u32 flags;

@@ -1218,8 +1218,11 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
                                    __global volatile ulong* cache_entries, __global PmcPathPasses* passes,
                                    PmcShadeOut* out, uint* cache_counts) {
   PmcMaterialData md = pmc_material_data(scene);
-  int done[PMC_LANES];
-  for (int k = 0; k < n; ++k) done[k] = !hp[k].surface;
+  int done[PMC_LANES], past[PMC_LANES]; /* past: a hit past its path's last one */
+  for (int k = 0; k < n; ++k) {
+    done[k] = !hp[k].surface;
+    past[k] = hp[k].surface && (paths[hp[k].path].flags & PMC_PATH_EMISSION_ONLY) != 0u;
+  }
 #if PMC_LANES8
   /* every lane's cosine-weighted direction, in case its BSDF sample takes
    * the diffuse lobe: eight lanes cost about what one does */
@@ -1236,16 +1239,16 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
 #endif
   for (int first = 0; first < n; ++first) {
     if (done[first]) continue;
-    /* a run: one material's hits, those that use the cache apart from those
-     * that do not (hits past a path's last one: pmc_hit_cache_keys) */
-    const int material = hp[first].material;
-    const uint points = hp[first].cache_points;
+    /* a run: one material's hits, those past their path's last one apart
+     * (they need its emission alone, without the cache: pmc_hit_cache_keys) */
+    const int material = hp[first].material, past_last = past[first];
     int lane[PMC_LANES], m = 0;
     for (int k = first; k < n; ++k)
-      if (!done[k] && hp[k].material == material && hp[k].cache_points == points) {
+      if (!done[k] && hp[k].material == material && past[k] == past_last) {
         lane[m++] = k;
         done[k] = 1;
       }
+    if (past_last && !(md.materials[material].flags & PMC_MAT_EMITS)) continue; /* they add nothing */
     PmcShadingInputs sp[PMC_LANES];
     PmcCacheContext cache[PMC_LANES];
     const int cached = frame->cache_on && hp[first].cache_points > 0u;

@@ -343,6 +343,29 @@ TEST(Compiler, DisassemblyNamesTheOpcodes) {
   EXPECT_EQ(text.find("param[10]"), std::string::npos) << text;
 }
 
+// PMC_MAT_EMITS: the shade kernel skips a material at hits past a path's last
+// one unless its program writes the emission (or its colour).
+TEST(Compiler, OnlyProgramsThatWriteTheEmissionMayEmit) {
+  TexturePool tex;
+  MaterialProgram prog;
+  Graph plain = ramp_material("M_plain", make_float3(0, 0, 0), make_float3(1, 1, 1));
+  EXPECT_FALSE(compile_material(plain, tex, prog).may_emit);
+  Graph zero = new_graph("M_zero");
+  add_surface(zero, {{"emission", value(VT::Float, 0)}});  // the default: written nowhere
+  EXPECT_FALSE(compile_material(zero, tex, prog).may_emit);
+  Graph lamp = new_graph("M_lamp");
+  add_surface(lamp, {{"emission", value(VT::Float, 1)}, {"emission_color", value(VT::Color3, 2, 2, 2)}});
+  EXPECT_TRUE(compile_material(lamp, tex, prog).may_emit);
+  Graph glow = new_graph("M_glow");  // an emission colour driven by a pattern
+  int tc = add(glow, "uv", "texcoord", VT::Vector2);
+  int r = add(glow, "ramp", "ramplr", VT::Color3,
+              {{"valuel", value(VT::Color3, 0, 0, 0)},
+               {"valuer", value(VT::Color3, 3, 3, 3)},
+               {"texcoord", link(tc)}});
+  add_surface(glow, {{"emission", value(VT::Float, 1)}, {"emission_color", link(r)}});
+  EXPECT_TRUE(compile_material(glow, tex, prog).may_emit);
+}
+
 TEST(Compiler, OnlyImageFilteringProgramsReadTheFootprint) {
   const std::string png = test::temp_dir() + "/checker.png";
   hard::write_checker_png(png);
