@@ -143,6 +143,7 @@ typedef struct PmcHitPoint {
   uint cache_points;        /* how many (the cells to prefetch) */
   uint cache_position_mask; /* bit p: the p-th point is keyed on position */
   uint depth;               /* surface hits of the path before this one (0: camera ray) */
+  uint past_last;           /* the hit is past its path's last one (PMC_PATH_EMISSION_ONLY) */
   uint pixel;               /* the path's pixel (its numbers' key, the lookup trace's) */
   int ellipse;              /* textures filter over the footprint's ellipse (pmc_texture_ellipse_needed) */
 } PmcHitPoint;
@@ -203,6 +204,7 @@ static inline void pmc_hit_load(__constant PmcFrame* frame, const PmcSceneData* 
   hp->path = ray.id;
   __global PmcPathState* path = &paths[ray.id];
   hp->depth = path->depth;
+  hp->past_last = (path->flags & PMC_PATH_EMISSION_ONLY) != 0u;
   hp->pixel = path->pixel;
   float3 dir = make_float3(ray.dir_x, ray.dir_y, ray.dir_z);
   hp->org = make_float3(ray.org_x, ray.org_y, ray.org_z);
@@ -434,7 +436,7 @@ static inline int pmc_hit_cache_keys(__constant PmcFrame* frame, const PmcSceneD
    * material's emission alone: it runs without the cache (pmc_shade_batch
    * gives it a run of its own), so it neither counts nor inserts keys that no
    * shading uses. */
-  if (path->flags & PMC_PATH_EMISSION_ONLY) {
+  if (hp->past_last) {
     hp->cache_points = 0u;
     return PMC_NO_TEXEL;
   }
@@ -1218,11 +1220,8 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
                                    __global volatile ulong* cache_entries, __global PmcPathPasses* passes,
                                    PmcShadeOut* out, uint* cache_counts) {
   PmcMaterialData md = pmc_material_data(scene);
-  int done[PMC_LANES], past[PMC_LANES]; /* past: a hit past its path's last one */
-  for (int k = 0; k < n; ++k) {
-    done[k] = !hp[k].surface;
-    past[k] = hp[k].surface && (paths[hp[k].path].flags & PMC_PATH_EMISSION_ONLY) != 0u;
-  }
+  int done[PMC_LANES];
+  for (int k = 0; k < n; ++k) done[k] = !hp[k].surface;
 #if PMC_LANES8
   /* every lane's cosine-weighted direction, in case its BSDF sample takes
    * the diffuse lobe: eight lanes cost about what one does */
@@ -1241,10 +1240,11 @@ static inline void pmc_shade_batch(__constant PmcFrame* frame, const PmcSceneDat
     if (done[first]) continue;
     /* a run: one material's hits, those past their path's last one apart
      * (they need its emission alone, without the cache: pmc_hit_cache_keys) */
-    const int material = hp[first].material, past_last = past[first];
+    const int material = hp[first].material;
+    const uint past_last = hp[first].past_last;
     int lane[PMC_LANES], m = 0;
     for (int k = first; k < n; ++k)
-      if (!done[k] && hp[k].material == material && past[k] == past_last) {
+      if (!done[k] && hp[k].material == material && hp[k].past_last == past_last) {
         lane[m++] = k;
         done[k] = 1;
       }

@@ -5,8 +5,8 @@ A scene is an OBJ (or several, merged) from ../shared/scenes or data/, and
 small OBJs the spec holds as text ("generated", written into the scene's
 folder), a camera, lights in pmc's lights-file form and an environment.
 Every material becomes a diffuse stand-in: reflectance Kd x map_Kd
-(sRGB-decoded), emission Ke, cut-out map_d. Specular terms (Ks, Ns, Pr, ...) and bump maps are dropped,
-so the three renderers shade the same BSDF and the comparison measures light
+(sRGB-decoded), emission Ke, cut-out map_d. Specular terms (Ks, Ns, Pr,
+...) and bump maps are dropped, so the three renderers shade the same BSDF and the comparison measures light
 transport and sampling; bench.material_peers compares materials.
 
 write_scene_files(spec, folder) parses the OBJs once (this module's own small
@@ -49,6 +49,7 @@ def _scenes():
     """name -> spec. Cameras: pmc's (position, target, vertical field of view
     in degrees, +Y up). Lights: pmc's lights-file entries (README.md, "Lights
     files"); "environment" is a constant radiance or a map."""
+    many_lights, world_colour = _many_lights()
     return {
         "cornell": {
             "what": "Embree's Cornell box (front open), a quad light under the ceiling and a point light",
@@ -92,8 +93,8 @@ def _scenes():
             "objs": ["data/default/room.obj"],
             "generated": {"stray.obj": STRAY_BOX},
             "camera": ((0.0, 1.5, 4.6), (0.0, 1.3, 0.0), 45.0),
-            "lights": _many_lights()[0],
-            "environment": _many_lights()[1],
+            "lights": many_lights,
+            "environment": world_colour,
         },
     }
 
