@@ -463,19 +463,28 @@ PMC_FN float pmc_tree_first_share(const PmcLightSet* ls, int a, float3 p, float3
                             c1->energy);
 }
 
-/* Weight of light at infinity i at normal n: its irradiance at normal
- * incidence x a bound of the cosine (a sun disk's widened by its radius). */
-PMC_FN float pmc_distant_weight(PMC_GLOBAL const PmcLight* l, float3 n) {
-  if (l->type == PMC_LIGHT_ENV) return l->distant_weight;
-  float cos_i = -dot(n, pmc_load3(l->axis));
-  if (l->type == PMC_LIGHT_SUN) {
+/* Weight of a light at infinity at normal (nx, ny, nz): its irradiance at
+ * normal incidence (`weight`) x a bound of the cosine (a sun disk's widened
+ * by its radius, 1 - cos of which is `one_minus_cos`), from the light's
+ * fields alone, so that the pick's loop over a batch's lanes
+ * (pmc_pick_distant_lanes) computes the same bits as a single pick. */
+PMC_FN_INLINE float pmc_distant_weight_at(pmc_u32 type, float weight, float one_minus_cos, float ax, float ay,
+                                          float az, float nx, float ny, float nz) {
+  if (type == PMC_LIGHT_ENV) return weight;
+  float cos_i = -(nx * ax + ny * ay + nz * az);
+  if (type == PMC_LIGHT_SUN) {
     float sin_i = sqrt(fmax(0.0f, 1.0f - cos_i * cos_i));
-    float cos_h = 1.0f - l->one_minus_cos,
-          sin_h = sqrt(fmax(0.0f, l->one_minus_cos * (2.0f - l->one_minus_cos)));
+    float cos_h = 1.0f - one_minus_cos, sin_h = sqrt(fmax(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
     cos_i = pmc_cos_sub_clamped(sin_i, cos_i, sin_h, cos_h);
   }
   cos_i += PMC_PICK_NORMAL_SLACK;
-  return cos_i > 0.0f ? l->distant_weight * fmin(cos_i, 1.0f) : 0.0f;
+  return cos_i > 0.0f ? weight * fmin(cos_i, 1.0f) : 0.0f;
+}
+
+/* Weight of light at infinity l at normal n (pmc_distant_weight_at). */
+PMC_FN float pmc_distant_weight(PMC_GLOBAL const PmcLight* l, float3 n) {
+  return pmc_distant_weight_at(l->type, l->distant_weight, l->one_minus_cos, l->axis[0], l->axis[1],
+                               l->axis[2], n.x, n.y, n.z);
 }
 
 /* The tree's weight at (p, n): the root's importance (0 without a tree). */

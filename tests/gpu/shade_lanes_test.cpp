@@ -93,6 +93,27 @@ TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
   }
 }
 
+// A sun and a sky (lights at infinity) beside the emissive ceiling (the light
+// tree): the lanes weigh the lights at infinity for the whole batch at once
+// (pmc_pick_distant_lanes), one hit at a time pmc_pick_distant does it.
+TEST(ShadeLanes, SunAndSkyArePickedAlikeInEveryBatchSize) {
+  auto render = [](int lanes) {
+    RenderConfig c = test::default_scene_config(48, 27, 2);
+    c.lights = test::source_path("data/default/sun.lights.json");
+    c.env = {0.3f, 0.4f, 0.6f};
+    c.shade_lanes = lanes;
+    RenderSession session(c, test::cl());
+    return session.render(session.settings());
+  };
+  const RenderOutput by_default = render(0);
+  EXPECT_GT(test::image_mean(by_default.image), 0.0);
+  const RenderOutput one = render(1);
+  ASSERT_EQ(one.image.pixels.size(), by_default.image.pixels.size());
+  EXPECT_EQ(test::differing_values(one.image, by_default.image), 0u)
+      << "of " << one.image.pixels.size() << " values";
+  EXPECT_EQ(one.stats.shadow_rays, by_default.stats.shadow_rays);
+}
+
 // The largest stack that still gets the full batch (256 floats x 64 lanes:
 // 64 KiB of stack per work-item, besides the batch's hit records) runs on
 // the device and renders what the default stack does.
