@@ -78,11 +78,24 @@ typedef struct PmcTextureLevel {
   int w, h;
 } PmcTextureLevel;
 
+/* Level `level`'s place: the levels before it, each half the one before
+ * (at least 1 texel), lie back to back from level 0. When 2^level divides
+ * both sides (a power-of-two texture's every level) the halvings are exact
+ * and their sizes sum to (w h - w' h') 4/3 with w' h' the level's own size,
+ * without the loop over the levels (perf: pmc_texture_lod 1.6% of the
+ * default room's samples, most of it in that loop). */
 PMC_FN PmcTextureLevel pmc_texture_level_at(PMC_GLOBAL const PmcTexture* tex, int level) {
   PmcTextureLevel L;
   L.base = tex->offset;
   L.w = tex->width;
   L.h = tex->height;
+  if (level > 0 && level < 16 && ((L.w | L.h) & ((1 << level) - 1)) == 0) {
+    const int w = L.w >> level, h = L.h >> level;
+    L.base += ((pmc_u32)L.w * (pmc_u32)L.h - (pmc_u32)w * (pmc_u32)h) / 3u * 4u;
+    L.w = w;
+    L.h = h;
+    return L;
+  }
   for (int l = 0; l < level; ++l) {
     L.base += (pmc_u32)L.w * (pmc_u32)L.h;
     L.w = L.w > 1 ? L.w >> 1 : 1;

@@ -16,6 +16,7 @@
 //   the ellipse's boundary), degenerate ones zeros.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -256,3 +257,31 @@ TEST(TextureFilter, EllipseOfTheRayConeGradients) {
 
 }  // namespace
 }  // namespace pmc
+
+// A level's place in the pool is the sum of the sizes before it, each level
+// half the one before and at least one texel: the closed form for sides that
+// 2^level divides and the walk over the levels otherwise give that sum, for
+// square, oblong, odd and power-of-two textures alike.
+TEST(TextureFilter, LevelPlacesAreTheSumsOfTheLevelsBefore) {
+  for (int w : {1, 2, 3, 8, 100, 256, 640, 1000, 1024, 2048, 4096})
+    for (int h : {1, 2, 5, 8, 64, 100, 480, 512, 1024}) {
+      int levels = 1;
+      while ((std::max(w, h) >> (levels - 1)) > 1) ++levels;
+      PmcTexture tex{};
+      tex.offset = 77;
+      tex.width = w;
+      tex.height = h;
+      tex.levels = levels;
+      uint32_t base = tex.offset;
+      int lw = w, lh = h;
+      for (int l = 0; l < levels; ++l) {
+        const PmcTextureLevel L = pmc_texture_level_at(&tex, l);
+        EXPECT_EQ(L.base, base) << w << "x" << h << " level " << l;
+        EXPECT_EQ(L.w, lw) << w << "x" << h << " level " << l;
+        EXPECT_EQ(L.h, lh) << w << "x" << h << " level " << l;
+        base += uint32_t(lw) * uint32_t(lh);
+        lw = std::max(1, lw / 2);
+        lh = std::max(1, lh / 2);
+      }
+    }
+}
