@@ -66,4 +66,42 @@ PMC_FN void pmc_fixed_add(pmc_u32* acc, const pmc_u32* x) {
   }
 }
 
+/* The same number as two 64-bit words (lo: words 0-1, hi: words 2-3), with
+ * shifts instead of a store into a word picked at run time: the film kernel
+ * keeps a pixel's three sums in registers across the wave's samples
+ * (pmc_film_accumulate). The same integer as pmc_fixed_of_float, bit for bit
+ * (tests/core/film_sum_test.cpp). */
+PMC_FN int pmc_fixed2_of_float(float v, pmc_u64* lo, pmc_u64* hi) {
+  const pmc_u32 bits = (pmc_u32)as_int(v);
+  const pmc_u32 e = (bits >> 23) & 0xffu;
+  if (e >= 189u) return 0; /* |v| >= 2^62, Inf or NaN */
+  const pmc_u64 m = e == 0u ? (pmc_u64)(bits & 0x7fffffu) : (pmc_u64)((bits & 0x7fffffu) | 0x800000u);
+  const int shift = e == 0u ? 1 - 86 : (int)e - 86; /* N = m * 2^shift, shift <= 102 */
+  pmc_u64 l, h;
+  if (shift < 0) {
+    l = shift <= -24 ? 0ul : m >> (pmc_u32)(-shift);
+    h = 0ul;
+  } else if (shift < 64) {
+    l = m << (pmc_u32)shift;
+    h = shift == 0 ? 0ul : m >> (pmc_u32)(64 - shift);
+  } else {
+    l = 0ul;
+    h = m << (pmc_u32)(shift - 64);
+  }
+  if (bits >> 31) { /* negate: invert and add one */
+    l = ~l + 1ul;
+    h = ~h + (l == 0ul ? 1ul : 0ul);
+  }
+  *lo = l;
+  *hi = h;
+  return 1;
+}
+
+/* (acc_lo, acc_hi) += (lo, hi), two's complement, the top carry dropped. */
+PMC_FN void pmc_fixed2_add(pmc_u64* acc_lo, pmc_u64* acc_hi, pmc_u64 lo, pmc_u64 hi) {
+  const pmc_u64 s = *acc_lo + lo;
+  *acc_hi = *acc_hi + hi + (s < lo ? 1ul : 0ul);
+  *acc_lo = s;
+}
+
 #endif /* PMC_FILM_H */

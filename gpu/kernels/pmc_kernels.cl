@@ -1496,24 +1496,6 @@ __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global 
 /* Adds one finished path to its film pixel: its radiance as exact
  * fixed-point sums (pmc_film.h: the film does not depend on the order or
  * the split of the samples), or a bad sample, and its cache hits. */
-static inline void pmc_film_add_path(__global PmcFilmPixel* px, __global const PmcPathState* p) {
-  px->cache_hits += p->cache_hits;
-  pmc_u32 v[3][PMC_FIXED_WORDS];
-  if (pmc_fixed_of_float(p->radiance[0], v[0]) && pmc_fixed_of_float(p->radiance[1], v[1]) &&
-      pmc_fixed_of_float(p->radiance[2], v[2])) {
-    const float grey = (p->radiance[0] + p->radiance[1] + p->radiance[2]) * (1.0f / 3.0f);
-    px->grey_sq_sum += grey * grey;
-    for (int c = 0; c < 3; ++c) {
-      pmc_u32 acc[PMC_FIXED_WORDS];
-      for (uint w = 0; w < PMC_FIXED_WORDS; ++w) acc[w] = px->sum[4 * c + w];
-      pmc_fixed_add(acc, v[c]);
-      for (uint w = 0; w < PMC_FIXED_WORDS; ++w) px->sum[4 * c + w] = acc[w];
-    }
-  } else {
-    px->bad_samples += 1u;
-  }
-}
-
 /* One work-item per pixel of the wave: it adds that pixel's wave_samples
  * paths (pmc_path_sample's layout), so no two work-items touch one pixel. */
 __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
@@ -1526,11 +1508,41 @@ __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const Pmc
   uint x = pixel % (uint)frame->width - frame->crop_x0;
   uint y = pixel / (uint)frame->width - frame->crop_y0;
   const uint at = y * frame->crop_width + x;
+  /* The pixel's sums stay in registers over its samples of the wave, added
+   * in the samples' order as one at a time would (the same bits). */
+  __global PmcFilmPixel* px = &film[at];
+  pmc_u64 lo[3], hi[3];
+  for (int c = 0; c < 3; ++c) {
+    lo[c] = (pmc_u64)px->sum[4 * c] | ((pmc_u64)px->sum[4 * c + 1] << 32);
+    hi[c] = (pmc_u64)px->sum[4 * c + 2] | ((pmc_u64)px->sum[4 * c + 3] << 32);
+  }
+  pmc_u32 cache_hits = px->cache_hits, bad = px->bad_samples;
+  float grey_sq = px->grey_sq_sum;
   for (uint s = 0u; s < frame->wave_samples; ++s) {
     const uint path = s * frame->wave_pixels + i;
-    pmc_film_add_path(&film[at], &paths[path]);
+    __global const PmcPathState* p = &paths[path];
+    cache_hits += p->cache_hits;
+    pmc_u64 vl[3], vh[3];
+    if (pmc_fixed2_of_float(p->radiance[0], &vl[0], &vh[0]) &&
+        pmc_fixed2_of_float(p->radiance[1], &vl[1], &vh[1]) &&
+        pmc_fixed2_of_float(p->radiance[2], &vl[2], &vh[2])) {
+      const float grey = (p->radiance[0] + p->radiance[1] + p->radiance[2]) * (1.0f / 3.0f);
+      grey_sq += grey * grey;
+      for (int c = 0; c < 3; ++c) pmc_fixed2_add(&lo[c], &hi[c], vl[c], vh[c]);
+    } else {
+      bad += 1u;
+    }
     if (frame->passes_on) pmc_film_add_passes(&pass_film[at], &passes[path]);
   }
+  for (int c = 0; c < 3; ++c) {
+    px->sum[4 * c] = (pmc_u32)lo[c];
+    px->sum[4 * c + 1] = (pmc_u32)(lo[c] >> 32);
+    px->sum[4 * c + 2] = (pmc_u32)hi[c];
+    px->sum[4 * c + 3] = (pmc_u32)(hi[c] >> 32);
+  }
+  px->cache_hits = cache_hits;
+  px->bad_samples = bad;
+  px->grey_sq_sum = grey_sq;
 }
 
 /* Zeroes words [0, count) of a buffer: each work-group a contiguous block,

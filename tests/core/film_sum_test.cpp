@@ -11,8 +11,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "core/device/pmc_film.h"
 
@@ -63,6 +65,49 @@ TEST(FilmFixed, RefusesNonFiniteAndHugeValues) {
 
 // Random samples of wildly different sizes, as one film and as parts added
 // in two different orders.
+// The film kernel's two-word form (pmc_fixed2_of_float, pmc_fixed2_add) is
+// the four-word form's integer, for every exponent (subnormals, the smallest
+// kept magnitudes, the largest), both signs and zeros, and sums alike with
+// the carries between the words.
+TEST(FilmFixed, TwoWordFormIsTheFourWordIntegerAndAddsAlike) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<uint32_t> any_bits;
+  std::vector<float> values = {0.0f,
+                               -0.0f,
+                               1.0f,
+                               -1.0f,
+                               std::ldexp(1.0f, -64),
+                               std::ldexp(1.0f, -65),
+                               std::numeric_limits<float>::denorm_min(),
+                               -std::numeric_limits<float>::min(),
+                               std::nextafter(std::ldexp(1.0f, 62), 0.0f),
+                               std::ldexp(-1.0f, 61)};
+  for (int i = 0; i < 200000; ++i) {
+    uint32_t bits = any_bits(rng);
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    values.push_back(v);
+  }
+  uint32_t acc4[4] = {0, 0, 0, 0};
+  uint64_t lo = 0, hi = 0;
+  size_t converted = 0;
+  for (float v : values) {
+    uint32_t w[4] = {0, 0, 0, 0};
+    uint64_t l = 0, h = 0;
+    const int ok4 = pmc_fixed_of_float(v, w), ok2 = pmc_fixed2_of_float(v, &l, &h);
+    ASSERT_EQ(ok2, ok4) << v;
+    if (!ok4) continue;
+    ++converted;
+    ASSERT_EQ(l, uint64_t(w[0]) | uint64_t(w[1]) << 32) << v;
+    ASSERT_EQ(h, uint64_t(w[2]) | uint64_t(w[3]) << 32) << v;
+    pmc_fixed_add(acc4, w);
+    pmc_fixed2_add(&lo, &hi, l, h);
+    ASSERT_EQ(lo, uint64_t(acc4[0]) | uint64_t(acc4[1]) << 32) << v;
+    ASSERT_EQ(hi, uint64_t(acc4[2]) | uint64_t(acc4[3]) << 32) << v;
+  }
+  EXPECT_GT(converted, values.size() / 3);  // random bits: about half are below 2^62 and finite
+}
+
 TEST(FilmSum, PartsAddToTheSameWordsInAnyOrderAndResolveToTheExactMean) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> mant(0.0f, 1.0f);
