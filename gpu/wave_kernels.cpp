@@ -84,7 +84,7 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
       warm_up_items_ = pass == 0 ? 0 : largest;
       return pass == 0 || largest >= kSmallGridItems;
     };
-    if (at(paths)) camera_rays(wave, 0, 0, nullptr);
+    if (at((paths + size_t(lanes_) - 1) / size_t(lanes_))) camera_rays(wave, 0, 0, nullptr);
     if (at(batches)) shade(scene, wave, 0, 0, 0, nullptr);
     if (at(paths)) resolve_shadows(wave, 0, 0, nullptr);
     if (at(paths)) accumulate(wave, 0, nullptr);
@@ -96,7 +96,8 @@ void WaveKernels::warm_up(const SceneBuffers& scene, WaveBuffers& wave) {
 
 void WaveKernels::camera_rays(WaveBuffers& w, int queue, size_t count, cl_event* done) {
   set_kernel_args(camera_, w.frame, w.rays[queue], w.path_states, w.path_passes, w.active);
-  launch(camera_, count, kLocalSize, done);
+  // `lanes_` consecutive paths a work-item (pmc_camera_rays)
+  launch(camera_, (count + size_t(lanes_) - 1) / size_t(lanes_), kLocalSize / size_t(lanes_), done);
 }
 
 void WaveKernels::shade(const SceneBuffers& scene, WaveBuffers& w, int queue, size_t order_first,

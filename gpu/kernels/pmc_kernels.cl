@@ -53,56 +53,80 @@ static inline uint pmc_path_sample(__constant PmcFrame* frame, uint path) {
   return frame->sample + path / frame->wave_pixels;
 }
 
-/* The numbers of path `path` (pmc_rng.h), whose pixel is `pixel` of the full
- * frame: the same in any window, wave shape or process. */
-static inline PmcSampler pmc_path_sampler(__constant PmcFrame* frame, uint pixel, uint path) {
-  return pmc_sampler(frame->sampler, frame->seed, pixel, pmc_path_sample(frame, path));
-}
-
 /* `active`: with frame->active_list, the window indices of the pixels still
  * sampled (adaptive sampling, gpu/adaptive_sampling.h); the wave's pixels are
- * a run of that list instead of a run of the window. */
+ * a run of that list instead of a run of the window. A work-item makes
+ * PMC_LANES consecutive paths (the host launches path_count / PMC_LANES
+ * items; one each on GPUs): their pixels one at a time (integer divisions),
+ * then their pixel jitters in one loop over them (straight-line integer
+ * hashing that a CPU compiler vectorises: one path at a time, the Sobol
+ * point was 61% of this kernel on the spider), then rays and path states. */
 __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays, __global PmcPathState* paths,
                               __global PmcPathPasses* passes, __global const uint* active) {
-  uint i = get_global_id(0);
-  if (i >= frame->path_count) return;
-  uint k = frame->pixel_offset + i % frame->wave_pixels; /* index into the window (crop), row by row */
-  if (frame->active_list) k = active[k];
-  uint x = frame->crop_x0 + k % frame->crop_width;
-  uint y = frame->crop_y0 + k / frame->crop_width;
-  uint pixel = y * (uint)frame->width + x; /* in the full frame: the RNG key is the same in any window */
-  const float2 jitter = pmc_rand2(pmc_path_sampler(frame, pixel, i), 0u, PMC_DIM_PIXEL_X, PMC_DIM_PIXEL_Y);
-  float sx = ((float)x + jitter.x) / (float)frame->width * 2.0f - 1.0f;
-  float sy = 1.0f - ((float)y + jitter.y) / (float)frame->height * 2.0f;
-  float3 dir = normalize(pmc_load3(frame->cam_forward) + pmc_load3(frame->cam_right) * sx +
-                         pmc_load3(frame->cam_up) * sy);
-  __global PmcRay* r = &rays[i];
-  r->org_x = frame->cam_eye[0];
-  r->org_y = frame->cam_eye[1];
-  r->org_z = frame->cam_eye[2];
-  r->tnear = 0.0f;
-  r->dir_x = dir.x;
-  r->dir_y = dir.y;
-  r->dir_z = dir.z;
-  r->time = 0.0f;
-  r->tfar = INFINITY;
-  r->mask = 0xffffffffu;
-  r->id = i;
-  r->flags = 0u;
-  __global PmcPathState* p = &paths[i];
-  for (int c = 0; c < 3; ++c) {
-    p->throughput[c] = 1.0f;
-    p->radiance[c] = 0.0f;
+  const uint first = (uint)get_global_id(0) * (uint)PMC_LANES;
+  if (first >= frame->path_count) return;
+  const int n = (int)min((uint)PMC_LANES, frame->path_count - first);
+  uint xs[PMC_LANES], ys[PMC_LANES], pixel[PMC_LANES], sample[PMC_LANES];
+  for (int j = 0; j < n; ++j) {
+    const uint i = first + (uint)j;
+    uint k = frame->pixel_offset + i % frame->wave_pixels; /* index into the window (crop), row by row */
+    if (frame->active_list) k = active[k];
+    xs[j] = frame->crop_x0 + k % frame->crop_width;
+    ys[j] = frame->crop_y0 + k / frame->crop_width;
+    pixel[j] =
+        ys[j] * (uint)frame->width + xs[j]; /* in the full frame: the RNG key is the same in any window */
+    sample[j] = pmc_path_sample(frame, i);
   }
-  p->cone_width = 0.0f;
-  p->cache_cone = 0u; /* bfloat16 zeros: no extra width or spread */
-  p->bsdf_pdf = 0.0f;
-  for (int c = 0; c < 3; ++c) p->light_normal[c] = 0.0f;
-  p->pixel = pixel;
-  p->depth = 0u;
-  p->cache_hits = 0u;
-  p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
-  if (frame->passes_on) pmc_passes_start(&passes[i]);
+  float jx[PMC_LANES], jy[PMC_LANES]; /* pmc_rand2(sampler, 0, PMC_DIM_PIXEL_X, PMC_DIM_PIXEL_Y) */
+  const uint seed = frame->seed;
+  if (frame->sampler == PMC_SAMPLER_RANDOM) {
+    for (int j = 0; j < n; ++j) {
+      const uint key = pmc_path_key(seed, pixel[j], sample[j]);
+      jx[j] = pmc_rand_hashed(key, 0u, PMC_DIM_NUMBER(PMC_DIM_PIXEL_X));
+      jy[j] = pmc_rand_hashed(key, 0u, PMC_DIM_NUMBER(PMC_DIM_PIXEL_Y));
+    }
+  } else {
+    for (int j = 0; j < n; ++j) {
+      const uint key = pmc_sampler(PMC_SAMPLER_SOBOL, seed, pixel[j], sample[j]).key;
+      const float2 p = pmc_sobol_set2(key, sample[j], 0u, PMC_DIM_SET(PMC_DIM_PIXEL_X));
+      jx[j] = p.x;
+      jy[j] = p.y;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    const uint i = first + (uint)j;
+    float sx = ((float)xs[j] + jx[j]) / (float)frame->width * 2.0f - 1.0f;
+    float sy = 1.0f - ((float)ys[j] + jy[j]) / (float)frame->height * 2.0f;
+    float3 dir = normalize(pmc_load3(frame->cam_forward) + pmc_load3(frame->cam_right) * sx +
+                           pmc_load3(frame->cam_up) * sy);
+    __global PmcRay* r = &rays[i];
+    r->org_x = frame->cam_eye[0];
+    r->org_y = frame->cam_eye[1];
+    r->org_z = frame->cam_eye[2];
+    r->tnear = 0.0f;
+    r->dir_x = dir.x;
+    r->dir_y = dir.y;
+    r->dir_z = dir.z;
+    r->time = 0.0f;
+    r->tfar = INFINITY;
+    r->mask = 0xffffffffu;
+    r->id = i;
+    r->flags = 0u;
+    __global PmcPathState* p = &paths[i];
+    for (int c = 0; c < 3; ++c) {
+      p->throughput[c] = 1.0f;
+      p->radiance[c] = 0.0f;
+    }
+    p->cone_width = 0.0f;
+    p->cache_cone = 0u; /* bfloat16 zeros: no extra width or spread */
+    p->bsdf_pdf = 0.0f;
+    for (int c = 0; c < 3; ++c) p->light_normal[c] = 0.0f;
+    p->pixel = pixel[j];
+    p->depth = 0u;
+    p->cache_hits = 0u;
+    p->flags = PMC_PATH_SPECULAR; /* camera rays: emitters seen directly get full weight */
+    if (frame->passes_on) pmc_passes_start(&passes[i]);
+  }
 }
 
 static inline float3 pmc_corner(__global const float* a, int k) {
