@@ -804,34 +804,55 @@ PMC_FN float3 pmc_quad_seen_radiance(const PmcLightSet* ls, int i, float3 o, flo
   return pmc_load3(l->rgb) * w;
 }
 
+/* What light at infinity i adds to an escaped ray from o along unit d,
+ * MIS-weighted against light sampling from o (`bsdf_pdf`, the pick's normal
+ * n; `full_weight` for camera rays), into *add; 0 when it adds nothing (a sun
+ * the ray misses). For the environment map, m is d in map space and
+ * `texel`, `row` its texel (pmc_env_texel_at): the caller finds them, so that
+ * the shade kernel can find a batch's in one loop over its rays
+ * (pmc_infinity_seen_lanes). */
+PMC_FN int pmc_infinity_light_seen(const PmcLightSet* ls, int i, float3 o, float3 d, float bsdf_pdf, float3 n,
+                                   int full_weight, float3 m, int texel, int row, float3* add) {
+  PMC_GLOBAL const PmcLight* l = &ls->lights[i];
+  float3 le;
+  float light_pdf;
+  if (l->type == PMC_LIGHT_ENV && ls->h.env == PMC_ENV_MAP) {
+    /* pmc_env_light_pdf, with the texel found once */
+    le = pmc_env_texel(ls, texel);
+    light_pdf = full_weight ? 0.0f : pmc_light_pick_pmf(ls, o, n, 0) * pmc_env_map_pdf_in(ls, m, texel, row);
+  } else if (l->type == PMC_LIGHT_ENV) {
+    le = pmc_load3(l->rgb);
+    light_pdf = full_weight ? 0.0f : pmc_env_light_pdf(ls, o, n, d);
+  } else if (pmc_sun_contains(l, d)) {
+    le = pmc_load3(l->rgb);
+    light_pdf = full_weight ? 0.0f : pmc_sun_pdf(l, pmc_light_pick_pmf(ls, o, n, i));
+  } else {
+    return 0;
+  }
+  float w = full_weight ? 1.0f : pmc_mis_power(bsdf_pdf, light_pdf);
+  *add = le * w;
+  return 1;
+}
+
+/* Whether light at infinity i is the environment map (whose texel
+ * pmc_infinity_light_seen needs). */
+PMC_FN int pmc_infinity_is_map(const PmcLightSet* ls, int i) {
+  return ls->lights[i].type == PMC_LIGHT_ENV && ls->h.env == PMC_ENV_MAP;
+}
+
 /* `sum` plus the radiance an escaped ray (origin o, unit direction d)
  * receives from the environment and the sun disks, MIS-weighted as
  * pmc_quad_seen_radiance. */
 PMC_FN float3 pmc_infinity_seen(const PmcLightSet* ls, float3 o, float3 d, float bsdf_pdf, float3 n,
                                 int full_weight, float3 sum) {
   for (int i = 0; i < ls->h.at_infinity; ++i) {
-    PMC_GLOBAL const PmcLight* l = &ls->lights[i];
-    float3 le;
-    float light_pdf;
-    if (l->type == PMC_LIGHT_ENV && ls->h.env == PMC_ENV_MAP) {
-      /* pmc_env_light_pdf, with the texel found once */
-      const float3 m = pmc_env_to_map(&ls->h, d);
-      int row;
-      const int texel = pmc_env_texel_at(&ls->h, m, &row);
-      le = pmc_env_texel(ls, texel);
-      light_pdf =
-          full_weight ? 0.0f : pmc_light_pick_pmf(ls, o, n, 0) * pmc_env_map_pdf_in(ls, m, texel, row);
-    } else if (l->type == PMC_LIGHT_ENV) {
-      le = pmc_load3(l->rgb);
-      light_pdf = full_weight ? 0.0f : pmc_env_light_pdf(ls, o, n, d);
-    } else if (pmc_sun_contains(l, d)) {
-      le = pmc_load3(l->rgb);
-      light_pdf = full_weight ? 0.0f : pmc_sun_pdf(l, pmc_light_pick_pmf(ls, o, n, i));
-    } else {
-      continue;
+    float3 m = make_float3(0.0f, 0.0f, 0.0f), add;
+    int texel = 0, row = 0;
+    if (pmc_infinity_is_map(ls, i)) {
+      m = pmc_env_to_map(&ls->h, d);
+      texel = pmc_env_texel_at(&ls->h, m, &row);
     }
-    float w = full_weight ? 1.0f : pmc_mis_power(bsdf_pdf, light_pdf);
-    sum += le * w;
+    if (pmc_infinity_light_seen(ls, i, o, d, bsdf_pdf, n, full_weight, m, texel, row, &add)) sum += add;
   }
   return sum;
 }

@@ -94,24 +94,33 @@ TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
 }
 
 // A sun and a sky (lights at infinity) beside the emissive ceiling (the light
-// tree): the lanes weigh the lights at infinity for the whole batch at once
-// (pmc_pick_distant_lanes), one hit at a time pmc_pick_distant does it.
+// tree): in a batch the lanes weigh the lights at infinity together
+// (pmc_pick_distant_lanes), where one hit at a time pmc_pick_distant does it,
+// and escaped rays find their sky map's texels in one loop over the batch
+// (pmc_infinity_seen_lanes). Every batch size renders the same image, with a
+// constant sky and with an HDR map.
 TEST(ShadeLanes, SunAndSkyArePickedAlikeInEveryBatchSize) {
-  auto render = [](int lanes) {
-    RenderConfig c = test::default_scene_config(48, 27, 2);
-    c.lights = test::source_path("data/default/sun.lights.json");
-    c.env = {0.3f, 0.4f, 0.6f};
-    c.shade_lanes = lanes;
-    RenderSession session(c, test::cl());
-    return session.render(session.settings());
-  };
-  const RenderOutput by_default = render(0);
-  EXPECT_GT(test::image_mean(by_default.image), 0.0);
-  const RenderOutput one = render(1);
-  ASSERT_EQ(one.image.pixels.size(), by_default.image.pixels.size());
-  EXPECT_EQ(test::differing_values(one.image, by_default.image), 0u)
-      << "of " << one.image.pixels.size() << " values";
-  EXPECT_EQ(one.stats.shadow_rays, by_default.stats.shadow_rays);
+  for (bool map : {false, true}) {
+    SCOPED_TRACE(map ? "sky map" : "constant sky");
+    auto render = [map](int lanes) {
+      RenderConfig c = test::default_scene_config(48, 27, 2);
+      c.lights = test::source_path("data/default/sun.lights.json");
+      if (map)
+        c.env_map = test::shared_scene("envmaps/table_mountain.hdr");
+      else
+        c.env = {0.3f, 0.4f, 0.6f};
+      c.shade_lanes = lanes;
+      RenderSession session(c, test::cl());
+      return session.render(session.settings());
+    };
+    const RenderOutput by_default = render(0);
+    EXPECT_GT(test::image_mean(by_default.image), 0.0);
+    const RenderOutput one = render(1);
+    ASSERT_EQ(one.image.pixels.size(), by_default.image.pixels.size());
+    EXPECT_EQ(test::differing_values(one.image, by_default.image), 0u)
+        << "of " << one.image.pixels.size() << " values";
+    EXPECT_EQ(one.stats.shadow_rays, by_default.stats.shadow_rays);
+  }
 }
 
 // The largest stack that still gets the full batch (256 floats x 64 lanes:
