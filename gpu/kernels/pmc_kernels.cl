@@ -53,6 +53,23 @@ static inline uint pmc_path_sample(__constant PmcFrame* frame, uint path) {
   return frame->sample + path / frame->wave_pixels;
 }
 
+/* Writes ray `slot` of queue q (a PmcRay, laid out as Embree's RTCRay). */
+static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float3 d, float tfar, uint id) {
+  __global PmcRay* r = &q[slot];
+  r->org_x = o.x;
+  r->org_y = o.y;
+  r->org_z = o.z;
+  r->tnear = 0.0f;
+  r->dir_x = d.x;
+  r->dir_y = d.y;
+  r->dir_z = d.z;
+  r->time = 0.0f;
+  r->tfar = tfar;
+  r->mask = 0xffffffffu;
+  r->id = id;
+  r->flags = 0u;
+}
+
 /* `active`: with frame->active_list, the window indices of the pixels still
  * sampled (adaptive sampling, gpu/adaptive_sampling.h); the wave's pixels are
  * a run of that list instead of a run of the window. A work-item makes
@@ -99,19 +116,7 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
     float sy = 1.0f - ((float)ys[j] + jy[j]) / (float)frame->height * 2.0f;
     float3 dir = normalize(pmc_load3(frame->cam_forward) + pmc_load3(frame->cam_right) * sx +
                            pmc_load3(frame->cam_up) * sy);
-    __global PmcRay* r = &rays[i];
-    r->org_x = frame->cam_eye[0];
-    r->org_y = frame->cam_eye[1];
-    r->org_z = frame->cam_eye[2];
-    r->tnear = 0.0f;
-    r->dir_x = dir.x;
-    r->dir_y = dir.y;
-    r->dir_z = dir.z;
-    r->time = 0.0f;
-    r->tfar = INFINITY;
-    r->mask = 0xffffffffu;
-    r->id = i;
-    r->flags = 0u;
+    pmc_append_ray(rays, i, pmc_load3(frame->cam_eye), dir, INFINITY, i);
     __global PmcPathState* p = &paths[i];
     for (int c = 0; c < 3; ++c) {
       p->throughput[c] = 1.0f;
@@ -131,22 +136,6 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
 
 static inline float3 pmc_corner(__global const float* a, int k) {
   return make_float3(a[3 * k], a[3 * k + 1], a[3 * k + 2]);
-}
-
-static inline void pmc_append_ray(__global PmcRay* q, uint slot, float3 o, float3 d, float tfar, uint id) {
-  __global PmcRay* r = &q[slot];
-  r->org_x = o.x;
-  r->org_y = o.y;
-  r->org_z = o.z;
-  r->tnear = 0.0f;
-  r->dir_x = d.x;
-  r->dir_y = d.y;
-  r->dir_z = d.z;
-  r->time = 0.0f;
-  r->tfar = tfar;
-  r->mask = 0xffffffffu;
-  r->id = id;
-  r->flags = 0u;
 }
 
 /* The geometry of one ray's hit: what the material and pmc_shade_surface
