@@ -21,62 +21,18 @@
 
 #define PMC_FIXED_WORDS 4u
 
-/* The exact Q63.64 value of `v` into w[0..3]; 0 (w untouched) when v is not
- * finite or |v| >= 2^62. */
-PMC_FN int pmc_fixed_of_float(float v, pmc_u32* w) {
-  const pmc_u32 bits = (pmc_u32)as_int(v);
-  const pmc_u32 e = (bits >> 23) & 0xffu;
-  if (e >= 189u) return 0; /* |v| >= 2^62, Inf or NaN */
-  pmc_u32 m = bits & 0x7fffffu;
-  int shift; /* v = m * 2^(e - 150), N = m * 2^(e - 86) */
-  if (e == 0u) {
-    shift = 1 - 86; /* subnormal */
-  } else {
-    m |= 0x800000u;
-    shift = (int)e - 86;
-  }
-  for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) w[k] = 0u;
-  if (shift < 0) {
-    w[0] = shift <= -24 ? 0u : m >> (pmc_u32)(-shift);
-  } else {
-    const pmc_u32 q = (pmc_u32)shift / 32u, r = (pmc_u32)shift % 32u;
-    const pmc_u64 t = (pmc_u64)m << r; /* at most 55 bits */
-    w[q] = (pmc_u32)t;
-    if (q + 1u < PMC_FIXED_WORDS) w[q + 1u] = (pmc_u32)(t >> 32);
-  }
-  if (bits >> 31) { /* negate: invert and add one */
-    pmc_u32 carry = 1u;
-    for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) {
-      const pmc_u64 s = (pmc_u64)(~w[k]) + carry;
-      w[k] = (pmc_u32)s;
-      carry = (pmc_u32)(s >> 32);
-    }
-  }
-  return 1;
-}
-
-/* acc += x, both four-word two's complement numbers (the carry out of the
- * top word is dropped, as two's complement addition does). */
-PMC_FN void pmc_fixed_add(pmc_u32* acc, const pmc_u32* x) {
-  pmc_u64 carry = 0u;
-  for (pmc_u32 k = 0; k < PMC_FIXED_WORDS; ++k) {
-    const pmc_u64 s = (pmc_u64)acc[k] + (pmc_u64)x[k] + carry;
-    acc[k] = (pmc_u32)s;
-    carry = s >> 32;
-  }
-}
-
-/* The same number as two 64-bit words (lo: words 0-1, hi: words 2-3), with
- * shifts instead of a store into a word picked at run time: the film kernel
- * keeps a pixel's three sums in registers across the wave's samples
- * (pmc_film_accumulate). The same integer as pmc_fixed_of_float, bit for bit
- * (tests/core/film_sum_test.cpp). */
+/* The exact Q63.64 value of `v` as two 64-bit words (lo: the low 64 bits,
+ * hi: the high ones, two's complement); 0 (lo and hi untouched) when v is
+ * not finite or |v| >= 2^62. Shifts, no store at a run-time index: the film
+ * kernel keeps a pixel's three sums in registers across the wave's samples
+ * (pmc_film_accumulate). */
 PMC_FN int pmc_fixed2_of_float(float v, pmc_u64* lo, pmc_u64* hi) {
   const pmc_u32 bits = (pmc_u32)as_int(v);
   const pmc_u32 e = (bits >> 23) & 0xffu;
   if (e >= 189u) return 0; /* |v| >= 2^62, Inf or NaN */
+  /* v = m * 2^(e - 150), N = m * 2^shift with shift = e - 86 <= 102 (subnormals: e = 1) */
   const pmc_u64 m = e == 0u ? (pmc_u64)(bits & 0x7fffffu) : (pmc_u64)((bits & 0x7fffffu) | 0x800000u);
-  const int shift = e == 0u ? 1 - 86 : (int)e - 86; /* N = m * 2^shift, shift <= 102 */
+  const int shift = e == 0u ? 1 - 86 : (int)e - 86;
   pmc_u64 l, h;
   if (shift < 0) {
     l = shift <= -24 ? 0ul : m >> (pmc_u32)(-shift);
@@ -102,6 +58,29 @@ PMC_FN void pmc_fixed2_add(pmc_u64* acc_lo, pmc_u64* acc_hi, pmc_u64 lo, pmc_u64
   const pmc_u64 s = *acc_lo + lo;
   *acc_hi = *acc_hi + hi + (s < lo ? 1ul : 0ul);
   *acc_lo = s;
+}
+
+/* The same number as four little-endian 32-bit words w[0..3] (the film's
+ * and the pass film's layout); 0 (w untouched) as pmc_fixed2_of_float. */
+PMC_FN int pmc_fixed_of_float(float v, pmc_u32* w) {
+  pmc_u64 lo, hi;
+  if (!pmc_fixed2_of_float(v, &lo, &hi)) return 0;
+  w[0] = (pmc_u32)lo;
+  w[1] = (pmc_u32)(lo >> 32);
+  w[2] = (pmc_u32)hi;
+  w[3] = (pmc_u32)(hi >> 32);
+  return 1;
+}
+
+/* acc += x, both four-word two's complement numbers (the carry out of the
+ * top word is dropped, as two's complement addition does). */
+PMC_FN void pmc_fixed_add(pmc_u32* acc, const pmc_u32* x) {
+  pmc_u64 lo = (pmc_u64)acc[0] | ((pmc_u64)acc[1] << 32), hi = (pmc_u64)acc[2] | ((pmc_u64)acc[3] << 32);
+  pmc_fixed2_add(&lo, &hi, (pmc_u64)x[0] | ((pmc_u64)x[1] << 32), (pmc_u64)x[2] | ((pmc_u64)x[3] << 32));
+  acc[0] = (pmc_u32)lo;
+  acc[1] = (pmc_u32)(lo >> 32);
+  acc[2] = (pmc_u32)hi;
+  acc[3] = (pmc_u32)(hi >> 32);
 }
 
 #endif /* PMC_FILM_H */
