@@ -1016,18 +1016,17 @@ static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPic
 
 /* pmc_pick_distant for lanes act[0, count) with the tree's weights
  * tree_weight[q]: every light at infinity's weight for all lanes in one loop
- * over them (its fields the same for every lane), the total, then the
- * choice in a second such loop, each with pmc_pick_distant's arithmetic in
- * its order (pmc_distant_weight_at; the next vertex's pmc_light_pick_pmf
- * adds the same sums). Lanes that fall on a light at infinity get it in
- * picked[j] and its probability in pmf[j], none (-1) when nothing lights
- * them; the lanes that go on into the tree stay in act[], rescaled as
- * pmc_pick_distant leaves them. Returns how many stay. perf had the pick one
- * lane at a time at 4% of the default room's samples (a sun and a sky). */
+ * over them (its fields the same for every lane; the first PMC_DISTANT_KEPT
+ * weights kept for the choice), the total, then the choice in a second such
+ * loop, each with pmc_pick_distant's arithmetic in its order (pmc_distant_weight_at; the next vertex's
+ * pmc_light_pick_pmf adds the same sums). Lanes that fall on a light at infinity get it in picked[j] and its
+ * probability in pmf[j], none (-1) when nothing lights them; the lanes that go on into the tree stay in
+ * act[], rescaled as pmc_pick_distant leaves them. Returns how many stay. perf had the pick one lane at a
+ * time at 4% of the default room's samples (a sun and a sky). */
 static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLanes* pl, int* act, int count,
                                          const float* tree_weight, float* u, float* share, float* pmf,
                                          int* picked) {
-  float total[PMC_LANES], x[PMC_LANES], below[PMC_LANES];
+  float total[PMC_LANES], x[PMC_LANES], below[PMC_LANES], weight[PMC_DISTANT_KEPT][PMC_LANES];
   int chosen[PMC_LANES];
   float nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
   for (int q = 0; q < count; ++q) {
@@ -1038,11 +1037,11 @@ static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLan
   const int lights = ls->h.distant_end;
   for (int i = 0; i < lights; ++i) {
     __global const PmcLight* l = &ls->lights[i];
-    const pmc_u32 type = l->type;
-    const float w0 = l->distant_weight, omc = l->one_minus_cos, ax = l->axis[0], ay = l->axis[1],
-                az = l->axis[2];
-    for (int q = 0; q < count; ++q)
-      total[q] += pmc_distant_weight_at(type, w0, omc, ax, ay, az, nx[q], ny[q], nz[q]);
+    for (int q = 0; q < count; ++q) {
+      const float w = pmc_distant_weight(l, make_float3(nx[q], ny[q], nz[q]));
+      if (i < PMC_DISTANT_KEPT) weight[i][q] = w;
+      total[q] += w;
+    }
   }
   for (int q = 0; q < count; ++q) {
     total[q] += tree_weight[q];
@@ -1052,11 +1051,9 @@ static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLan
   }
   for (int i = 0; i < lights; ++i) {
     __global const PmcLight* l = &ls->lights[i];
-    const pmc_u32 type = l->type;
-    const float w0 = l->distant_weight, omc = l->one_minus_cos, ax = l->axis[0], ay = l->axis[1],
-                az = l->axis[2];
     for (int q = 0; q < count; ++q) {
-      const float w = pmc_distant_weight_at(type, w0, omc, ax, ay, az, nx[q], ny[q], nz[q]);
+      const float w =
+          i < PMC_DISTANT_KEPT ? weight[i][q] : pmc_distant_weight(l, make_float3(nx[q], ny[q], nz[q]));
       if (chosen[q] == PMC_PICK_TREE && x[q] < below[q] + w) {
         chosen[q] = i;
         pmf[act[q]] = w / total[q];
@@ -1542,11 +1539,11 @@ __kernel void pmc_resolve_shadows(__global const PmcShadowLoad* loads, __global 
   p->radiance[2] += loads[i].rgb[2];
 }
 
-/* Adds one finished path to its film pixel: its radiance as exact
- * fixed-point sums (pmc_film.h: the film does not depend on the order or
- * the split of the samples), or a bad sample, and its cache hits. */
 /* One work-item per pixel of the wave: it adds that pixel's wave_samples
- * paths (pmc_path_sample's layout), so no two work-items touch one pixel. */
+ * paths (pmc_path_sample's layout), so no two work-items touch one pixel.
+ * Each finished path adds its radiance as exact fixed-point sums (pmc_film.h:
+ * the film does not depend on the order or the split of the samples), or a
+ * bad sample, and its cache hits. */
 __kernel void pmc_film_accumulate(__constant PmcFrame* frame, __global const PmcPathState* paths,
                                   __global PmcFilmPixel* film, __global const PmcPathPasses* passes,
                                   __global PmcPassPixel* pass_film) {
