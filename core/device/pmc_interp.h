@@ -68,6 +68,7 @@
 #include "pmc_raycone.h"
 #include "pmc_surface.h"
 #include "pmc_texture.h"
+#include "pmc_texture_lanes.h"
 
 /* What a material may read at the shading point. */
 typedef struct PmcShadingInputs {
@@ -944,6 +945,25 @@ PMC_FN int pmc_interp_pattern(PMC_OP_PARAMS) {
       PMC_FETCH4(A, IMAGE, texcoord);
       PMC_FETCH4(B, IMAGE, default);
       PMC_FETCH4(T, IMAGE, mode);
+#if defined(__OPENCL_VERSION__) && PMC_LANES >= 8
+      { /* the batch's lookups together (pmc_texture_lanes.h); the same values as below */
+        float fp[PMC_LANES], ax[PMC_LANES], ay[PMC_LANES], minor[PMC_LANES];
+        pmc_u32 bits[PMC_LANES];
+        for (int k = 0; k < nn; ++k) {
+          bits[k] = (pmc_u32)pmc_to_int(T[0][k]);
+          const float s = T[1][k];
+          const float2 axis = (bits[k] & PMC_IMAGE_ANISO) ? lanes->axis[k] * s : make_float2(0.0f, 0.0f);
+          fp[k] = lanes->footprint[k] * s;
+          ax[k] = axis.x;
+          ay[k] = axis.y;
+          minor[k] = lanes->minor[k] * s;
+        }
+        pmc_texture_sample_lanes(ts, imm, nn, A[0], A[1], fp, ax, ay, minor, bits, B, R);
+        if (width == 1u)
+          for (int k = 0; k < nn; ++k) R[1][k] = R[2][k] = R[3][k] = R[0][k];
+        break;
+      }
+#endif
       for (int k = 0; k < PMC_BATCH(nn); ++k) {
         /* T[1]: the uv chain's footprint scale; the ellipse only where the
          * chain keeps its direction (PMC_IMAGE_ANISO) */
