@@ -37,13 +37,30 @@ double EnvMap::luminance_integral() const {
 
 double EnvMap::row_sine(int y) const { return std::sin((double(y) + 0.5) * kPi / double(height)); }
 
+std::vector<float> cdf_guide(const float* cdf, int n) {
+  std::vector<float> guide(size_t(n) + 1);
+  int i = 0;
+  for (int k = 0; k <= n; ++k) {
+    const double threshold = double(k) / double(n);
+    while (i < n - 1 && !(double(cdf[i]) > threshold)) ++i;
+    guide[size_t(k)] = float(i);
+  }
+  return guide;
+}
+
 std::vector<float> EnvMap::device_data(float scale) const {
   std::vector<float> out;
-  out.reserve(rgb.size() + marginal.size() + conditional.size() + size_t(height));
+  out.reserve(rgb.size() + 2 * (marginal.size() + conditional.size()) + 2 * size_t(height) + 1);
   for (float v : rgb) out.push_back(v * scale);
   out.insert(out.end(), marginal.begin(), marginal.end());
   out.insert(out.end(), conditional.begin(), conditional.end());
   for (int y = 0; y < height; ++y) out.push_back(float(row_sine(y)));
+  const std::vector<float> rows = cdf_guide(marginal.data(), height);
+  out.insert(out.end(), rows.begin(), rows.end());
+  for (int y = 0; y < height; ++y) {
+    const std::vector<float> cols = cdf_guide(&conditional[size_t(y) * size_t(width)], width);
+    out.insert(out.end(), cols.begin(), cols.end());
+  }
   return out;
 }
 

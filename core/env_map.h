@@ -28,9 +28,15 @@ struct EnvMap {
   // sin(theta) at the centre of row y: the rows' sampling weight.
   double row_sine(int y) const;
   // Texels x scale, then the marginal and conditional CDFs, then the rows'
-  // sines (core/device/pmc_lights.h).
+  // sines, then each CDF's guide table (cdf_guide; marginal first, then the
+  // rows'), the layout core/device/pmc_lights.h reads.
   std::vector<float> device_data(float scale) const;
 };
+
+// The guide table of an inclusive CDF of n entries: n + 1 entries, entry k
+// the first index whose value exceeds k / n (n - 1 if none), as floats
+// (exact: indices stay below 2^24). pmc_cdf_search_guided starts there.
+std::vector<float> cdf_guide(const float* cdf, int n);
 
 // Reads and checks a map; errors (pmc::Error) name the file.
 EnvMap load_env_map(const std::string& path);

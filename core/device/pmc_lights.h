@@ -107,12 +107,20 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
 
 /* The map's data after its texels (EnvMap::device_data, core/env_map.h): the
  * marginal CDF over the rows (height floats), each row's conditional CDF
- * (width floats a row), then each row's sine. */
+ * (width floats a row), each row's sine, then the CDFs' guide tables
+ * (cdf_guide: the marginal's, height + 1 floats, then each row's, width + 1
+ * floats a row). */
 PMC_FN PMC_GLOBAL const float* pmc_env_marginal(const PmcLightSet* ls) {
   return ls->env + 3 * ls->h.env_width * ls->h.env_height;
 }
 PMC_FN PMC_GLOBAL const float* pmc_env_row_sines(const PmcLightSet* ls) {
   return pmc_env_marginal(ls) + ls->h.env_height + ls->h.env_width * ls->h.env_height;
+}
+PMC_FN PMC_GLOBAL const float* pmc_env_marginal_guide(const PmcLightSet* ls) {
+  return pmc_env_row_sines(ls) + ls->h.env_height;
+}
+PMC_FN PMC_GLOBAL const float* pmc_env_row_guide(const PmcLightSet* ls, int row) {
+  return pmc_env_marginal_guide(ls) + ls->h.env_height + 1 + row * (ls->h.env_width + 1);
 }
 
 /* Solid-angle density of the map's importance sampling at map direction m
@@ -151,6 +159,24 @@ PMC_FN int pmc_cdf_search(PMC_GLOBAL const float* cdf, int n, float u) {
   return lo;
 }
 
+/* pmc_cdf_search started from the CDF's guide table (cdf_guide in
+ * core/env_map.h: guide[k] the first index whose value exceeds k / n): the
+ * answer for u in [k / n, (k + 1) / n) lies in [guide[k], guide[k + 1]],
+ * which the search checks (the entry below the range at most u, the range's
+ * last above it) so that rounding in u n or in the table can cost time but
+ * never change the answer; outside them, or for u outside [0, 1), it
+ * searches the whole CDF. The same index as pmc_cdf_search, after about two
+ * dependent reads of a bucket instead of log2(n): the two searches of a map
+ * sample were 4% of the default room's samples under a 256x128 sky. */
+PMC_FN int pmc_cdf_search_guided(PMC_GLOBAL const float* cdf, PMC_GLOBAL const float* guide, int n, float u) {
+  if (!(u >= 0.0f && u < 1.0f)) return pmc_cdf_search(cdf, n, u);
+  int k = (int)(u * (float)n);
+  k = k < n ? k : n - 1;
+  const int lo = (int)guide[k], hi = (int)guide[k + 1];
+  if ((lo > 0 && !(cdf[lo - 1] <= u)) || !(cdf[hi] > u)) return pmc_cdf_search(cdf, n, u);
+  return lo + pmc_cdf_search(cdf + lo, hi - lo + 1, u);
+}
+
 /* Where u falls inside bin i of an inclusive CDF, in [0, 1). */
 PMC_FN float pmc_cdf_fraction(PMC_GLOBAL const float* cdf, int i, float u) {
   float lo = i > 0 ? cdf[i - 1] : 0.0f;
@@ -176,10 +202,10 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     texel = pmc_env_texel_index(h, m);
   } else {
     PMC_GLOBAL const float* marginal = pmc_env_marginal(ls);
-    row = pmc_cdf_search(marginal, hh, u1);
+    row = pmc_cdf_search_guided(marginal, pmc_env_marginal_guide(ls), hh, u1);
     float fv = pmc_cdf_fraction(marginal, row, u1);
     PMC_GLOBAL const float* conditional = marginal + hh + row * w;
-    int col = pmc_cdf_search(conditional, w, u2);
+    int col = pmc_cdf_search_guided(conditional, pmc_env_row_guide(ls, row), w, u2);
     float fu = pmc_cdf_fraction(conditional, col, u2);
     m = pmc_env_uv_to_dir(((float)col + fu) / (float)w, ((float)row + fv) / (float)hh);
     texel = row * w + col;

@@ -22,6 +22,7 @@
 #include <vector>
 
 #include "core/device/pmc_lights.h"
+#include "core/env_map.h"
 #include "core/lights.h"
 
 namespace pmc {
@@ -289,6 +290,50 @@ TEST(EnvMapSampling, CdfSearchFindsTheFirstEntryAboveU) {
     }
     EXPECT_EQ(pmc_cdf_search(cdf.data(), n, NAN), n - 1);
   }
+}
+
+// pmc_cdf_search_guided gives pmc_cdf_search's index for every u, with the
+// guide table from cdf_guide and with wrong tables (shifted, all zero, all
+// last): the table only says where to start.
+TEST(EnvMapSampling, GuidedCdfSearchFindsWhatTheFullSearchFinds) {
+  std::mt19937 gen(11);
+  int guided_hits = 0, total = 0;
+  for (int n : {1, 2, 3, 7, 8, 64, 255, 256, 1000}) {
+    std::vector<float> cdf(static_cast<size_t>(n));
+    double sum = 0.0;
+    std::vector<double> w(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i)
+      sum += w[size_t(i)] = gen() % 4 == 0 ? 0.0 : std::pow(double(gen() % 1000), 3.0);
+    double running = 0.0;
+    for (int i = 0; i < n; ++i) {
+      running += w[size_t(i)];
+      cdf[size_t(i)] = sum > 0.0 ? float(running / sum) : float(double(i + 1) / n);
+    }
+    cdf[size_t(n - 1)] = 1.0f;
+    const std::vector<float> guide = cdf_guide(cdf.data(), n);
+    ASSERT_EQ(guide.size(), size_t(n) + 1);
+    std::vector<float> shifted(guide), zeros(guide.size(), 0.0f), last(guide.size(), float(n - 1));
+    for (float& g : shifted) g = std::min(g + 1.0f, float(n - 1));
+    std::vector<float> us = {0.0f, 0.99999994f, 1.0f, -0.5f, 2.0f, NAN};
+    for (float c : cdf) us.push_back(c);
+    for (int k = 0; k <= n; ++k) us.push_back(float(k) / float(n));  // the buckets' edges
+    for (int i = 0; i < 3000; ++i) us.push_back(float(gen() >> 8) * (1.0f / 16777216.0f));
+    for (float u : us) {
+      const int want = pmc_cdf_search(cdf.data(), n, u);
+      ASSERT_EQ(pmc_cdf_search_guided(cdf.data(), guide.data(), n, u), want) << "n " << n << " u " << u;
+      ASSERT_EQ(pmc_cdf_search_guided(cdf.data(), shifted.data(), n, u), want)
+          << "shifted, n " << n << " u " << u;
+      ASSERT_EQ(pmc_cdf_search_guided(cdf.data(), zeros.data(), n, u), want)
+          << "zeros, n " << n << " u " << u;
+      ASSERT_EQ(pmc_cdf_search_guided(cdf.data(), last.data(), n, u), want) << "last, n " << n << " u " << u;
+      if (u >= 0.0f && u < 1.0f) {  // the right table's range holds the answer without the fallback
+        const int k = std::min(int(u * float(n)), n - 1);
+        guided_hits += want >= int(guide[size_t(k)]) && want <= int(guide[size_t(k) + 1]);
+        ++total;
+      }
+    }
+  }
+  EXPECT_GT(guided_hits, total * 99 / 100);
 }
 
 TEST(EnvMapConvention, RotationTurnsTheMapCounterClockwiseSeenFromAbove) {
