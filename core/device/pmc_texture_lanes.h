@@ -1,22 +1,25 @@
 /* pmc_texture_lanes.h — a batch's image lookups together, for CPU devices.
  *
  * pmc_texture_sample_lanes() gives each of n lookups exactly what
- * pmc_texture_sample_ellipse (pmc_texture.h) gives it, in three steps:
- *   1. per lookup, its plan (scalar, cheap): how many taps along the
- *      ellipse (one when round, or one level alone), the taps' spacing, and
- *      the mip levels with the trilinear weight;
+ * pmc_texture_sample_ellipse (pmc_texture.h) gives it, in three steps, each
+ * eight lookups at a time in float8:
+ *   1. the plans (pmc_texture_plans8): how many taps along the ellipse (one
+ *      when round, or one level alone), their spacing, and the mip level
+ *      with the trilinear weight (pmc_texture_lod's arithmetic);
  *   2. per tap round, every lookup's bilinear reads of one mip level
- *      ("jobs", two per lookup for trilinear), eight at a time in float8:
+ *      ("jobs": the finer level's, and the coarser one's when any lookup
+ *      blends):
  *      address modes and the filter as selects, texel and sRGB-table reads
  *      as eight-wide gathers at clamped indices, the fallback selected after
  *      (PoCL's loop vectoriser left the same loop written per job scalar);
- *   3. per lookup, the same blends in the same order as the scalar code, so
- *      the results are equal bit for bit (renders are identical;
+ *   3. the same blends in the same order as the scalar code, so
+ *      the results are equal bit for bit (the renders tried are identical;
  *      tests/gpu/interpreter_parity_test.cpp runs every address mode, filter
  *      and footprint kind through both).
  * One lookup at a time, the scalar form spent about a fifth of the spider
  * scene's samples (small textures that stay in the caches: arithmetic and
- * scalar loads, not memory). OpenCL only: the host and GPUs (PMC_LANES 1)
+ * scalar loads, not memory); with the plans and blends still lane by lane,
+ * the shade kernel took 1.11x this form's CPU per hit there. OpenCL only: the host and GPUs (PMC_LANES 1)
  * keep pmc_texture_sample_ellipse per point.
  *
  * The branch-free address arithmetic relies on the indices the lookups make:
@@ -122,115 +125,123 @@ PMC_FN_INLINE void pmc_texture_jobs_run(const PmcTextureSet* ts, PmcTextureJobs*
   }
 }
 
+/* The plans of lookups [k, k + 8) (step 1): pmc_texture_sample_ellipse's
+ * choices and pmc_texture_lod's arithmetic in float8. Each lookup's taps
+ * (1 when round or one level alone), their spacing (s0, ds; 0 when round),
+ * its ellipse's axis (0 when round), its finer level and the trilinear
+ * weight (0: that level alone). */
+typedef struct PmcTexturePlans {
+  int taps[PMC_LANES], level[PMC_LANES];
+  float s0[PMC_LANES], ds[PMC_LANES], t[PMC_LANES], axis_x[PMC_LANES], axis_y[PMC_LANES];
+} PmcTexturePlans;
+
+PMC_FN_INLINE void pmc_texture_plans8(PMC_GLOBAL const PmcTexture* tex, int k, const float* footprint,
+                                      const float* ax, const float* ay, const float* minor,
+                                      PmcTexturePlans* P) {
+  const float8 mn = vload8(0, minor + k), fx = vload8(0, ax + k), fy = vload8(0, ay + k);
+  const int8 one_level = mn < 0.0f; /* PMC_FOOTPRINT_ONE_LEVEL */
+  const float8 major = 2.0f * sqrt(fx * fx + fy * fy);
+  const float8 m = select((float8)(0.0f), fmin(mn, major), mn > 0.0f); /* NaN: 0 */
+  const int8 ellipse = !one_level & (major > m * PMC_TEXTURE_ROUND) & (major < 1e30f);
+  const float8 ratio = major / fmax(m, 1e-30f);
+  const int8 taps = select(
+      (int8)(1),
+      convert_int8(select((float8)(PMC_TEXTURE_MAX_TAPS), ceil(ratio), ratio < (float)PMC_TEXTURE_MAX_TAPS)),
+      ellipse);
+  const float8 w = fmax(major / convert_float8(taps), m);
+  const float8 s0 = select((float8)(0.0f), w / major - 1.0f, ellipse);
+  vstore8(s0, 0, P->s0 + k);
+  vstore8(select((float8)(0.0f), -2.0f * s0 / convert_float8(taps - 1), ellipse), 0, P->ds + k);
+  vstore8(select((float8)(0.0f), fx, ellipse), 0, P->axis_x + k);
+  vstore8(select((float8)(0.0f), fy, ellipse), 0, P->axis_y + k);
+  vstore8(taps, 0, P->taps + k);
+  /* pmc_texture_lod at the taps' width (the footprint when round) */
+  const float8 width = select(vload8(0, footprint + k), w, ellipse);
+  const float size = (float)(tex->width > tex->height ? tex->width : tex->height);
+  const float max_lod = (float)(tex->levels - 1);
+  float8 lod = select((float8)(0.0f), log2(width * size), (width > 0.0f) & isfinite(width));
+  lod = select((float8)(0.0f), select((float8)(max_lod), lod, lod < max_lod), lod > 0.0f);
+  const float8 l0f = floor(lod);
+  const int8 l0 = convert_int8(l0f);
+  float8 t = select(lod - l0f, (float8)(0.0f), l0 + 1 > (int)max_lod);
+  /* one level alone: the nearer one */
+  vstore8(select(l0, l0 + 1, one_level & (t > 0.5f)), 0, P->level + k);
+  vstore8(select(t, (float8)(0.0f), one_level), 0, P->t + k);
+}
+
 /* n lookups of texture `index`: lookup k at (u[k], v[k]) with
  * pmc_texture_sample_ellipse's footprint[k], axis (ax[k], ay[k]), minor[k],
- * mode word bits[k] and fallback fb[0..3][k]; the results in out[0..3][k]. */
+ * mode word bits[k] and fallback fb[0..3][k]; the results in out[0..3][k].
+ * The arrays hold PMC_LANES entries; those past n (up to the next multiple
+ * of eight) are computed on whatever they hold and ignored: every read
+ * stays inside the texture's levels whatever the inputs. Jobs are the
+ * lookups' own lanes: the finer level's at [0, m), the coarser one's at
+ * [m, 2m), run only when some lookup blends. */
 PMC_FN void pmc_texture_sample_lanes(const PmcTextureSet* ts, pmc_u32 index, int n, const float* u,
                                      const float* v, const float* footprint, const float* ax, const float* ay,
                                      const float* minor, const pmc_u32* bits, float fb[4][PMC_LANES],
                                      float out[4][PMC_LANES]) {
-  int taps[PMC_LANES];
-  float s0[PMC_LANES], ds[PMC_LANES], t[PMC_LANES], axis_x[PMC_LANES], axis_y[PMC_LANES];
-  PmcTextureLevel fine[PMC_LANES], coarse[PMC_LANES];
-  int most = 0;
-  int srgb = 0;
-  if (index < ts->count) srgb = (ts->textures[index].flags & PMC_TEX_SRGB) != 0u;
-  /* 1. the plans: pmc_texture_sample_ellipse's choices */
-  for (int k = 0; k < n; ++k) {
-    taps[k] = 0;
-    s0[k] = ds[k] = 0.0f;
-    axis_x[k] = axis_y[k] = 0.0f;
-    if (index >= ts->count) continue;
-    PMC_GLOBAL const PmcTexture* tex = &ts->textures[index];
-    float width = footprint[k];
-    int n_taps = 1;
-    if (!(minor[k] < 0.0f)) {
-      const float major = 2.0f * sqrt(ax[k] * ax[k] + ay[k] * ay[k]);
-      const float m = minor[k] > 0.0f ? fmin(minor[k], major) : 0.0f; /* NaN: 0 */
-      if (major > m * PMC_TEXTURE_ROUND && major < 1e30f) {
-        const float ratio = major / fmax(m, 1e-30f);
-        n_taps = ratio < (float)PMC_TEXTURE_MAX_TAPS ? (int)ceil(ratio) : PMC_TEXTURE_MAX_TAPS;
-        width = fmax(major / (float)n_taps, m);
-        s0[k] = width / major - 1.0f;
-        ds[k] = -2.0f * s0[k] / (float)(n_taps - 1);
-        axis_x[k] = ax[k];
-        axis_y[k] = ay[k];
-      }
-    }
-    const PmcTextureLod lod = pmc_texture_lod(tex, width);
-    fine[k] = lod.fine;
-    coarse[k] = lod.coarse;
-    t[k] = lod.t;
-    if (minor[k] < 0.0f) { /* PMC_FOOTPRINT_ONE_LEVEL: the nearer level alone */
-      fine[k] = lod.t > 0.5f ? lod.coarse : lod.fine;
-      t[k] = 0.0f;
-    }
-    taps[k] = n_taps;
-    most = n_taps > most ? n_taps : most;
+  if (index >= ts->count) {
+    for (int k = 0; k < n; ++k)
+      for (int c = 0; c < 4; ++c) out[c][k] = fb[c][k];
+    return;
   }
-  float sum[4][PMC_LANES];
-  for (int k = 0; k < n; ++k) sum[0][k] = sum[1][k] = sum[2][k] = sum[3][k] = 0.0f;
+  PMC_GLOBAL const PmcTexture* tex = &ts->textures[index];
+  const int srgb = (tex->flags & PMC_TEX_SRGB) != 0u;
+  const int m = (n + 7) & ~7;
+  PmcTexturePlans P;
+  for (int k = 0; k < m; k += 8) pmc_texture_plans8(tex, k, footprint, ax, ay, minor, &P);
+  int most = 1, blends = 0;
   PmcTextureJobs J;
-  int job_of[PMC_LANES];
+  for (int k = 0; k < m; ++k) { /* the levels' places, and the jobs' fixed parts */
+    if (k < n) {
+      most = P.taps[k] > most ? P.taps[k] : most;
+      blends |= P.t[k] > 0.0f;
+    }
+    const PmcTextureLevel L = pmc_texture_level_at(tex, P.level[k]);
+    J.base[k] = L.base;
+    J.w[k] = L.w;
+    J.h[k] = L.h;
+    /* the next level from this one, as pmc_texture_lod steps */
+    J.base[m + k] = L.base + (pmc_u32)L.w * (pmc_u32)L.h;
+    J.w[m + k] = L.w > 1 ? L.w >> 1 : 1;
+    J.h[m + k] = L.h > 1 ? L.h >> 1 : 1;
+    J.bits[k] = J.bits[m + k] = bits[k];
+    for (int c = 0; c < 4; ++c) J.fb[c][k] = J.fb[c][m + k] = fb[c][k];
+  }
+  float8 sum[4][PMC_LANES / 8];
+  for (int q = 0; q < m / 8; ++q) sum[0][q] = sum[1][q] = sum[2][q] = sum[3][q] = (float8)(0.0f);
   for (int i = 0; i < most; ++i) {
-    /* 2. the round's jobs: each lookup's finer level, then the coarser ones */
-    int count = 0;
-    for (int k = 0; k < n; ++k) {
-      job_of[k] = -1;
-      if (i >= taps[k]) continue;
-      const float s = s0[k] + (float)i * ds[k];
-      J.x[count] = u[k] + axis_x[k] * s;
-      J.y[count] = v[k] + axis_y[k] * s;
-      J.base[count] = fine[k].base;
-      J.w[count] = fine[k].w;
-      J.h[count] = fine[k].h;
-      J.bits[count] = bits[k];
-      for (int c = 0; c < 4; ++c) J.fb[c][count] = fb[c][k];
-      job_of[k] = count++;
-    }
-    const int fines = count;
-    for (int k = 0; k < n; ++k) {
-      if (job_of[k] < 0 || !(t[k] > 0.0f)) continue;
-      const int f = job_of[k];
-      J.x[count] = J.x[f];
-      J.y[count] = J.y[f];
-      J.base[count] = coarse[k].base;
-      J.w[count] = coarse[k].w;
-      J.h[count] = coarse[k].h;
-      J.bits[count] = bits[k];
-      for (int c = 0; c < 4; ++c) J.fb[c][count] = fb[c][k];
-      ++count;
-    }
-    for (int p = count; p < ((count + 7) & ~7); ++p) { /* the last eight's spare jobs repeat the first */
-      J.x[p] = J.x[0];
-      J.y[p] = J.y[0];
-      J.base[p] = J.base[0];
-      J.w[p] = J.w[0];
-      J.h[p] = J.h[0];
-      J.bits[p] = J.bits[0];
-      for (int c = 0; c < 4; ++c) J.fb[c][p] = J.fb[c][0];
+    /* 2. the round's jobs: every lookup's tap i (lookups with fewer taps
+     * compute one they drop) */
+    for (int k = 0; k < m; k += 8) {
+      const float8 s = vload8(0, P.s0 + k) + (float)i * vload8(0, P.ds + k);
+      const float8 x = vload8(0, u + k) + vload8(0, P.axis_x + k) * s;
+      const float8 y = vload8(0, v + k) + vload8(0, P.axis_y + k) * s;
+      vstore8(x, 0, J.x + k);
+      vstore8(y, 0, J.y + k);
+      vstore8(x, 0, J.x + m + k);
+      vstore8(y, 0, J.y + m + k);
     }
     if (srgb)
-      pmc_texture_jobs_run(ts, &J, count, 1);
+      pmc_texture_jobs_run(ts, &J, blends ? 2 * m : m, 1);
     else
-      pmc_texture_jobs_run(ts, &J, count, 0);
+      pmc_texture_jobs_run(ts, &J, blends ? 2 * m : m, 0);
     /* 3. pmc_texture_trilinear's blend and the taps' sum, in their order */
-    int coarse_job = fines;
-    for (int k = 0; k < n; ++k) {
-      const int f = job_of[k];
-      if (f < 0) continue;
-      const int blend = t[k] > 0.0f;
-      const int g = blend ? coarse_job++ : f;
+    for (int k = 0; k < m; k += 8) {
+      const float8 t = vload8(0, P.t + k);
+      const int8 blend = t > 0.0f, active = (int8)(i) < vload8(0, P.taps + k);
       for (int c = 0; c < 4; ++c) {
-        const float c0 = J.out[c][f];
-        const float tri = blend ? c0 + (J.out[c][g] - c0) * t[k] : c0;
-        sum[c][k] = sum[c][k] + tri;
+        const float8 c0 = vload8(0, J.out[c] + k);
+        const float8 c1 = blends ? vload8(0, J.out[c] + m + k) : c0;
+        const float8 tri = select(c0, c0 + (c1 - c0) * t, blend);
+        sum[c][k / 8] = select(sum[c][k / 8], sum[c][k / 8] + tri, active);
       }
     }
   }
-  for (int k = 0; k < n; ++k) {
-    const float scale = 1.0f / (float)(taps[k] > 0 ? taps[k] : 1);
-    for (int c = 0; c < 4; ++c) out[c][k] = taps[k] > 0 ? sum[c][k] * scale : fb[c][k];
+  for (int k = 0; k < m; k += 8) {
+    const float8 scale = 1.0f / convert_float8(vload8(0, P.taps + k));
+    for (int c = 0; c < 4; ++c) vstore8(sum[c][k / 8] * scale, 0, out[c] + k);
   }
 }
 
