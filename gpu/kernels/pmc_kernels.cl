@@ -979,39 +979,66 @@ typedef struct PmcPickLanes {
   float px[PMC_LANES], py[PMC_LANES], pz[PMC_LANES], nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
 } PmcPickLanes;
 
-/* out[q] = the importance of tree node node[q] for lane act[q], q < count,
- * eight at a time: each lane's node read as three float4 loads (its box with
- * the energy, with the cone's cosines, and the axis: PmcLightTreeNode's
- * first 48 bytes) and turned into float8 fields by shuffles. A loop that
- * gathered field by field into arrays spent three quarters of this
- * function's time in its gathers on Sponza's 960 emissive triangles. */
-static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPickLanes* pl, const int* act,
-                                             const int* node, int count, float* out) {
+/* The points and normals of lanes act[0, count) packed to the front of cp,
+ * padded to a multiple of eight with the first one's: each tree level's
+ * importances then read them as vectors instead of gathering them through
+ * act[] once per node. */
+static inline void pmc_pick_lanes_pack(const PmcPickLanes* pl, const int* act, int count, PmcPickLanes* cp) {
+  for (int q = 0; q < ((count + 7) & ~7); ++q) {
+    const int j = act[q < count ? q : 0];
+    cp->px[q] = pl->px[j], cp->py[q] = pl->py[j], cp->pz[q] = pl->pz[j];
+    cp->nx[q] = pl->nx[j], cp->ny[q] = pl->ny[j], cp->nz[q] = pl->nz[j];
+  }
+}
+
+/* out[q] = the importance of tree node node[q] for packed lane q of cp
+ * (pmc_pick_lanes_pack), q < count, eight at a time: each lane's node read
+ * as three float4 loads (its box with the energy, with the cone's cosines,
+ * and the axis: PmcLightTreeNode's first 48 bytes) and turned into float8
+ * fields by shuffles. A loop that gathered field by field into arrays spent
+ * three quarters of this function's time in its gathers on Sponza's 960
+ * emissive triangles. When every lane reads one node (the root's children,
+ * all of a small tree's levels) it is read once and broadcast. */
+static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPickLanes* cp, const int* node,
+                                             int count, float* out) {
   __global const float* tree = (__global const float*)ls->tree;
+  const size_t stride = sizeof(PmcLightTreeNode) / sizeof(float);
+  int uniform = 1;
+  for (int q = 1; q < count; ++q) uniform &= node[q] == node[0];
+#define PMC_POINTS8(q)                                                                                \
+  vload8(0, cp->px + (q)), vload8(0, cp->py + (q)), vload8(0, cp->pz + (q)), vload8(0, cp->nx + (q)), \
+      vload8(0, cp->ny + (q)), vload8(0, cp->nz + (q))
+  if (uniform && count > 0) {
+    __global const float* t = tree + (size_t)node[0] * stride;
+    const float4 b = vload4(0, t), h = vload4(1, t), x = vload4(2, t);
+    const int8 two_sided = (int8)((ls->tree[node[0]].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0);
+    for (int q = 0; q < count; q += 8)
+      vstore8(pmc_tree_importance8((float8)(b.x), (float8)(b.y), (float8)(b.z), (float8)(h.x), (float8)(h.y),
+                                   (float8)(h.z), (float8)(x.x), (float8)(x.y), (float8)(x.z), (float8)(b.w),
+                                   (float8)(h.w), (float8)(x.w), two_sided, PMC_POINTS8(q)),
+              0, out + q);
+    return;
+  }
   for (int q = 0; q < count; q += 8) {
     float4 b[8], h[8], x[8]; /* lo + energy, hi + cos_o, axis + cos_e */
     int two_sided[8];
-    float px[8], py[8], pz[8], nx[8], ny[8], nz[8];
     for (int i = 0; i < 8; ++i) { /* the last group's spare lanes repeat the first */
       const int r = q + i < count ? q + i : 0;
-      __global const float* t = tree + (size_t)node[r] * (sizeof(PmcLightTreeNode) / sizeof(float));
+      __global const float* t = tree + (size_t)node[r] * stride;
       b[i] = vload4(0, t);
       h[i] = vload4(1, t);
       x[i] = vload4(2, t);
       two_sided[i] = (ls->tree[node[r]].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0;
-      const int j = act[r];
-      px[i] = pl->px[j], py[i] = pl->py[j], pz[i] = pl->pz[j];
-      nx[i] = pl->nx[j], ny[i] = pl->ny[j], nz[i] = pl->nz[j];
     }
 #define PMC_FIELD8(v, c) (float8)(v[0].c, v[1].c, v[2].c, v[3].c, v[4].c, v[5].c, v[6].c, v[7].c)
     vstore8(pmc_tree_importance8(PMC_FIELD8(b, x), PMC_FIELD8(b, y), PMC_FIELD8(b, z), PMC_FIELD8(h, x),
                                  PMC_FIELD8(h, y), PMC_FIELD8(h, z), PMC_FIELD8(x, x), PMC_FIELD8(x, y),
                                  PMC_FIELD8(x, z), PMC_FIELD8(b, w), PMC_FIELD8(h, w), PMC_FIELD8(x, w),
-                                 vload8(0, two_sided), vload8(0, px), vload8(0, py), vload8(0, pz),
-                                 vload8(0, nx), vload8(0, ny), vload8(0, nz)),
+                                 vload8(0, two_sided), PMC_POINTS8(q)),
             0, out + q);
 #undef PMC_FIELD8
   }
+#undef PMC_POINTS8
 }
 
 /* pmc_pick_distant for lanes act[0, count) with the tree's weights
@@ -1096,7 +1123,7 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
     }
     return;
   }
-  PmcPickLanes pl;
+  PmcPickLanes pl, cp; /* the active lanes' points: by lane, and packed (pmc_pick_lanes_pack) */
   float u[PMC_LANES], share[PMC_LANES], i0[PMC_LANES], i1[PMC_LANES];
   int a[PMC_LANES], act[PMC_LANES], node0[PMC_LANES], node1[PMC_LANES];
   int count = 0;
@@ -1113,7 +1140,8 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
   }
   if (ls->h.distant_end > 0 && count > 0) { /* the root's importance weighs the tree among the strategies */
     for (int q = 0; q < count; ++q) node0[q] = 0;
-    pmc_tree_importance_lanes(ls, &pl, act, node0, count, i0);
+    pmc_pick_lanes_pack(&pl, act, count, &cp);
+    pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
     count = pmc_pick_distant_lanes(ls, &pl, act, count, i0, u, share, pmf, picked);
   }
   while (count > 0) {
@@ -1132,8 +1160,9 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
       node0[q] = a[act[q]] + 1;
       node1[q] = (int)ls->tree[a[act[q]]].second;
     }
-    pmc_tree_importance_lanes(ls, &pl, act, node0, count, i0);
-    pmc_tree_importance_lanes(ls, &pl, act, node1, count, i1);
+    pmc_pick_lanes_pack(&pl, act, count, &cp);
+    pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
+    pmc_tree_importance_lanes(ls, &cp, node1, count, i1);
     for (int q = 0; q < count; ++q) {
       const int j = act[q];
       const float first =
