@@ -220,8 +220,10 @@ PMC_FN void pmc_texture_sample_lanes(const PmcTextureSet* ts, pmc_u32 index, int
       const float8 y = vload8(0, v + k) + vload8(0, P.axis_y + k) * s;
       vstore8(x, 0, J.x + k);
       vstore8(y, 0, J.y + k);
-      vstore8(x, 0, J.x + m + k);
-      vstore8(y, 0, J.y + m + k);
+      if (blends) { /* the coarser level's jobs read the same points */
+        vstore8(x, 0, J.x + m + k);
+        vstore8(y, 0, J.y + m + k);
+      }
     }
     if (srgb)
       pmc_texture_jobs_run(ts, &J, blends ? 2 * m : m, 1);

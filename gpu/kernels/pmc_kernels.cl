@@ -1041,7 +1041,8 @@ static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPic
 #undef PMC_POINTS8
 }
 
-/* pmc_pick_distant for lanes act[0, count) with the tree's weights
+/* pmc_pick_distant for lanes act[0, count) (their normals packed in cp by
+ * pmc_pick_lanes_pack) with the tree's weights
  * tree_weight[q]: every light at infinity's weight for all lanes in one loop
  * over them (its fields the same for every lane; the first PMC_DISTANT_KEPT
  * weights kept for the choice), the total, then the choice in a second such
@@ -1050,17 +1051,13 @@ static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPic
  * probability in pmf[j], none (-1) when nothing lights them; the lanes that go on into the tree stay in
  * act[], rescaled as pmc_pick_distant leaves them. Returns how many stay. perf had the pick one lane at a
  * time at 4% of the default room's samples (a sun and a sky). */
-static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLanes* pl, int* act, int count,
+static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLanes* cp, int* act, int count,
                                          const float* tree_weight, float* u, float* share, float* pmf,
                                          int* picked) {
   float total[PMC_LANES], x[PMC_LANES], below[PMC_LANES], weight[PMC_DISTANT_KEPT][PMC_LANES];
   int chosen[PMC_LANES];
-  float nx[PMC_LANES], ny[PMC_LANES], nz[PMC_LANES];
-  for (int q = 0; q < count; ++q) {
-    const int j = act[q];
-    nx[q] = pl->nx[j], ny[q] = pl->ny[j], nz[q] = pl->nz[j];
-    total[q] = 0.0f;
-  }
+  const float *nx = cp->nx, *ny = cp->ny, *nz = cp->nz;
+  for (int q = 0; q < count; ++q) total[q] = 0.0f;
   const int lights = ls->h.distant_end;
   for (int i = 0; i < lights; ++i) {
     __global const PmcLight* l = &ls->lights[i];
@@ -1142,7 +1139,7 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
     for (int q = 0; q < count; ++q) node0[q] = 0;
     pmc_pick_lanes_pack(&pl, act, count, &cp);
     pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
-    count = pmc_pick_distant_lanes(ls, &pl, act, count, i0, u, share, pmf, picked);
+    count = pmc_pick_distant_lanes(ls, &cp, act, count, i0, u, share, pmf, picked);
   }
   while (count > 0) {
     int kept = 0;
