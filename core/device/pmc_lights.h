@@ -344,6 +344,24 @@ PMC_FN float3 pmc_sph_rect_point(const PmcSphRect* r, float3 p, float2 xy) {
   return p + r->x * xy.x + r->y * xy.y + r->z * r->z0;
 }
 
+/* A rectangle sample's end, one source for two forms as PMC_SPH_RECT_SETUP:
+ * the point at coordinates (xu, yv) of the spherical rectangle's frame (x,
+ * y, z, z0: the set-up's) lies at d = x xu + y yv + z z0 from the shading
+ * point (taken directly, not as q - p, which cancels far from the origin);
+ * declares the distance dist to it, the unit direction (wx, wy, wz) toward
+ * it and the cosine cos_light at the light of normal (nx, ny, nz).
+ * Straight-line, the products written out: pmc_light_sample_rect_end and
+ * the shade kernel's eight-lane form (pmc_rect_lights_lanes) agree bit for
+ * bit. */
+#define PMC_RECT_SAMPLE_END(F, xx, xy, xz, yx, yy, yz, zx, zy, zz, z0, xu, yv, nx, ny, nz) \
+  const F dx_ = xx * xu + yx * yv + zx * z0;                                               \
+  const F dy_ = xy * xu + yy * yv + zy * z0;                                               \
+  const F dz_ = xz * xu + yz * yv + zz * z0;                                               \
+  const F dist = sqrt(dx_ * dx_ + dy_ * dy_ + dz_ * dz_);                                  \
+  const F inv_dist_ = (F)(1.0f) / dist;                                                    \
+  const F wx = dx_ * inv_dist_, wy = dy_ * inv_dist_, wz = dz_ * inv_dist_;                \
+  const F cos_light = -(nx * wx + ny * wy + nz * wz);
+
 /* The point of the rectangle in direction (u, v) of the unit square, mapped
  * uniformly over the spherical rectangle r seen from p. */
 PMC_FN float3 pmc_sph_rect_sample(const PmcSphRect* r, float3 p, float u, float v) {
@@ -766,10 +784,22 @@ PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, flo
   return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, 0, s, r, light, pmf_out);
 }
 
-/* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at point q of the rectangle. */
+/* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at coordinates xy
+ * (pmc_sph_rect_sample_xy) of the rectangle: pmc_area_light_sample_at's
+ * answer for a quad sampled by solid angle, by PMC_RECT_SAMPLE_END. */
 PMC_FN int pmc_light_sample_rect_end(const PmcLightSet* ls, int light, float pmf, const PmcSphRect* r,
-                                     float3 p, float3 q, PmcLightSample* s) {
-  return pmc_area_light_sample_at(&ls->lights[light], pmf, r->solid_angle, p, q, s);
+                                     float2 xy, PmcLightSample* s) {
+  PMC_GLOBAL const PmcLight* l = &ls->lights[light];
+  PMC_RECT_SAMPLE_END(float, r->x.x, r->x.y, r->x.z, r->y.x, r->y.y, r->y.z, r->z.x, r->z.y, r->z.z, r->z0,
+                      xy.x, xy.y, l->normal[0], l->normal[1], l->normal[2])
+  if (!(dist > 0.0f)) return 0;
+  s->wi = make_float3(wx, wy, wz);
+  if (!(l->flags & PMC_LIGHT_TWO_SIDED) && cos_light <= 0.0f) return 0;
+  s->pdf = pmf / r->solid_angle;
+  if (!(s->pdf > 0.0f)) return 0;
+  s->dist = dist;
+  s->weight = pmc_load3(l->rgb) * (1.0f / s->pdf);
+  return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
 }
 
 /* Pick a light (u_pick, pmc_light_pick) and sample it from point p with
@@ -781,7 +811,9 @@ PMC_FN int pmc_light_sample(const PmcLightSet* ls, float3 p, float3 n, float u_p
   float pmf = 0.0f;
   const int begun = pmc_light_sample_begin(ls, p, n, u_pick, u1, u2, s, &r, &light, &pmf);
   if (begun != PMC_LIGHT_SAMPLE_RECT) return begun;
-  return pmc_light_sample_rect_end(ls, light, pmf, &r, p, pmc_sph_rect_sample(&r, p, u1, u2), s);
+  return pmc_light_sample_rect_end(
+      ls, light, pmf, &r,
+      pmc_sph_rect_sample_xy(r.solid_angle, r.k, r.b0, r.b1, r.z0, r.x0, r.x1, r.y0, r.y1, u1, u2), s);
 }
 
 /* Whether a traced ray (origin o, unit direction d, its hit at t_hit unless

@@ -1171,68 +1171,141 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
 #endif
 
 #if PMC_LANES8
-/* The set-ups of the rectangle quads that lanes [0, m) picked (state
- * PMC_LIGHT_SAMPLE_SETUP), eight at a time in float8: PMC_SPH_RECT_SETUP
- * (core/device/pmc_lights.h), the scalar pmc_sph_rect_init's twin bit for
- * bit. Each becomes PMC_LIGHT_SAMPLE_RECT, its rectangle in rect[j] and in
- * the sampling loop's arrays (s_*), or, below PMC_SPH_RECT_MIN_SOLID_ANGLE,
- * is sampled by area there and then. Returns the number of rectangles. */
+/* The samples of the rectangle quads that lanes [0, m) picked (state
+ * PMC_LIGHT_SAMPLE_SETUP), eight at a time in float8 from the set-up to
+ * the sample's direction and weight: PMC_SPH_RECT_SETUP, the point
+ * (pmc_sph_rect_sample_xy8) and PMC_RECT_SAMPLE_END (core/device/pmc_lights.h),
+ * the twins of the scalar pmc_sph_rect_init, pmc_sph_rect_sample_xy and
+ * pmc_light_sample_rect_end bit for bit. The lanes' inputs are packed to
+ * the front first (a light's fields gathered per lane, or read once where
+ * every lane picked the same quad: the Cornell box, most of an interior's
+ * batches); each lane's sample lands in ls[j] with its state 1 (a sample)
+ * or 0 (none), and below PMC_SPH_RECT_MIN_SOLID_ANGLE it is sampled by area
+ * there and then. Set up here and ended lane by lane, the rectangles were
+ * a tenth of the Cornell box's shade samples. */
 #define PMC_ACOS4_VECTOR(a, b, c, d, ga, gb, gc, gd) (ga = acos(a), gb = acos(b), gc = acos(c), gd = acos(d))
-static inline int pmc_sph_rect_setup_lanes(const PmcLightSet* lights, const PmcNeeInput* nee, int m,
-                                           const PmcBatchNumbers* numbers, const int* lane, int* state,
-                                           const int* light, const float* pmf, PmcSphRect* rect,
-                                           PmcLightSample* ls, float* s_omega, float* s_k, float* s_b0,
-                                           float* s_b1, float* s_z0, float* s_x0, float* s_x1, float* s_y0,
-                                           float* s_y1) {
+/* The packed inputs: the light's edges, normal and radiance, d = corner - p,
+ * the random numbers and the pick's probability. */
+enum {
+  PMC_RI_EUX,
+  PMC_RI_EUY,
+  PMC_RI_EUZ,
+  PMC_RI_EVX,
+  PMC_RI_EVY,
+  PMC_RI_EVZ,
+  PMC_RI_NX,
+  PMC_RI_NY,
+  PMC_RI_NZ,
+  PMC_RI_R,
+  PMC_RI_G,
+  PMC_RI_B,
+  PMC_RI_DX,
+  PMC_RI_DY,
+  PMC_RI_DZ,
+  PMC_RI_U,
+  PMC_RI_V,
+  PMC_RI_PMF,
+  PMC_RI_COUNT
+};
+/* The packed outputs. */
+enum {
+  PMC_RO_WX,
+  PMC_RO_WY,
+  PMC_RO_WZ,
+  PMC_RO_DIST,
+  PMC_RO_COS,
+  PMC_RO_PDF,
+  PMC_RO_R,
+  PMC_RO_G,
+  PMC_RO_B,
+  PMC_RO_OMEGA,
+  PMC_RO_COUNT
+};
+static inline void pmc_rect_lights_lanes(const PmcLightSet* lights, const PmcNeeInput* nee, int m,
+                                         const PmcBatchNumbers* numbers, const int* lane, int* state,
+                                         const int* light, const float* pmf, PmcLightSample* ls) {
   int at[PMC_LANES], count = 0;
   for (int j = 0; j < m; ++j)
     if (state[j] == PMC_LIGHT_SAMPLE_SETUP) at[count++] = j;
-  if (count == 0) return 0;
-  float eux[PMC_LANES], euy[PMC_LANES], euz[PMC_LANES], evx[PMC_LANES], evy[PMC_LANES], evz[PMC_LANES];
-  float dx[PMC_LANES], dy[PMC_LANES], dz[PMC_LANES];
-  for (int q = 0; q < ((count + 7) & ~7); ++q) { /* the last group's spare lanes repeat the first */
+  if (count == 0) return;
+  const int padded = (count + 7) & ~7; /* the last group's spare lanes repeat the first */
+  int uniform = 1;
+  for (int q = 1; q < count; ++q) uniform &= light[at[q]] == light[at[0]];
+  float in[PMC_RI_COUNT][PMC_LANES];
+  if (uniform) {
+    __global const PmcLight* l = &lights->lights[light[at[0]]];
+    const float fields[12] = {l->axis[0],   l->axis[1],   l->axis[2],   l->edge_v[0],
+                              l->edge_v[1], l->edge_v[2], l->normal[0], l->normal[1],
+                              l->normal[2], l->rgb[0],    l->rgb[1],    l->rgb[2]};
+    for (int f = 0; f < 12; ++f)
+      for (int q = 0; q < padded; ++q) in[f][q] = fields[f];
+    const float3 corner = pmc_load3(l->pos);
+    for (int q = 0; q < padded; ++q) {
+      const int j = at[q < count ? q : 0];
+      const float3 d = corner - nee[j].origin;
+      in[PMC_RI_DX][q] = d.x, in[PMC_RI_DY][q] = d.y, in[PMC_RI_DZ][q] = d.z;
+    }
+  } else {
+    for (int q = 0; q < padded; ++q) {
+      const int j = at[q < count ? q : 0];
+      __global const PmcLight* l = &lights->lights[light[j]];
+      const float3 d = pmc_load3(l->pos) - nee[j].origin;
+      in[PMC_RI_EUX][q] = l->axis[0], in[PMC_RI_EUY][q] = l->axis[1], in[PMC_RI_EUZ][q] = l->axis[2];
+      in[PMC_RI_EVX][q] = l->edge_v[0], in[PMC_RI_EVY][q] = l->edge_v[1], in[PMC_RI_EVZ][q] = l->edge_v[2];
+      in[PMC_RI_NX][q] = l->normal[0], in[PMC_RI_NY][q] = l->normal[1], in[PMC_RI_NZ][q] = l->normal[2];
+      in[PMC_RI_R][q] = l->rgb[0], in[PMC_RI_G][q] = l->rgb[1], in[PMC_RI_B][q] = l->rgb[2];
+      in[PMC_RI_DX][q] = d.x, in[PMC_RI_DY][q] = d.y, in[PMC_RI_DZ][q] = d.z;
+    }
+  }
+  for (int q = 0; q < padded; ++q) {
     const int j = at[q < count ? q : 0];
-    __global const PmcLight* l = &lights->lights[light[j]];
-    const float3 d = pmc_load3(l->pos) - nee[j].origin;
-    eux[q] = l->axis[0], euy[q] = l->axis[1], euz[q] = l->axis[2];
-    evx[q] = l->edge_v[0], evy[q] = l->edge_v[1], evz[q] = l->edge_v[2];
-    dx[q] = d.x, dy[q] = d.y, dz[q] = d.z;
+    in[PMC_RI_U][q] = numbers->light_u[lane[j]];
+    in[PMC_RI_V][q] = numbers->light_v[lane[j]];
+    in[PMC_RI_PMF][q] = pmf[j];
   }
-  float o[18][PMC_LANES]; /* the set-up's values (their order: the stores below) */
+  float o[PMC_RO_COUNT][PMC_LANES];
   for (int q = 0; q < count; q += 8) {
-    PMC_SPH_RECT_SETUP(float8, int8, PMC_SEL_VECTOR, PMC_ACOS4_VECTOR, vload8(0, eux + q), vload8(0, euy + q),
-                       vload8(0, euz + q), vload8(0, evx + q), vload8(0, evy + q), vload8(0, evz + q),
-                       vload8(0, dx + q), vload8(0, dy + q), vload8(0, dz + q))
-    const float8 values[18] = {xx, xy, xz, yx, yy, yz, zx, zy, zz, z0, x0, x1, y0, y1, b0, b1, k, omega};
-    for (int v = 0; v < 18; ++v) vstore8(values[v], 0, o[v] + q);
+#define PMC_IN8(f) vload8(0, in[f] + q)
+    PMC_SPH_RECT_SETUP(float8, int8, PMC_SEL_VECTOR, PMC_ACOS4_VECTOR, PMC_IN8(PMC_RI_EUX),
+                       PMC_IN8(PMC_RI_EUY), PMC_IN8(PMC_RI_EUZ), PMC_IN8(PMC_RI_EVX), PMC_IN8(PMC_RI_EVY),
+                       PMC_IN8(PMC_RI_EVZ), PMC_IN8(PMC_RI_DX), PMC_IN8(PMC_RI_DY), PMC_IN8(PMC_RI_DZ))
+    float8 xu, yv;
+    pmc_sph_rect_sample_xy8(omega, k, b0, b1, z0, x0, x1, y0, y1, PMC_IN8(PMC_RI_U), PMC_IN8(PMC_RI_V), &xu,
+                            &yv);
+    PMC_RECT_SAMPLE_END(float8, xx, xy, xz, yx, yy, yz, zx, zy, zz, z0, xu, yv, PMC_IN8(PMC_RI_NX),
+                        PMC_IN8(PMC_RI_NY), PMC_IN8(PMC_RI_NZ))
+    const float8 pdf = PMC_IN8(PMC_RI_PMF) / omega, inv_pdf = 1.0f / pdf;
+    const float8 values[PMC_RO_COUNT] = {wx,
+                                         wy,
+                                         wz,
+                                         dist,
+                                         cos_light,
+                                         pdf,
+                                         PMC_IN8(PMC_RI_R) * inv_pdf,
+                                         PMC_IN8(PMC_RI_G) * inv_pdf,
+                                         PMC_IN8(PMC_RI_B) * inv_pdf,
+                                         omega};
+#undef PMC_IN8
+    for (int v = 0; v < PMC_RO_COUNT; ++v) vstore8(values[v], 0, o[v] + q);
   }
-  int rects = 0;
-  for (int q = 0; q < count; ++q) {
+  for (int q = 0; q < count; ++q) { /* pmc_light_sample_rect_end's tests, on its values */
     const int j = at[q];
-    const float omega = o[17][q];
-    if (!(omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE)) {
+    __global const PmcLight* l = &lights->lights[light[j]];
+    if (!(o[PMC_RO_OMEGA][q] >= PMC_SPH_RECT_MIN_SOLID_ANGLE)) {
       const int k = lane[j];
-      state[j] = pmc_quad_sample_by_area(&lights->lights[light[j]], pmf[j], omega, nee[j].origin,
-                                         numbers->light_u[k], numbers->light_v[k], &ls[j]);
+      state[j] = pmc_quad_sample_by_area(l, pmf[j], o[PMC_RO_OMEGA][q], nee[j].origin, numbers->light_u[k],
+                                         numbers->light_v[k], &ls[j]);
       continue;
     }
-    PmcSphRect* r = &rect[j];
-    r->x = make_float3(o[0][q], o[1][q], o[2][q]);
-    r->y = make_float3(o[3][q], o[4][q], o[5][q]);
-    r->z = make_float3(o[6][q], o[7][q], o[8][q]);
-    r->z0 = s_z0[j] = o[9][q];
-    r->x0 = s_x0[j] = o[10][q];
-    r->x1 = s_x1[j] = o[11][q];
-    r->y0 = s_y0[j] = o[12][q];
-    r->y1 = s_y1[j] = o[13][q];
-    r->b0 = s_b0[j] = o[14][q];
-    r->b1 = s_b1[j] = o[15][q];
-    r->k = s_k[j] = o[16][q];
-    r->solid_angle = s_omega[j] = omega;
-    state[j] = PMC_LIGHT_SAMPLE_RECT;
-    ++rects;
+    const float dist = o[PMC_RO_DIST][q], pdf = o[PMC_RO_PDF][q];
+    const float3 weight = make_float3(o[PMC_RO_R][q], o[PMC_RO_G][q], o[PMC_RO_B][q]);
+    state[j] = dist > 0.0f && ((l->flags & PMC_LIGHT_TWO_SIDED) || !(o[PMC_RO_COS][q] <= 0.0f)) &&
+               pdf > 0.0f && pmc_max3(weight) > 0.0f && isfinite(pmc_max3(weight));
+    ls[j].wi = make_float3(o[PMC_RO_WX][q], o[PMC_RO_WY][q], o[PMC_RO_WZ][q]);
+    ls[j].dist = dist;
+    ls[j].pdf = pdf;
+    ls[j].weight = weight;
   }
-  return rects;
 }
 #endif
 
@@ -1240,92 +1313,53 @@ static inline int pmc_sph_rect_setup_lanes(const PmcLightSet* lights, const PmcN
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
  * light pick (with the light tree, its levels' importances eight lanes at
  * a time where PMC_LANES allows: pmc_light_pick_lanes) and the light's
- * sample up to its last step (pmc_light_sample_picked: scalar and branchy);
- * the points on spherical rectangles (the quad lights' sampling by solid
- * angle: about ten dependent square roots and divisions), from arrays of the
- * lanes' values, eight lanes at a time in float8 where PMC_LANES >= 8
- * (pmc_sph_rect_sample_xy8); then the light sample's end, the BSDF's value
- * for its direction, light sample clamping (pmc_clamp_light), MIS and the
- * shadow ray. Lanes without a rectangle run the middle loop on zeros and
- * ignore what it gives (a batch without one skips it). */
+ * sample (pmc_light_sample_picked: scalar and branchy) but for the quads
+ * sampled by solid angle; those quads' samples (spherical rectangles: about
+ * ten dependent square roots and divisions, and four arc cosines), eight
+ * lanes at a time in float8 where PMC_LANES allows (pmc_rect_lights_lanes),
+ * else lane by lane; then the BSDF's value for the sample's direction,
+ * light sample clamping (pmc_clamp_light), MIS and the shadow ray. */
 static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSceneData* scene,
                                         const PmcNeeInput* nee, const int* lane, int m,
                                         const PmcBatchNumbers* numbers, PmcShadeOut* out) {
   const PmcLightSet* lights = &scene->light_set;
   PmcLightSample ls[PMC_LANES];
-  PmcSphRect rect[PMC_LANES];
-  int state[PMC_LANES], light[PMC_LANES];
-  float pmf[PMC_LANES];
-  /* the rectangles' values, one array each (for the vectorised loop) */
-  float omega[PMC_LANES], rk[PMC_LANES], b0[PMC_LANES], b1[PMC_LANES], z0[PMC_LANES];
-  float x0[PMC_LANES], x1[PMC_LANES], y0[PMC_LANES], y1[PMC_LANES], su[PMC_LANES], sv[PMC_LANES];
-  float xu[PMC_LANES], yv[PMC_LANES];
-  int rects = 0;
+  int state[PMC_LANES];
 #if PMC_LANES8
-  int picked[PMC_LANES];
-  float pick_pmf[PMC_LANES];
+  int picked[PMC_LANES], light[PMC_LANES];
+  float pick_pmf[PMC_LANES], pmf[PMC_LANES];
   pmc_light_pick_lanes(lights, nee, lane, m, numbers, picked, pick_pmf);
-#endif
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
-#if PMC_LANES8
+    PmcSphRect unused; /* a rectangle's set-up is deferred; other quads are sampled by area */
     state[j] = nee[j].active
                    ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
                                              nee[j].pick_normal, numbers->light_u[k], numbers->light_v[k], 1,
-                                             &ls[j], &rect[j], &light[j], &pmf[j])
+                                             &ls[j], &unused, &light[j], &pmf[j])
                    : 0;
-#else
-    state[j] = nee[j].active
-                   ? pmc_light_sample_begin(lights, nee[j].origin, nee[j].pick_normal, numbers->light_pick[k],
-                                            numbers->light_u[k], numbers->light_v[k], &ls[j], &rect[j],
-                                            &light[j], &pmf[j])
-                   : 0;
-#endif
-    const int r = state[j] == PMC_LIGHT_SAMPLE_RECT;
-    rects += r;
-    omega[j] = r ? rect[j].solid_angle : 0.0f;
-    rk[j] = r ? rect[j].k : 0.0f;
-    b0[j] = r ? rect[j].b0 : 0.0f;
-    b1[j] = r ? rect[j].b1 : 0.0f;
-    z0[j] = r ? rect[j].z0 : 0.0f;
-    x0[j] = r ? rect[j].x0 : 0.0f;
-    x1[j] = r ? rect[j].x1 : 0.0f;
-    y0[j] = r ? rect[j].y0 : 0.0f;
-    y1[j] = r ? rect[j].y1 : 0.0f;
-    su[j] = numbers->light_u[k];
-    sv[j] = numbers->light_v[k];
   }
-#if PMC_LANES8
-  rects += pmc_sph_rect_setup_lanes(lights, nee, m, numbers, lane, state, light, pmf, rect, ls, omega, rk, b0,
-                                    b1, z0, x0, x1, y0, y1);
-#endif
-#if PMC_LANES >= 8
-  for (int j = rects ? m : PMC_LANES; j < ((m + 7) & ~7); ++j) /* the last group's unused lanes */
-    omega[j] = rk[j] = b0[j] = b1[j] = z0[j] = x0[j] = x1[j] = y0[j] = y1[j] = su[j] = sv[j] = 0.0f;
-  for (int j = 0; rects && j < m; j += 8) {
-    float8 xu8, yv8;
-    pmc_sph_rect_sample_xy8(vload8(0, omega + j), vload8(0, rk + j), vload8(0, b0 + j), vload8(0, b1 + j),
-                            vload8(0, z0 + j), vload8(0, x0 + j), vload8(0, x1 + j), vload8(0, y0 + j),
-                            vload8(0, y1 + j), vload8(0, su + j), vload8(0, sv + j), &xu8, &yv8);
-    vstore8(xu8, 0, xu + j);
-    vstore8(yv8, 0, yv + j);
-  }
+  pmc_rect_lights_lanes(lights, nee, m, numbers, lane, state, light, pmf, ls);
 #else
-  for (int j = 0; rects && j < m; ++j) {
-    const float2 xy = pmc_sph_rect_sample_xy(omega[j], rk[j], b0[j], b1[j], z0[j], x0[j], x1[j], y0[j], y1[j],
-                                             su[j], sv[j]);
-    xu[j] = xy.x;
-    yv[j] = xy.y;
+  for (int j = 0; j < m; ++j) {
+    const int k = lane[j];
+    PmcSphRect rect;
+    int light = 0;
+    float pmf = 0.0f;
+    state[j] = nee[j].active ? pmc_light_sample_begin(lights, nee[j].origin, nee[j].pick_normal,
+                                                      numbers->light_pick[k], numbers->light_u[k],
+                                                      numbers->light_v[k], &ls[j], &rect, &light, &pmf)
+                             : 0;
+    if (state[j] == PMC_LIGHT_SAMPLE_RECT)
+      state[j] = pmc_light_sample_rect_end(
+          lights, light, pmf, &rect,
+          pmc_sph_rect_sample_xy(rect.solid_angle, rect.k, rect.b0, rect.b1, rect.z0, rect.x0, rect.x1,
+                                 rect.y0, rect.y1, numbers->light_u[k], numbers->light_v[k]),
+          &ls[j]);
   }
 #endif
   for (int j = 0; j < m; ++j) {
     const PmcNeeInput* in = &nee[j];
-    int ok = state[j];
-    if (ok == PMC_LIGHT_SAMPLE_RECT)
-      ok = pmc_light_sample_rect_end(lights, light[j], pmf[j], &rect[j], in->origin,
-                                     pmc_sph_rect_point(&rect[j], in->origin, make_float2(xu[j], yv[j])),
-                                     &ls[j]);
-    if (!ok || !(dot(ls[j].wi, in->ng) > 0.0f)) continue;
+    if (!state[j] || !(dot(ls[j].wi, in->ng) > 0.0f)) continue;
     float3 wi = pmc_to_local(ls[j].wi, in->t, in->b, in->ns);
     if (!(wi.z > 0.0f)) continue;
     float bsdf_pdf;
