@@ -1171,8 +1171,8 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
 #endif
 
 #if PMC_LANES8
-/* The samples of the rectangle quads that lanes [0, m) picked (state
- * PMC_LIGHT_SAMPLE_SETUP), eight at a time in float8 from the set-up to
+/* The samples of the rectangle quads that lanes at[0, count) picked (light
+ * index light[j], pick probability pmf[j]), eight at a time in float8 from the set-up to
  * the sample's direction and weight: PMC_SPH_RECT_SETUP, the point
  * (pmc_sph_rect_sample_xy8) and PMC_RECT_SAMPLE_END (core/device/pmc_lights.h),
  * the twins of the scalar pmc_sph_rect_init, pmc_sph_rect_sample_xy and
@@ -1221,12 +1221,9 @@ enum {
   PMC_RO_OMEGA,
   PMC_RO_COUNT
 };
-static inline void pmc_rect_lights_lanes(const PmcLightSet* lights, const PmcNeeInput* nee, int m,
-                                         const PmcBatchNumbers* numbers, const int* lane, int* state,
-                                         const int* light, const float* pmf, PmcLightSample* ls) {
-  int at[PMC_LANES], count = 0;
-  for (int j = 0; j < m; ++j)
-    if (state[j] == PMC_LIGHT_SAMPLE_SETUP) at[count++] = j;
+static inline void pmc_rect_lights_lanes(const PmcLightSet* lights, const PmcNeeInput* nee, const int* at,
+                                         int count, const PmcBatchNumbers* numbers, const int* lane,
+                                         int* state, const int* light, const float* pmf, PmcLightSample* ls) {
   if (count == 0) return;
   const int padded = (count + 7) & ~7; /* the last group's spare lanes repeat the first */
   int uniform = 1;
@@ -1329,16 +1326,32 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   int picked[PMC_LANES], light[PMC_LANES];
   float pick_pmf[PMC_LANES], pmf[PMC_LANES];
   pmc_light_pick_lanes(lights, nee, lane, m, numbers, picked, pick_pmf);
+  /* The lanes that picked a rectangle quad (pmc_rect_lights_lanes samples
+   * them together) apart from the rest, as pmc_light_sample_picked would
+   * tell them apart but without a branch on the light's type: where lanes
+   * pick different kinds of light (the Cornell box's quad and point) that
+   * branch is a coin toss the predictor loses half the time. */
+  int rect_at[PMC_LANES], rects = 0, other_at[PMC_LANES], others = 0;
   for (int j = 0; j < m; ++j) {
-    const int k = lane[j];
-    PmcSphRect unused; /* a rectangle's set-up is deferred; other quads are sampled by area */
-    state[j] = nee[j].active
-                   ? pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin,
-                                             nee[j].pick_normal, numbers->light_u[k], numbers->light_v[k], 1,
-                                             &ls[j], &unused, &light[j], &pmf[j])
-                   : 0;
+    state[j] = 0;
+    light[j] = picked[j];
+    pmf[j] = pick_pmf[j];
+    if (!nee[j].active || picked[j] < 0 || !(pick_pmf[j] > 0.0f)) continue;
+    __global const PmcLight* l = &lights->lights[picked[j]];
+    const int rect = l->type == PMC_LIGHT_QUAD && (l->flags & PMC_LIGHT_RECTANGLE) != 0u;
+    rect_at[rects] = j;
+    other_at[others] = j;
+    rects += rect;
+    others += !rect;
   }
-  pmc_rect_lights_lanes(lights, nee, m, numbers, lane, state, light, pmf, ls);
+  for (int i = 0; i < others; ++i) {
+    const int j = other_at[i], k = lane[j];
+    PmcSphRect unused; /* quads that are not rectangles are sampled by area */
+    state[j] = pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin, nee[j].pick_normal,
+                                       numbers->light_u[k], numbers->light_v[k], 1, &ls[j], &unused,
+                                       &light[j], &pmf[j]);
+  }
+  pmc_rect_lights_lanes(lights, nee, rect_at, rects, numbers, lane, state, light, pmf, ls);
 #else
   for (int j = 0; j < m; ++j) {
     const int k = lane[j];
