@@ -685,9 +685,14 @@ PMC_FN int pmc_area_light_sample_at(PMC_GLOBAL const PmcLight* l, float pmf, flo
   return pmc_max3(s->weight) > 0.0f && isfinite(pmc_max3(s->weight));
 }
 
-/* pmc_light_sample_begin's answers besides 0 (nothing) and 1 (done). */
-#define PMC_LIGHT_SAMPLE_RECT 2  /* a spherical rectangle to sample: pmc_light_sample_rect_end */
-#define PMC_LIGHT_SAMPLE_SETUP 3 /* (defer_rect) a rectangle quad whose set-up the caller computes */
+/* pmc_light_sample_begin's answer besides 0 (nothing) and 1 (done). */
+#define PMC_LIGHT_SAMPLE_RECT 2 /* a spherical rectangle to sample: pmc_light_sample_rect_end */
+
+/* Whether light l is a quad with perpendicular edges, which is sampled by
+ * solid angle (its spherical rectangle) where that is large enough. */
+PMC_FN int pmc_light_is_rectangle(PMC_GLOBAL const PmcLight* l) {
+  return l->type == PMC_LIGHT_QUAD && (l->flags & PMC_LIGHT_RECTANGLE) != 0u;
+}
 
 /* Quad l's sample by area at (u1, u2), where its spherical rectangle (of
  * solid angle omega) is too small to sample. */
@@ -701,16 +706,12 @@ PMC_FN int pmc_quad_sample_by_area(PMC_GLOBAL const PmcLight* l, float pmf, floa
  * p with (pick) normal n (u1, u2), except for one step: a quad sampled by
  * solid angle returns PMC_LIGHT_SAMPLE_RECT with its spherical rectangle in
  * *r, light index in *light and pick probability in *pmf, and its point is
- * pmc_sph_rect_sample(r, p, u1, u2), which the shade kernel computes for a
- * batch's lanes in one loop (straight-line, vectorised), then
- * pmc_light_sample_rect_end. With defer_rect, a rectangle quad returns
- * PMC_LIGHT_SAMPLE_SETUP (*light and *pmf set) before its set-up, which the
- * caller computes (the shade kernel: for a batch's lanes in float8), then
- * samples by solid angle or, below PMC_SPH_RECT_MIN_SOLID_ANGLE,
- * pmc_quad_sample_by_area. */
+ * at coordinates pmc_sph_rect_sample_xy(..., u1, u2), then
+ * pmc_light_sample_rect_end. (On CPU devices the shade kernel samples the
+ * rectangle quads of a batch's lanes together in float8 and calls this for
+ * the other lights only.) */
 PMC_FN int pmc_light_sample_picked(const PmcLightSet* ls, int picked, float pmf, float3 p, float3 n, float u1,
-                                   float u2, int defer_rect, PmcLightSample* s, PmcSphRect* r, int* light,
-                                   float* pmf_out) {
+                                   float u2, PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   if (picked < 0 || !(pmf > 0.0f)) return 0;
   PMC_GLOBAL const PmcLight* l = &ls->lights[picked];
   pmc_u32 type = l->type;
@@ -724,7 +725,6 @@ PMC_FN int pmc_light_sample_picked(const PmcLightSet* ls, int picked, float pmf,
   } else if (type == PMC_LIGHT_QUAD) {
     *light = picked;
     *pmf_out = pmf;
-    if (defer_rect && (l->flags & PMC_LIGHT_RECTANGLE)) return PMC_LIGHT_SAMPLE_SETUP;
     const float omega = pmc_sph_rect_init(l, p, r);
     if (omega >= PMC_SPH_RECT_MIN_SOLID_ANGLE) return PMC_LIGHT_SAMPLE_RECT;
     return pmc_quad_sample_by_area(l, pmf, omega, p, u1, u2, s);
@@ -781,7 +781,7 @@ PMC_FN int pmc_light_sample_begin(const PmcLightSet* ls, float3 p, float3 n, flo
                                   PmcLightSample* s, PmcSphRect* r, int* light, float* pmf_out) {
   float pmf;
   const int picked = pmc_light_pick(ls, p, n, u_pick, &pmf);
-  return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, 0, s, r, light, pmf_out);
+  return pmc_light_sample_picked(ls, picked, pmf, p, n, u1, u2, s, r, light, pmf_out);
 }
 
 /* The rest of a PMC_LIGHT_SAMPLE_RECT sample, at coordinates xy

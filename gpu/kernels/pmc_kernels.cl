@@ -1337,8 +1337,7 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     light[j] = picked[j];
     pmf[j] = pick_pmf[j];
     if (!nee[j].active || picked[j] < 0 || !(pick_pmf[j] > 0.0f)) continue;
-    __global const PmcLight* l = &lights->lights[picked[j]];
-    const int rect = l->type == PMC_LIGHT_QUAD && (l->flags & PMC_LIGHT_RECTANGLE) != 0u;
+    const int rect = pmc_light_is_rectangle(&lights->lights[picked[j]]);
     rect_at[rects] = j;
     other_at[others] = j;
     rects += rect;
@@ -1346,10 +1345,10 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
   }
   for (int i = 0; i < others; ++i) {
     const int j = other_at[i], k = lane[j];
-    PmcSphRect unused; /* quads that are not rectangles are sampled by area */
+    PmcSphRect unused; /* set up for rectangles alone, which these are not */
     state[j] = pmc_light_sample_picked(lights, picked[j], pick_pmf[j], nee[j].origin, nee[j].pick_normal,
-                                       numbers->light_u[k], numbers->light_v[k], 1, &ls[j], &unused,
-                                       &light[j], &pmf[j]);
+                                       numbers->light_u[k], numbers->light_v[k], &ls[j], &unused, &light[j],
+                                       &pmf[j]);
   }
   pmc_rect_lights_lanes(lights, nee, rect_at, rects, numbers, lane, state, light, pmf, ls);
 #else
