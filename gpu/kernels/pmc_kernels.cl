@@ -1105,10 +1105,48 @@ static inline int pmc_pick_distant_lanes(const PmcLightSet* ls, const PmcPickLan
   return kept;
 }
 
+/* One level of the tree walk (pmc_tree_descend after pmc_first_share_of)
+ * for packed lanes q of [0, count), eight at a time: lane q at interior node
+ * a[q] with children node0[q] and node1[q] of importances i0[q] and i1[q]
+ * moves to the child its u[q] falls in, u[q] rescaled to it and share[q]
+ * multiplied by its probability. The scalar functions' operations in their
+ * order, selects for their branches, so every lane matches them bit for bit
+ * (the next vertex recomputes the pick's probability with them). One lane
+ * at a time this loop was a division, a coin-toss branch and a dependent
+ * rescale per lane and level. */
+static inline void pmc_tree_descend_lanes(const PmcLightSet* ls, const int* node0, const int* node1,
+                                          const float* i0, const float* i1, int count, int* a, float* u,
+                                          float* share) {
+  for (int q = 0; q < count; q += 8) {
+    float e0[8], e1[8];
+    for (int i = 0; i < 8; ++i) { /* the last group's spare lanes repeat the first */
+      const int r = q + i < count ? q + i : 0;
+      e0[i] = ls->tree[node0[r]].energy;
+      e1[i] = ls->tree[node1[r]].energy;
+    }
+    float8 w0 = vload8(0, i0 + q), w1 = vload8(0, i1 + q);
+    const int8 neither = !(w0 + w1 > (float8)(0.0f)); /* pmc_first_share_of: then by energy */
+    w0 = PMC_SEL_VECTOR(neither, vload8(0, e0), w0);
+    w1 = PMC_SEL_VECTOR(neither, vload8(0, e1), w1);
+    const float8 sum = w0 + w1;
+    const float8 first = PMC_SEL_VECTOR(sum > (float8)(0.0f), w0 / sum, (float8)(0.5f));
+    const float8 x = vload8(0, u + q);
+    const int8 take_first = x < first;
+    const float8 second_share = (float8)(1.0f) - first;
+    vstore8(vload8(0, share + q) * PMC_SEL_VECTOR(take_first, first, second_share), 0, share + q);
+    const float8 rescaled = PMC_SEL_VECTOR(take_first, x / first, (x - first) / second_share);
+    vstore8(fmin(fmax(rescaled, (float8)(0.0f)), (float8)(0x1.fffffep-1f)), 0, u + q); /* pmc_below_one */
+    vstore8(PMC_SEL_VECTOR(take_first, vload8(0, node0 + q), vload8(0, node1 + q)), 0, a + q);
+  }
+}
+
 /* pmc_light_pick for lanes lane[0, m) of a batch (those with nee[j].active),
  * the same picks and probabilities: with the light tree, the lanes descend
- * it level by level together, each level's importances eight lanes at a
- * time; otherwise lane by lane. picked[j] = -1: none. */
+ * it level by level together, their walks' state packed (lane act[q] at
+ * node a[q], its point and normal in cp), each level's importances and
+ * choices eight lanes at a time; the lanes that reach a leaf leave the
+ * packed arrays, which close up in place. Without the tree, lane by lane.
+ * picked[j] = -1: none. */
 static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput* nee, const int* lane, int m,
                                         const PmcBatchNumbers* numbers, int* picked, float* pmf) {
   if (ls->h.sampler != PMC_LIGHT_SAMPLER_TREE || ls->h.tree_nodes <= 0 || ls->h.count <= 0) {
@@ -1122,7 +1160,7 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
   }
   PmcPickLanes pl, cp; /* the active lanes' points: by lane, and packed (pmc_pick_lanes_pack) */
   float u[PMC_LANES], share[PMC_LANES], i0[PMC_LANES], i1[PMC_LANES];
-  int a[PMC_LANES], act[PMC_LANES], node0[PMC_LANES], node1[PMC_LANES];
+  int act[PMC_LANES], node0[PMC_LANES], node1[PMC_LANES];
   int count = 0;
   for (int j = 0; j < m; ++j) {
     picked[j] = -1;
@@ -1132,7 +1170,6 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
     pl.nx[j] = nee[j].pick_normal.x, pl.ny[j] = nee[j].pick_normal.y, pl.nz[j] = nee[j].pick_normal.z;
     u[j] = numbers->light_pick[lane[j]];
     share[j] = 1.0f;
-    a[j] = 0;
     act[count++] = j;
   }
   if (ls->h.distant_end > 0 && count > 0) { /* the root's importance weighs the tree among the strategies */
@@ -1141,31 +1178,43 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
     pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
     count = pmc_pick_distant_lanes(ls, &cp, act, count, i0, u, share, pmf, picked);
   }
-  while (count > 0) {
+  if (count == 0) return;
+  /* the walks, packed from here on: lane act[q] at node a[q] with wu[q], ws[q] */
+  float wu[PMC_LANES], ws[PMC_LANES];
+  int a[PMC_LANES];
+  pmc_pick_lanes_pack(&pl, act, count, &cp);
+  for (int q = 0; q < count; ++q) {
+    wu[q] = u[act[q]];
+    ws[q] = share[act[q]];
+    a[q] = 0;
+  }
+  for (;;) {
     int kept = 0;
     for (int q = 0; q < count; ++q) {
+      __global const PmcLightTreeNode* t = &ls->tree[a[q]];
       const int j = act[q];
-      if (ls->tree[a[j]].flags & PMC_TREE_LEAF) {
-        picked[j] = (int)ls->tree[a[j]].second;
-        pmf[j] = share[j];
-      } else {
-        act[kept++] = j;
+      if (t->flags & PMC_TREE_LEAF) {
+        picked[j] = (int)t->second;
+        pmf[j] = ws[q];
+        continue;
       }
+      act[kept] = j, a[kept] = a[q], wu[kept] = wu[q], ws[kept] = ws[q];
+      cp.px[kept] = cp.px[q], cp.py[kept] = cp.py[q], cp.pz[kept] = cp.pz[q];
+      cp.nx[kept] = cp.nx[q], cp.ny[kept] = cp.ny[q], cp.nz[kept] = cp.nz[q];
+      node0[kept] = a[q] + 1;
+      node1[kept] = (int)t->second;
+      ++kept;
     }
     count = kept;
-    for (int q = 0; q < count; ++q) {
-      node0[q] = a[act[q]] + 1;
-      node1[q] = (int)ls->tree[a[act[q]]].second;
+    if (count == 0) return;
+    for (int q = count; q < ((count + 7) & ~7); ++q) { /* spare lanes: copies of the first */
+      cp.px[q] = cp.px[0], cp.py[q] = cp.py[0], cp.pz[q] = cp.pz[0];
+      cp.nx[q] = cp.nx[0], cp.ny[q] = cp.ny[0], cp.nz[q] = cp.nz[0];
+      a[q] = a[0], wu[q] = wu[0], ws[q] = ws[0], node0[q] = node0[0], node1[q] = node1[0];
     }
-    pmc_pick_lanes_pack(&pl, act, count, &cp);
     pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
     pmc_tree_importance_lanes(ls, &cp, node1, count, i1);
-    for (int q = 0; q < count; ++q) {
-      const int j = act[q];
-      const float first =
-          pmc_first_share_of(i0[q], i1[q], ls->tree[node0[q]].energy, ls->tree[node1[q]].energy);
-      a[j] = pmc_tree_descend(ls, a[j], first, &u[j], &share[j]);
-    }
+    pmc_tree_descend_lanes(ls, node0, node1, i0, i1, count, a, wu, ws);
   }
 }
 #endif
