@@ -201,17 +201,13 @@ class WaveLoop {
   DeviceStageLog events_;
 };
 
-// The paths a wave of several samples per pixel aims for (two waves in
-// flight each aim for it). At 160x120 with the random sampler on the shared
-// 2-core machine (3 interleaved rounds of 256 spp), waves of 2^16 paths took
-// the least wall time: 7-15 s against 13-20 s with one sample per wave
-// (19200 paths) and 9-17 s with 2^18, at the same CPU time. Since then the
-// per-wave costs shrank less than the per-path ones: 2^17 against 2^16 (7
-// interleaved rounds of 256 spp, 160x120, bench.peers' scenes, session 39)
-// rendered 1.01-1.04x faster on all five; larger waves leave the caches,
-// smaller ones pay per-wave costs more often. Frames of more than twice
-// this many pixels run one sample per wave and do not depend on it.
-constexpr size_t kWaveTargetPaths = size_t(1) << 17;
+// The paths a wave of several samples per pixel aims for. At 160x120 with the
+// random sampler on the shared 2-core machine (3 interleaved rounds of 256
+// spp), waves of 2^16 paths (3 samples) took the least wall time in every
+// round: 7-15 s against 13-20 s with one sample per wave (19200 paths) and
+// 9-17 s with 2^18 (13 samples), at the same CPU time; larger waves leave
+// the caches, smaller ones pay per-wave costs more often.
+constexpr size_t kWaveTargetPaths = size_t(1) << 16;
 
 // The samples each pixel draws in the next round of waves: at most `left`,
 // enough to fill the small frames' target, within a wave's `wave_paths`.
