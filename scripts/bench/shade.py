@@ -63,7 +63,8 @@ def parse(argv=None):
     p.add_argument("--threads", type=common.positive_int, default=1, metavar="T",
                    help="pmc's --threads (default 1: one core's time per hit)")
     p.add_argument("--scenes", type=scene_list, default=SCENES, metavar="LIST",
-                   help=f"comma-separated, of {', '.join(SCENES)} (default all)")
+                   help=f"comma-separated, of bench.peers' {', '.join(peer_scenes.SCENES)} "
+                        f"(default {','.join(SCENES)})")
     p.add_argument("--variant", action="append", default=[], type=variant, metavar="NAME=DIR",
                    help="also this tree's pmc with the kernel sources under DIR (PMC_KERNEL_DIR: its core/abi, "
                         "core/device and gpu/kernels), e.g. a copy with one part of the shade kernel disabled; "
@@ -89,10 +90,10 @@ def parse(argv=None):
 
 def scene_list(text):
     names = [s for s in text.split(",") if s]
-    bad = [s for s in names if s not in SCENES]
+    bad = [s for s in names if s not in peer_scenes.SCENES]
     if not names or bad:
         import argparse
-        raise argparse.ArgumentTypeError(f"expected scenes of {', '.join(SCENES)}, got '{text}'")
+        raise argparse.ArgumentTypeError(f"expected scenes of {', '.join(peer_scenes.SCENES)}, got '{text}'")
     return names
 
 
