@@ -991,54 +991,105 @@ static inline void pmc_pick_lanes_pack(const PmcPickLanes* pl, const int* act, i
   }
 }
 
-/* out[q] = the importance of tree node node[q] for packed lane q of cp
- * (pmc_pick_lanes_pack), q < count, eight at a time: each lane's node read
- * as three float4 loads (its box with the energy, with the cone's cosines,
- * and the axis: PmcLightTreeNode's first 48 bytes) and turned into float8
- * fields by shuffles. A loop that gathered field by field into arrays spent
- * three quarters of this function's time in its gathers on Sponza's 960
- * emissive triangles. When every lane reads one node (the root's children,
- * all of a small tree's levels) it is read once and broadcast. */
-static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPickLanes* cp, const int* node,
-                                             int count, float* out) {
-  __global const float* tree = (__global const float*)ls->tree;
-  const size_t stride = sizeof(PmcLightTreeNode) / sizeof(float);
+/* The fields pmc_tree_importance8 reads of eight lanes' tree nodes. */
+typedef struct PmcTreeNodes8 {
+  float8 lox, loy, loz, hix, hiy, hiz, ax, ay, az, energy, cos_o, cos_e;
+  int8 two_sided;
+} PmcTreeNodes8;
+
+/* Node n's fields in all eight lanes. */
+PMC_FN_INLINE PmcTreeNodes8 pmc_tree_node_broadcast8(const PmcLightSet* ls, int n) {
+  __global const float* t = (__global const float*)&ls->tree[n];
+  const float4 b = vload4(0, t), h = vload4(1, t),
+               x = vload4(2, t); /* lo + energy, hi + cos_o, axis + cos_e */
+  PmcTreeNodes8 v;
+  v.lox = (float8)(b.x), v.loy = (float8)(b.y), v.loz = (float8)(b.z), v.energy = (float8)(b.w);
+  v.hix = (float8)(h.x), v.hiy = (float8)(h.y), v.hiz = (float8)(h.z), v.cos_o = (float8)(h.w);
+  v.ax = (float8)(x.x), v.ay = (float8)(x.y), v.az = (float8)(x.z), v.cos_e = (float8)(x.w);
+  v.two_sided = (int8)((ls->tree[n].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0);
+  return v;
+}
+
+/* The fields of nodes node[q + i], i < 8, each read as three float4 loads
+ * (PmcLightTreeNode's first 48 bytes) and turned into float8 fields by
+ * shuffles (a loop that gathered field by field into arrays spent three
+ * quarters of the importances' time in its gathers on Sponza's 960 emissive
+ * triangles); lanes at or past `count` repeat node[0]. */
+PMC_FN_INLINE PmcTreeNodes8 pmc_tree_node_gather8(const PmcLightSet* ls, const int* node, int q, int count) {
+  float4 b[8], h[8], x[8];
+  int two_sided[8];
+  for (int i = 0; i < 8; ++i) {
+    const int n = node[q + i < count ? q + i : 0];
+    __global const float* t = (__global const float*)&ls->tree[n];
+    b[i] = vload4(0, t);
+    h[i] = vload4(1, t);
+    x[i] = vload4(2, t);
+    two_sided[i] = (ls->tree[n].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0;
+  }
+#define PMC_FIELD8(v, c) (float8)(v[0].c, v[1].c, v[2].c, v[3].c, v[4].c, v[5].c, v[6].c, v[7].c)
+  PmcTreeNodes8 v;
+  v.lox = PMC_FIELD8(b, x), v.loy = PMC_FIELD8(b, y), v.loz = PMC_FIELD8(b, z), v.energy = PMC_FIELD8(b, w);
+  v.hix = PMC_FIELD8(h, x), v.hiy = PMC_FIELD8(h, y), v.hiz = PMC_FIELD8(h, z), v.cos_o = PMC_FIELD8(h, w);
+  v.ax = PMC_FIELD8(x, x), v.ay = PMC_FIELD8(x, y), v.az = PMC_FIELD8(x, z), v.cos_e = PMC_FIELD8(x, w);
+#undef PMC_FIELD8
+  v.two_sided = vload8(0, two_sided);
+  return v;
+}
+
+/* Whether node[0, count) are all one node. */
+static inline int pmc_tree_nodes_uniform(const int* node, int count) {
   int uniform = 1;
   for (int q = 1; q < count; ++q) uniform &= node[q] == node[0];
-#define PMC_POINTS8(q)                                                                                \
-  vload8(0, cp->px + (q)), vload8(0, cp->py + (q)), vload8(0, cp->pz + (q)), vload8(0, cp->nx + (q)), \
-      vload8(0, cp->ny + (q)), vload8(0, cp->nz + (q))
-  if (uniform && count > 0) {
-    __global const float* t = tree + (size_t)node[0] * stride;
-    const float4 b = vload4(0, t), h = vload4(1, t), x = vload4(2, t);
-    const int8 two_sided = (int8)((ls->tree[node[0]].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0);
-    for (int q = 0; q < count; q += 8)
-      vstore8(pmc_tree_importance8((float8)(b.x), (float8)(b.y), (float8)(b.z), (float8)(h.x), (float8)(h.y),
-                                   (float8)(h.z), (float8)(x.x), (float8)(x.y), (float8)(x.z), (float8)(b.w),
-                                   (float8)(h.w), (float8)(x.w), two_sided, PMC_POINTS8(q)),
-              0, out + q);
+  return uniform;
+}
+
+/* pmc_tree_importance8 for nodes v and packed lanes [q, q + 8) of cp. */
+PMC_FN_INLINE float8 pmc_tree_importance_at8(const PmcTreeNodes8* v, const PmcPickLanes* cp, int q) {
+  return pmc_tree_importance8(v->lox, v->loy, v->loz, v->hix, v->hiy, v->hiz, v->ax, v->ay, v->az, v->energy,
+                              v->cos_o, v->cos_e, v->two_sided, vload8(0, cp->px + q), vload8(0, cp->py + q),
+                              vload8(0, cp->pz + q), vload8(0, cp->nx + q), vload8(0, cp->ny + q),
+                              vload8(0, cp->nz + q));
+}
+
+/* out[q] = the importance of tree node node[q] for packed lane q of cp
+ * (pmc_pick_lanes_pack), q < count, eight at a time. When every lane reads
+ * one node (the root, the root's children, all of a small tree's levels) it
+ * is read once and broadcast. */
+static inline void pmc_tree_importance_lanes(const PmcLightSet* ls, const PmcPickLanes* cp, const int* node,
+                                             int count, float* out) {
+  if (count <= 0) return;
+  if (pmc_tree_nodes_uniform(node, count)) {
+    const PmcTreeNodes8 b = pmc_tree_node_broadcast8(ls, node[0]);
+    for (int q = 0; q < count; q += 8) vstore8(pmc_tree_importance_at8(&b, cp, q), 0, out + q);
     return;
   }
   for (int q = 0; q < count; q += 8) {
-    float4 b[8], h[8], x[8]; /* lo + energy, hi + cos_o, axis + cos_e */
-    int two_sided[8];
-    for (int i = 0; i < 8; ++i) { /* the last group's spare lanes repeat the first */
-      const int r = q + i < count ? q + i : 0;
-      __global const float* t = tree + (size_t)node[r] * stride;
-      b[i] = vload4(0, t);
-      h[i] = vload4(1, t);
-      x[i] = vload4(2, t);
-      two_sided[i] = (ls->tree[node[r]].flags & PMC_TREE_TWO_SIDED) != 0u ? -1 : 0;
-    }
-#define PMC_FIELD8(v, c) (float8)(v[0].c, v[1].c, v[2].c, v[3].c, v[4].c, v[5].c, v[6].c, v[7].c)
-    vstore8(pmc_tree_importance8(PMC_FIELD8(b, x), PMC_FIELD8(b, y), PMC_FIELD8(b, z), PMC_FIELD8(h, x),
-                                 PMC_FIELD8(h, y), PMC_FIELD8(h, z), PMC_FIELD8(x, x), PMC_FIELD8(x, y),
-                                 PMC_FIELD8(x, z), PMC_FIELD8(b, w), PMC_FIELD8(h, w), PMC_FIELD8(x, w),
-                                 vload8(0, two_sided), PMC_POINTS8(q)),
-            0, out + q);
-#undef PMC_FIELD8
+    const PmcTreeNodes8 v = pmc_tree_node_gather8(ls, node, q, count);
+    vstore8(pmc_tree_importance_at8(&v, cp, q), 0, out + q);
   }
-#undef PMC_POINTS8
+}
+
+/* The importances of a level's two children at once (pmc_tree_importance_lanes
+ * for node0 into out0 and node1 into out1): the two are independent chains of
+ * square roots and divisions, which one loop interleaves. */
+static inline void pmc_tree_importance2_lanes(const PmcLightSet* ls, const PmcPickLanes* cp, const int* node0,
+                                              const int* node1, int count, float* out0, float* out1) {
+  if (count <= 0) return;
+  const int uniform0 = pmc_tree_nodes_uniform(node0, count), uniform1 = pmc_tree_nodes_uniform(node1, count);
+  const PmcTreeNodes8 b0 = pmc_tree_node_broadcast8(ls, node0[0]),
+                      b1 = pmc_tree_node_broadcast8(ls, node1[0]);
+  if (uniform0 && uniform1) { /* every lane at one node: its children read once, one after the other (their
+                                 broadcast fields together would not fit the vector registers) */
+    for (int q = 0; q < count; q += 8) vstore8(pmc_tree_importance_at8(&b0, cp, q), 0, out0 + q);
+    for (int q = 0; q < count; q += 8) vstore8(pmc_tree_importance_at8(&b1, cp, q), 0, out1 + q);
+    return;
+  }
+  for (int q = 0; q < count; q += 8) {
+    const PmcTreeNodes8 v0 = uniform0 ? b0 : pmc_tree_node_gather8(ls, node0, q, count);
+    const PmcTreeNodes8 v1 = uniform1 ? b1 : pmc_tree_node_gather8(ls, node1, q, count);
+    vstore8(pmc_tree_importance_at8(&v0, cp, q), 0, out0 + q);
+    vstore8(pmc_tree_importance_at8(&v1, cp, q), 0, out1 + q);
+  }
 }
 
 /* pmc_pick_distant for lanes act[0, count) (their normals packed in cp by
@@ -1212,8 +1263,7 @@ static inline void pmc_light_pick_lanes(const PmcLightSet* ls, const PmcNeeInput
       cp.nx[q] = cp.nx[0], cp.ny[q] = cp.ny[0], cp.nz[q] = cp.nz[0];
       a[q] = a[0], wu[q] = wu[0], ws[q] = ws[0], node0[q] = node0[0], node1[q] = node1[0];
     }
-    pmc_tree_importance_lanes(ls, &cp, node0, count, i0);
-    pmc_tree_importance_lanes(ls, &cp, node1, count, i1);
+    pmc_tree_importance2_lanes(ls, &cp, node0, node1, count, i0, i1);
     pmc_tree_descend_lanes(ls, node0, node1, i0, i1, count, a, wu, ws);
   }
 }
