@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <sstream>
 #include <string>
 
 #include "gpu/render_session.h"
@@ -86,6 +87,57 @@ TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
   for (int lanes : {1, 16}) {
     SCOPED_TRACE("lanes " + std::to_string(lanes));
     const RenderOutput other = render_default_scene(false, lanes, 0, lights);
+    ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
+    EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
+        << "of " << other.image.pixels.size() << " values";
+    EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
+  }
+}
+
+// Hundreds of small emissive triangles of many sizes and facings above a
+// floor: a light tree about ten levels deep, in which a batch's lanes sit at
+// different nodes (each level's two children gathered per lane and weighed in
+// one loop, pmc_tree_importance2_lanes) and reach their leaves at different
+// levels (the walk closes up its packed lanes). Batches of 1 walk the tree
+// one hit at a time with the scalar pmc_light_pick; every batch size renders
+// the same image.
+TEST(ShadeLanes, DeepLightTreesArePickedAlikeInEveryBatchSize) {
+  const std::string dir = test::temp_dir();
+  std::ostringstream obj;
+  obj << "mtllib scene.mtl\nusemtl floor\n"
+      << "v -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\nf 1 3 2\nf 1 4 3\nusemtl lamp\n";
+  int v = 4;
+  for (int i = 0; i < 24; ++i)
+    for (int j = 0; j < 24; ++j) {
+      // a lamp over cell (i, j), its size and tilt varying with the cell
+      const double x = -3.6 + 0.3 * i, z = -3.6 + 0.3 * j, y = 0.6 + 0.1 * ((i * 7 + j * 3) % 13);
+      const double r = 0.02 + 0.01 * ((i + 2 * j) % 5), tilt = 0.5 * (((i * 5 + j) % 7) - 3) * r;
+      obj << "v " << x - r << " " << y + tilt << " " << z - r << "\nv " << x + r << " " << y << " " << z - r
+          << "\nv " << x << " " << y - tilt << " " << z + r << "\n";
+      obj << "f " << v + 1 << " " << v + 2 << " " << v + 3 << "\n";
+      v += 3;
+    }
+  test::write_file(dir + "/scene.mtl",
+                   "newmtl floor\nKd 0.5 0.5 0.5\nKs 0 0 0\nnewmtl lamp\nKd 0 0 0\nKs 0 0 0\nKe 4 3 2\n");
+  test::write_file(dir + "/scene.obj", obj.str());
+  auto render = [&](int lanes) {
+    RenderConfig c;
+    c.scene = dir + "/scene.obj";
+    c.width = 48;
+    c.height = 32;
+    c.spp = 2;
+    c.cache = false;
+    c.camera_from = Vec3{0.0f, 3.0f, 5.0f};
+    c.camera_at = Vec3{0.0f, 0.3f, 0.0f};
+    c.shade_lanes = lanes;
+    RenderSession session(c, test::cl());
+    return session.render(session.settings());
+  };
+  const RenderOutput by_default = render(0);
+  EXPECT_GT(test::image_mean(by_default.image), 0.0);
+  for (int lanes : {1, 16}) {
+    SCOPED_TRACE("lanes " + std::to_string(lanes));
+    const RenderOutput other = render(lanes);
     ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
     EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
         << "of " << other.image.pixels.size() << " values";
