@@ -19,6 +19,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <functional>
 #include <sstream>
 #include <string>
 
@@ -80,18 +81,25 @@ TEST(ShadeLanes, UniformMaterialsRenderAlikeInEveryBatchSize) {
   }
 }
 
-TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
-  const std::string lights = "data/default/many.lights.json";
-  const RenderOutput by_default = render_default_scene(false, 0, 0, lights);
+// The light picks of batches of 1 and 16 against the default batch's:
+// render(lanes) renders a scene with that many lanes (0: the default); the
+// images match bit for bit, and so do the shadow rays traced.
+void expect_picks_alike_in_every_batch_size(const std::function<RenderOutput(int)>& render) {
+  const RenderOutput by_default = render(0);
   EXPECT_GT(test::image_mean(by_default.image), 0.0);
   for (int lanes : {1, 16}) {
     SCOPED_TRACE("lanes " + std::to_string(lanes));
-    const RenderOutput other = render_default_scene(false, lanes, 0, lights);
+    const RenderOutput other = render(lanes);
     ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
     EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
         << "of " << other.image.pixels.size() << " values";
     EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
   }
+}
+
+TEST(ShadeLanes, ManyLightsArePickedAlikeInEveryBatchSize) {
+  expect_picks_alike_in_every_batch_size(
+      [](int lanes) { return render_default_scene(false, lanes, 0, "data/default/many.lights.json"); });
 }
 
 // Hundreds of small emissive triangles of many sizes and facings above a
@@ -133,16 +141,7 @@ TEST(ShadeLanes, DeepLightTreesArePickedAlikeInEveryBatchSize) {
     RenderSession session(c, test::cl());
     return session.render(session.settings());
   };
-  const RenderOutput by_default = render(0);
-  EXPECT_GT(test::image_mean(by_default.image), 0.0);
-  for (int lanes : {1, 16}) {
-    SCOPED_TRACE("lanes " + std::to_string(lanes));
-    const RenderOutput other = render(lanes);
-    ASSERT_EQ(other.image.pixels.size(), by_default.image.pixels.size());
-    EXPECT_EQ(test::differing_values(other.image, by_default.image), 0u)
-        << "of " << other.image.pixels.size() << " values";
-    EXPECT_EQ(other.stats.shadow_rays, by_default.stats.shadow_rays);
-  }
+  expect_picks_alike_in_every_batch_size(render);
 }
 
 // A sun and a sky (lights at infinity) beside the emissive ceiling (the light
