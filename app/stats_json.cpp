@@ -129,6 +129,12 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
   j["waves_in_flight"] = st.waves_in_flight;
   j["device"] = st.device;
   j["cache"] = cache_json(s, st.cache);
+  j["lights"] = {{"count", st.lights.count},
+                 {"emissive_triangles", st.lights.emissive_triangles},
+                 {"sampler", st.lights.tree ? "tree" : "power"},
+                 {"tree_nodes", st.lights.tree_nodes},
+                 {"tree_depth", st.lights.tree_depth},
+                 {"tree_build_seconds", st.lights.build_seconds}};
   return j;
 }
 

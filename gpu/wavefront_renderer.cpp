@@ -438,6 +438,10 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   m.scene_buffers.upload_lights(m.cl,
                                 build_light_table(m.scene, m.scene_buffers.emission, lights,
                                                   s.light_tree ? LightSampler::Tree : LightSampler::Power));
+  const LightTable& table = m.scene_buffers.lights;
+  st.lights = {
+      table.header.count,      table.emissive_triangles, table.header.sampler == PMC_LIGHT_SAMPLER_TREE,
+      table.header.tree_nodes, table.tree_depth,         table.tree_build_seconds};
   PmcFrame frame = make_frame(s, m.scene_buffers);
   frame.crop_x0 = uint32_t(x0);
   frame.crop_y0 = uint32_t(y0);

@@ -138,6 +138,16 @@ struct StageSeconds {
   double transfer = 0;  // host: maps/reads/writes, including waits for kernels
 };
 
+// The render's lights as next-event estimation sees them (core/lights.h).
+struct LightStats {
+  int count = 0;  // lights in the table: emissive triangles, lights file, environment
+  uint64_t emissive_triangles = 0;
+  bool tree = false;  // picked by the light tree (else by power)
+  int tree_nodes = 0;
+  int tree_depth = 0;        // levels below the root
+  double build_seconds = 0;  // the tree's build (part of render_seconds)
+};
+
 struct RenderStats {
   double render_seconds = 0;         // excludes the kernel build and warm-up below
   double kernel_build_seconds = 0;   // clBuildProgram
@@ -153,6 +163,7 @@ struct RenderStats {
   StageSeconds stages;
   std::string device;
   CacheStats cache;
+  LightStats lights;
   std::vector<uint64_t> material_hits;  // hits shaded per material (MaterialSet::program order)
   // Adaptive sampling: samples drawn per pixel on average, and the pixels that stopped before spp.
   double adaptive_mean_spp = 0;

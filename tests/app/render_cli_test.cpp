@@ -6,6 +6,7 @@
 // code 2, a message naming the option, and no output file left behind.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -70,6 +71,54 @@ TEST(RenderCli, WritesExrPngAndStats) {
   EXPECT_EQ(j["paths"].get<long>(), 64 * 48 * 2);
   EXPECT_EQ(j["nan_pixels"].get<long>(), 0);
   EXPECT_NE(log.find("spp"), std::string::npos) << "one-line summary expected";
+}
+
+// The stats' "lights" object counts what the scene holds: a strip of N
+// emissive triangles (written here) and a lights file of three points. A
+// binary tree over its L leaves has 2L - 1 nodes and at least ceil(log2 L)
+// levels below its root; the pick by power builds no tree.
+TEST(RenderCli, StatsCountTheLightsAndTheTree) {
+  const std::string dir = test::temp_dir();
+  const int strips = 20;  // 40 emissive triangles
+  std::string obj = "mtllib s.mtl\nv -4 0 -4\nv 4 0 -4\nv 4 0 4\nv -4 0 4\nusemtl floor\nf 1 2 3 4\n";
+  for (int i = 0; i <= strips; ++i)
+    obj += "v " + std::to_string(-2.0 + 0.2 * i) + " 2 0\nv " + std::to_string(-2.0 + 0.2 * i) + " 2 0.5\n";
+  obj += "usemtl glow\n";
+  for (int i = 0; i < strips; ++i) {
+    const int a = 5 + 2 * i;  // this column's two vertices, then the next column's
+    obj += "f " + std::to_string(a) + " " + std::to_string(a + 2) + " " + std::to_string(a + 1) + "\n";
+    obj += "f " + std::to_string(a + 1) + " " + std::to_string(a + 2) + " " + std::to_string(a + 3) + "\n";
+  }
+  test::write_file(dir + "/s.obj", obj);
+  test::write_file(dir + "/s.mtl", "newmtl floor\nKd 0.5 0.5 0.5\nnewmtl glow\nKd 0 0 0\nKe 2 2 2\n");
+  test::write_file(dir + "/s.lights.json",
+                   R"({"lights": [{"type": "point", "position": [0, 1, 0], "intensity": [1, 1, 1]},
+                                  {"type": "point", "position": [1, 1, 0], "intensity": [1, 1, 1]},
+                                  {"type": "point", "position": [0, 1, 1], "intensity": [1, 1, 1]}]})");
+  const std::string common =
+      dir + "/s.obj --lights " + dir +
+      "/s.lights.json --camera-from 0,3,-6 --camera-at 0,0,0 --width 32 --height 24 --spp 1 "
+      "--quiet -o " +
+      dir + "/img.exr --stats " + dir + "/s.json";
+  std::string log;
+  const int leaves = 2 * strips + 3;
+  for (const char* sampler : {"on", "off"}) {
+    ASSERT_EQ(test::run_pmc("render " + common + " --light-tree " + std::string(sampler), &log), 0) << log;
+    std::ifstream in(dir + "/s.json");
+    const nlohmann::json j = nlohmann::json::parse(in)["lights"];
+    EXPECT_EQ(j["emissive_triangles"].get<int>(), 2 * strips) << sampler;
+    EXPECT_EQ(j["count"].get<int>(), leaves) << sampler;  // no environment: --env is black by default
+    EXPECT_GE(j["tree_build_seconds"].get<double>(), 0.0) << sampler;
+    if (std::string(sampler) == "on") {
+      EXPECT_EQ(j["sampler"], "tree");
+      EXPECT_EQ(j["tree_nodes"].get<int>(), 2 * leaves - 1);
+      EXPECT_GE(j["tree_depth"].get<int>(), int(std::ceil(std::log2(double(leaves)))));
+      EXPECT_LT(j["tree_depth"].get<int>(), leaves);
+    } else {
+      EXPECT_EQ(j["sampler"], "power");
+      EXPECT_EQ(j["tree_nodes"].get<int>(), 0);
+    }
+  }
 }
 
 struct BadOption {
