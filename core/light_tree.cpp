@@ -1,4 +1,6 @@
-// light_tree.cpp — building the light BVH (binned SAH with the orientation cost).
+// light_tree.cpp — building the light BVH (binned SAH with the orientation cost;
+// large subtrees in parallel, into slots fixed in advance, so the tree does not
+// depend on the threads).
 #include "core/light_tree.h"
 
 #include <algorithm>
@@ -6,13 +8,15 @@
 #include <numeric>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace pmc {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr int kBuckets = 12;
-constexpr int kSahDepth = 36;  // deeper: halve by count (at most 24 more levels for 2^24 lights)
+constexpr int kSahDepth = 36;             // deeper: halve by count (at most 24 more levels for 2^24 lights)
+constexpr size_t kParallelLights = 4096;  // nodes of at least this many lights build their children at once
 
 struct V3 {
   double x = 0, y = 0, z = 0;
@@ -118,28 +122,43 @@ class Builder {
     for (size_t i = 0; i < lights.size(); ++i) single_[i].add(lights[i]);
   }
 
-  // Builds the node of lights order[begin, end) at `depth` with way `trail`;
-  // returns its bounds, the union of its children's (so a node's bounds hold
-  // its children's, and each is as tight as its own lights allow).
-  Aggregate build(std::vector<uint32_t>& order, size_t begin, size_t end, int depth, uint64_t trail) {
+  // Builds the node of lights order[begin, end) at `depth` with way `trail`
+  // into tree_.nodes[index] and the 2 (end - begin) - 2 slots after it (a
+  // subtree over n lights has 2n - 1 nodes, so each child knows its slots in
+  // advance, and large siblings build at once on TBB's workers: the same
+  // tree as one thread builds); returns its bounds, the union of its
+  // children's (so a node's bounds hold its children's, and each is as tight
+  // as its own lights allow), and in *deepest its deepest leaf's depth.
+  Aggregate build(std::vector<uint32_t>& order, size_t begin, size_t end, int depth, uint64_t trail,
+                  size_t index, int* deepest) {
     if (depth >= kMaxLightTreeDepth) fail("light tree: deeper than ", kMaxLightTreeDepth, " levels");
-    tree_.depth = std::max(tree_.depth, depth);
-    const size_t index = tree_.nodes.size();
-    tree_.nodes.emplace_back();
     if (end - begin == 1) {
       const Aggregate& one = single_[order[begin]];
       tree_.nodes[index] = node_of(one);
       tree_.nodes[index].flags |= PMC_TREE_LEAF;
       tree_.nodes[index].second = lights_[order[begin]].light;
       tree_.trails[order[begin]] = trail;
+      *deepest = depth;
       return one;
     }
     const size_t mid = split(order, begin, end, depth);
-    Aggregate all = build(order, begin, mid, depth + 1, trail);
-    const uint32_t second = uint32_t(tree_.nodes.size());
-    all.add(build(order, mid, end, depth + 1, trail | (uint64_t(1) << depth)));
+    const size_t second = index + 2 * (mid - begin);
+    Aggregate all, other;
+    int deep_first = 0, deep_second = 0;
+    auto first_child = [&] { all = build(order, begin, mid, depth + 1, trail, index + 1, &deep_first); };
+    auto second_child = [&] {
+      other = build(order, mid, end, depth + 1, trail | (uint64_t(1) << depth), second, &deep_second);
+    };
+    if (end - begin >= kParallelLights) {
+      parallel_both(first_child, second_child);
+    } else {
+      first_child();
+      second_child();
+    }
+    all.add(other);
     tree_.nodes[index] = node_of(all);
-    tree_.nodes[index].second = second;
+    tree_.nodes[index].second = uint32_t(second);
+    *deepest = std::max(deep_first, deep_second);
     return all;
   }
 
@@ -232,10 +251,10 @@ LightTree build_light_tree(const std::vector<LightBounds>& lights) {
   LightTree tree;
   if (lights.empty()) return tree;
   tree.trails.assign(lights.size(), 0);
-  tree.nodes.reserve(2 * lights.size() - 1);
+  tree.nodes.resize(2 * lights.size() - 1);
   std::vector<uint32_t> order(lights.size());
   std::iota(order.begin(), order.end(), 0u);
-  Builder(lights, tree).build(order, 0, order.size(), 0, 0);
+  Builder(lights, tree).build(order, 0, order.size(), 0, 0, 0, &tree.depth);
   return tree;
 }
 

@@ -14,10 +14,12 @@
 #include "core/light_tree.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <random>
 #include <vector>
 
@@ -105,12 +107,9 @@ LightTable many_lights(int triangles, uint32_t seed) {
   return build_light_table(emissive_triangles(triangles, seed + 1), {4.0f, 4.0f, 4.0f, 1.0f, 2.0f, 3.0f}, sl);
 }
 
-TEST(LightTree, EveryLightIsOneLeafAndItsTrailLeadsThere) {
-  const LightTable t = many_lights(300, 7);
-  const int finite = t.header.count - t.header.distant_end;
-  ASSERT_EQ(finite, 40 + 300);
-  ASSERT_EQ(t.header.tree_nodes, 2 * finite - 1);
-  ASSERT_EQ(t.tree_nodes.size(), size_t(2 * finite - 1));
+// Each finite light is one leaf, its trail leads there, and each node holds
+// its children: box, energy, one- or two-sidedness, cones.
+void expect_a_sound_tree(const LightTable& t) {
   std::vector<int> leaves_of(t.lights.size(), 0);
   for (const PmcLightTreeNode& n : t.tree_nodes)
     if (n.flags & PMC_TREE_LEAF) ++leaves_of[n.second];
@@ -151,6 +150,15 @@ TEST(LightTree, EveryLightIsOneLeafAndItsTrailLeadsThere) {
     }
     EXPECT_NEAR(n.energy, t.tree_nodes[a + 1].energy + t.tree_nodes[n.second].energy, 1e-5 * n.energy);
   }
+}
+
+TEST(LightTree, EveryLightIsOneLeafAndItsTrailLeadsThere) {
+  const LightTable t = many_lights(300, 7);
+  const int finite = t.header.count - t.header.distant_end;
+  ASSERT_EQ(finite, 40 + 300);
+  ASSERT_EQ(t.header.tree_nodes, 2 * finite - 1);
+  ASSERT_EQ(t.tree_nodes.size(), size_t(2 * finite - 1));
+  expect_a_sound_tree(t);
 }
 
 TEST(LightTree, PickProbabilitiesSumToOneAndMatchTheRecomputedPmf) {
@@ -356,6 +364,35 @@ TEST(LightTree, FiftyThousandEmissiveTrianglesBuildQuickly) {
       1e9 * std::chrono::duration<double>(std::chrono::steady_clock::now() - pick_start).count() / picks;
   EXPECT_GT(checksum, 0.0);
   std::printf("a pick from 50000 triangles: %.0f ns on this host (depth %d)\n", pick_ns, t.tree_depth);
+}
+
+}  // namespace
+}  // namespace pmc
+
+namespace pmc {
+namespace {
+
+// Large subtrees build on TBB's workers into slots fixed in advance: the
+// nodes and trails must be those one thread builds, byte for byte.
+TEST(LightTree, ParallelBuildIsTheOneThreadsTree) {
+  const LightTable parallel =
+      build_light_table(emissive_triangles(20000, 11), {4.0f, 4.0f, 4.0f}, SceneLights{});
+  LightTable serial;
+  {
+    tbb::global_control one(tbb::global_control::max_allowed_parallelism, 1);
+    serial = build_light_table(emissive_triangles(20000, 11), {4.0f, 4.0f, 4.0f}, SceneLights{});
+  }
+  ASSERT_EQ(parallel.tree_nodes.size(), serial.tree_nodes.size());
+  ASSERT_EQ(parallel.tree_nodes.size(), 2u * 20000u - 1u);
+  EXPECT_EQ(parallel.tree_depth, serial.tree_depth);
+  EXPECT_EQ(0, std::memcmp(parallel.tree_nodes.data(), serial.tree_nodes.data(),
+                           serial.tree_nodes.size() * sizeof(PmcLightTreeNode)));
+  expect_a_sound_tree(parallel);  // the one thread's tree could share a slotting error
+  ASSERT_EQ(parallel.lights.size(), serial.lights.size());
+  for (size_t k = 0; k < serial.lights.size(); ++k) {
+    EXPECT_EQ(parallel.lights[k].tree_trail[0], serial.lights[k].tree_trail[0]) << k;
+    EXPECT_EQ(parallel.lights[k].tree_trail[1], serial.lights[k].tree_trail[1]) << k;
+  }
 }
 
 }  // namespace
