@@ -11,10 +11,11 @@ section of docs/BENCHMARKS.md.
 Method: per scene and size, one untimed 32x18, 1-spp render of each
 configuration first (PoCL's kernel cache, the OS file cache, the device's
 calibration; kernel builds are never in render_seconds); then
-RUNS rounds, every render once per round, the order rotated (a render
-shorter than --short-seconds runs --short-repeats times back to back in its
-round, and the round keeps their median); medians of `render_seconds` and of
-the rounds' off / on ratios. The default scene also
+RUNS rounds, every render once per round, the order rotated (the scene
+and size groups, and the configurations within each group; a render
+shorter than --short-seconds runs again, back to back, until its renders
+add up to that, at most --short-repeats, and the round keeps their median);
+medians of `render_seconds` and of the rounds' off / on ratios. The default scene also
 renders with every material constant (bench.materials' trivial.mtlx): the
 ceiling a free cache could reach; the heavy procedural scene renders its
 networks' own shaders with constant inputs (bench.heavy's flat_materials: the
@@ -65,11 +66,12 @@ def parse(argv=None):
     p.add_argument("--only", default="", help="scene keys, comma-separated (default: all)")
     p.add_argument("--nodes", default="default",
                    help="scene keys that also render with --cache-model nodes, comma-separated (default: %(default)s)")
-    p.add_argument("--short-seconds", type=float, default=0.3,
-                   help="a render whose round takes less than this runs --short-repeats times back to back in "
-                        "that round, and the round keeps their median (default: %(default)s)")
-    p.add_argument("--short-repeats", type=common.positive_int, default=5,
-                   help="renders per round of a short render (default: %(default)s)")
+    p.add_argument("--short-seconds", type=float, default=0.5,
+                   help="a render shorter than this runs again in its round until its renders there add up to "
+                        "this, at most --short-repeats times, and the round keeps their median "
+                        "(default: %(default)s)")
+    p.add_argument("--short-repeats", type=common.positive_int, default=15,
+                   help="the most renders per round of a short render (default: %(default)s)")
     common.add_out_dir(p, "out/bench-cache-model", "images, stats and logs of the last run")
     common.add_doc(p)
     common.add_report_only(p)
@@ -88,6 +90,16 @@ class Measure:
         exr, js = f"{self.out}/{name}.exr", f"{self.out}/{name}.json"
         cmd = [self.a.pmc, "render", *args, "-o", exr, "--stats", js, *common.size_args(w, h, spp or self.a.spp)]
         return common.run_pmc(cmd, js, self.log, f"render {name}", append=True)[0]
+
+    @staticmethod
+    def round_jobs(jobs, r):
+        """Round r's order: the scene-and-size groups rotated, and within each
+        group its configurations rotated, so that off and on swap places every
+        round (rotating the whole list kept each pair in one order)."""
+        groups = {}
+        for name in jobs:
+            groups.setdefault(name.rsplit("_", 1)[0], []).append(name)
+        return [name for g in common.round_order(list(groups), r) for name in common.round_order(groups[g], r)]
 
     def all(self):
         t0 = time.time()
@@ -118,12 +130,12 @@ class Measure:
         stats = {}
         for r in range(self.a.runs):
             print(f"{PROG}: round {r + 1} of {self.a.runs}", flush=True)
-            for name in common.round_order(list(jobs), r):
+            for name in self.round_jobs(jobs, r):
                 s = self.render(name, *jobs[name])
                 times = [s["render_seconds"]]
                 # A render this short is noise-bound, and its place after another job's long render
-                # moved it by about 5%: repeat it and keep the median.
-                while times[0] < self.a.short_seconds and len(times) < self.a.short_repeats:
+                # moved it by about 5%: repeat it until the repeats add up, and keep the median.
+                while sum(times) < self.a.short_seconds and len(times) < self.a.short_repeats:
                     times.append(self.render(name, *jobs[name])["render_seconds"])
                 seconds[name].append(common.median(times))
                 stats[name] = s
@@ -173,9 +185,9 @@ def short_text(data):
     if "short" not in data:
         return ""
     s, n = data["short"]
-    return (f" (a render under {s:g} s runs {n} times back to back in its round, which keeps their median: "
-            f"such a render is noise-bound, and where the line pattern's pair "
-            f"followed a long render, the first of the two read about 5% faster than the second)")
+    return (f" (a render under {s:g} s runs again, back to back, until its renders add up to {s:g} s, at most "
+            f"{n} in a round, which keeps their median: such a render is noise-bound, and where the line "
+            f"pattern's pair followed a long render, the first of the two read about 5% faster than the second)")
 
 
 def report(data):
@@ -242,7 +254,7 @@ def report(data):
 Method (`scripts/bench/cache_model.py`): per scene and size, `--cache off`, `--cache on` (the cost
 model, `--cache-model cost`, the default) and, where the table has the column, `--cache on
 --cache-model nodes` (the node count alone, the plan before the model); {common.rounds_text(data['runs'])},
-every render once per round, the order rotated, {data['spp']} spp{short_text(data)}; medians of
+every render once per round, the order rotated (the groups, and the renders within each), {data['spp']} spp{short_text(data)}; medians of
 `render_seconds` and of the rounds' off / on ratios. The prediction is the model's: `pmc render --stats` reports
 `cache.model.predicted_saving_seconds`, each point's gain per lookup (h C - L - (1 - h) M, unit
 nodes) times the lookups its material's shaded hits made, times the calibrated time of a unit node
