@@ -1,7 +1,8 @@
 """bench.cache_model — the cache's cost model (materials/node_costs.h) against
 measurement: cache off, on with the cost model (the default) and on with the
-node count alone (--cache-model nodes), interleaved, on the default scene and
-the shared scenes scripts/bench-cache uses, at each image size; the model's
+node count alone (--cache-model nodes), interleaved, on the default scene,
+the heavy procedural scene, the shared scenes scripts/bench-cache uses and
+bench.peers' Cornell box and spider, at each image size; the model's
 predicted speedup beside the measured one. Writes the "Cache cost model"
 section of docs/BENCHMARKS.md.
 
@@ -30,7 +31,7 @@ saving per predicted unit node, which a right model keeps constant.
 import os
 import time
 
-from bench import common
+from bench import common, peer_scenes
 from bench import heavy as bench_heavy
 from bench import materials as bench_materials
 
@@ -40,6 +41,7 @@ SHARED = common.SHARED_SCENES
 SPONZA = [f"{SHARED}/sponza/sponza.obj", "--camera-from", "-110,20,0", "--camera-at", "100,20,0", "--fov", "45",
           "--env", "1,1,1", "--max-depth", "4"]
 BRICK = f"{SHARED}/materialx/standard_surface_brick_procedural.mtlx"
+PEER = "bench.peers"  # a scene of bench.peer_scenes, written into the output folder at the start
 SCENES = [
     ("default", "default room (`data/default`)", ["data/default/room.obj", "--mtlx", "data/default/materials.mtlx"]),
     ("heavy", "heavy procedural room (`data/heavy`)", bench_heavy.SCENE),
@@ -49,6 +51,8 @@ SCENES = [
     ("sponza", "Sponza (MTL materials)", SPONZA),
     ("sponza_forced", "Sponza, `--cache-min-nodes 3`", SPONZA + ["--cache-min-nodes", "3"]),
     ("sponza_brick", "Sponza, `M_BrickPattern` everywhere", SPONZA + ["--mtlx", BRICK, "--material", "M_BrickPattern"]),
+    ("cornell", "Cornell box (bench.peers' scene: constant materials)", PEER),
+    ("spider", "spider (bench.peers' scene: a textured mesh under an HDR map)", PEER),
     ("lines", "line pattern plane, `--cache-min-nodes 4`",
      [f"{SHARED}/materialx/geometry/plane.obj", "--mtlx", f"{SHARED}/materialx/linepattern.mtlx", "--material",
       "test_union", "--env", "1,1,1", "--camera-from", "0,-0.75,0.65", "--camera-at", "0,-0.05,0", "--fov", "45",
@@ -116,6 +120,8 @@ class Measure:
         for key, _, args in SCENES:
             if only and key not in only:
                 continue
+            if args == PEER:
+                args = peer_scenes.render_args(peer_scenes.write_scene_files(key, os.path.join(self.out, "scenes", key)))
             for size in sizes:
                 for cfg, extra in CONFIGS.items():
                     if cfg == "nodes" and key not in self.a.nodes.split(","):
@@ -214,7 +220,8 @@ def report(data):
                 r, lo, hi = common.median_range(common.round_ratios(off, on))
                 cells += [f"{common.median(on):.2f}", f"**{r:.2f}x** ({lo:.2f}-{hi:.2f})"]
                 if cfg == "cost":
-                    ratios_all.append((names[key], f"{w}x{h}", r))
+                    same = not data["stats"][f"{base}_cost"]["cache"].get("enabled", True)
+                    ratios_all.append((names[key], f"{w}x{h}", r, same))
             cache = data["stats"][f"{base}_cost"]["cache"]
             model = cache.get("model")
             units = predicted_units(data, base)
@@ -245,7 +252,12 @@ def report(data):
                              "on, node count (s)", "off / on (range)",
                              "predicted off / on (at the measured hit rates)", "measured ns per predicted unit node",
                              "uv hit rate expected / measured", "ceiling: constant materials"], rows)
-    slow = [f"{n} {s} {r:.2f}x" for n, s, r in ratios_all if r < 0.98]
+    slow = [f"{n} {s} {r:.2f}x" for n, s, r, same in ratios_all if r < 0.98 and not same]
+    same = [r for _, _, r, same in ratios_all if same]
+    same_text = (f" Rows whose cached render turned the cache off (no point pays: `cache.enabled` false, the "
+                 f"cacheless program both ways, the same pixels) are left out of that count: {len(same)} of them, "
+                 f"their ratios {min(same):.2f}-{max(same):.2f}, the noise of timing one program twice."
+                 if same else "")
     head = (f"Produced by `{data['command']}` on {data['now']} ({data['elapsed'] / 60:.1f} minutes).\n"
             f"Machine: {data['machine']}; checkout {data['rev']}; {data['load']}.\n")
     section = f"""{SECTION}
@@ -269,7 +281,7 @@ lobes), so that no network runs: what a cache that always hit for free could rea
 
 {table}
 
-Cache on with the cost model below 0.98x of off (median of the rounds): {', '.join(slow) if slow else 'none'}.
+Cache on with the cost model below 0.98x of off (median of the rounds): {', '.join(slow) if slow else 'none'}.{same_text}
 """
     return section, "\n".join(printed)
 

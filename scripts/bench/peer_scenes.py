@@ -262,6 +262,13 @@ def _write_obj(path, mesh, names, mtllib=None, fix_normals=False):
                 f.write("\n".join(block) + "\n")
 
 
+def render_args(job):
+    """pmc render's scene arguments for a job of write_scene_files: the OBJ, its lights file and camera."""
+    cam = job["camera"]
+    return [job["obj"], "--lights", job["lights_file"], "--camera-from", ",".join(map(str, cam["from"])),
+            "--camera-at", ",".join(map(str, cam["at"])), "--fov", str(cam["vfov"])]
+
+
 def write_scene_files(name, folder, spec=None):
     """Writes scene `name`'s files (or those of `spec`, a scene of SCENES'
     form) into `folder` (see the module comment) and returns its job

@@ -105,12 +105,6 @@ def variant(text):
     return name, folder
 
 
-def scene_args(job):
-    cam = job["camera"]
-    return [job["obj"], "--lights", job["lights_file"], "--camera-from", ",".join(map(str, cam["from"])),
-            "--camera-at", ",".join(map(str, cam["at"])), "--fov", str(cam["vfov"])]
-
-
 def ns_per_hit(stats, threads):
     """The shade stage's nanoseconds per shaded ray per core."""
     hits = stats["rays"] - stats["shadow_rays"]
@@ -163,7 +157,7 @@ def main(argv=None):
     def render(which, scene, name, spp=None, cpu=None):
         js = f"{out}/{name}.json"
         pin = ["taskset", "-c", str(cpu)] if cpu is not None else []
-        cmd = [*pin, *binaries[which], "render", *scene_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
+        cmd = [*pin, *binaries[which], "render", *peer_scenes.render_args(jobs[scene]), "--max-depth", "8", "--threads", str(a.threads),
                "-o", f"{out}/{name}.exr", "--stats", js, *common.size_args(a.width, a.height, spp or a.spp), *extra]
         data = f"{out}/{name}.perf"
         if a.perf:
