@@ -415,3 +415,61 @@ class ShadeFigures(unittest.TestCase):
         self.assertAlmostEqual(ns[""], 21 * per_sample)
         self.assertAlmostEqual(ns["pmc_tree_importance"], 6 * per_sample)
         self.assertNotIn("_pocl_kernel_pmc_camera_rays_workgroup", ns)
+
+
+class CacheModelRounds(unittest.TestCase):
+    """bench.cache_model's round order and its never-slower check."""
+
+    def test_every_pair_swaps_its_order_from_round_to_round(self):
+        from bench import cache_model
+        jobs = {n: None for n in ["a_160x90_off", "a_160x90_cost", "a_160x90_ceiling", "b_160x90_off",
+                                  "b_160x90_cost", "c_640x360_off", "c_640x360_cost"]}
+        orders = [cache_model.Measure.round_jobs(jobs, r) for r in range(4)]
+        for order in orders:
+            self.assertEqual(sorted(order), sorted(jobs))
+            for g in ("a_160x90", "b_160x90", "c_640x360"):  # a group's renders run one after another
+                at = [i for i, n in enumerate(order) if n.startswith(g)]
+                self.assertEqual(at, list(range(at[0], at[0] + len(at))))
+        for g in ("b_160x90", "c_640x360"):
+            first = [order.index(f"{g}_off") < order.index(f"{g}_cost") for order in orders]
+            self.assertEqual(first, [True, False, True, False])
+
+    def test_rows_where_the_cache_turned_itself_off_are_named_apart(self):
+        from bench import cache_model
+        cache_on = {"enabled": True, "uv_hit_rate": 0.9}
+        data = {"command": "x", "now": "now", "rev": "r", "machine": "m", "load": "l", "elapsed": 60.0, "runs": 2,
+                "spp": 16, "sizes": [[160, 90]], "scenes": ["default", "lines"], "short": [0.5, 15],
+                "seconds": {"default_160x90_off": [1.0, 1.0], "default_160x90_cost": [1.1, 1.1],
+                            "lines_160x90_off": [1.0, 1.0], "lines_160x90_cost": [1.05, 1.05]},
+                "stats": {"default_160x90_cost": {"cache": cache_on}, "default_160x90_off": {"cache": cache_on},
+                          "lines_160x90_cost": {"cache": {"enabled": False}},
+                          "lines_160x90_off": {"cache": {"enabled": False}}}}
+        section, _ = cache_model.report(data)
+        self.assertIn("below 0.98x of off (median of the rounds): default room (`data/default`) 160x90 0.91x.",
+                      section)
+        self.assertIn("left out of that count: 1 of them, their ratios 0.95-0.95", section)
+        self.assertIn("runs again, back to back, until its renders add up to 0.5 s", section)
+
+
+class LightTreeHall(unittest.TestCase):
+    """bench.light_tree's written hall: hundreds of lights, tens of thousands of emissive triangles."""
+
+    def test_the_hall_has_its_lights_and_glowing_triangles(self):
+        import json
+        import tempfile
+        from bench import light_tree
+        with tempfile.TemporaryDirectory() as d:
+            args = light_tree.write_hall(d)
+            self.assertEqual(args[0], os.path.join(d, "hall.obj"))
+            with open(args[2]) as f:
+                self.assertEqual(len(json.load(f)["lights"]), 300)
+            glowing, material = 0, None
+            with open(args[0]) as f:
+                for line in f:
+                    if line.startswith("usemtl "):
+                        material = line.split()[1]
+                    elif line.startswith("f ") and material.startswith("glow"):
+                        glowing += 1
+            self.assertEqual(glowing, 4 * 90 * 35 * 2)
+            with open(os.path.join(d, "hall.mtl")) as f:
+                self.assertEqual(f.read().count("Ke "), 4)
