@@ -134,7 +134,8 @@ nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const
                  {"sampler", st.lights.tree ? "tree" : "power"},
                  {"tree_nodes", st.lights.tree_nodes},
                  {"tree_depth", st.lights.tree_depth},
-                 {"tree_build_seconds", st.lights.build_seconds}};
+                 {"tree_build_seconds", st.lights.build_seconds},
+                 {"table_reused", st.lights.reused}};
   return j;
 }
 

@@ -280,6 +280,38 @@ LightBounds bounds_of(const PmcLight& l, uint32_t index) {
 
 }  // namespace
 
+namespace {
+
+bool same3(const float* a, const float* b) { return a[0] == b[0] && a[1] == b[1] && a[2] == b[2]; }
+
+bool same_light(const LightSpec& a, const LightSpec& b) {
+  return a.type == b.type && same3(a.position, b.position) && same3(a.direction, b.direction) &&
+         same3(a.rgb, b.rgb) && a.cone_angle_deg == b.cone_angle_deg && a.blend == b.blend &&
+         a.angle_deg == b.angle_deg && same3(a.corner, b.corner) && same3(a.edge_u, b.edge_u) &&
+         same3(a.edge_v, b.edge_v) && a.two_sided == b.two_sided;
+}
+
+}  // namespace
+
+bool same_lights(const SceneLights& a, const SceneLights& b) {
+  const EnvironmentSpec &ea = a.environment, &eb = b.environment;
+  if (ea.present != eb.present || !same3(ea.radiance, eb.radiance) || ea.map != eb.map ||
+      ea.scale != eb.scale || ea.rotate_y_deg != eb.rotate_y_deg || a.lights.size() != b.lights.size())
+    return false;
+  for (size_t i = 0; i < a.lights.size(); ++i)
+    if (!same_light(a.lights[i], b.lights[i])) return false;
+  return true;
+}
+
+LightTable empty_light_table() {
+  LightTable t;
+  t.lights.push_back(PmcLight{});
+  t.triangle_light.push_back(-1);
+  t.tree_nodes.push_back(PmcLightTreeNode{});
+  t.env_data.push_back(0.0f);
+  return t;
+}
+
 LightTable build_light_table(const Scene& scene, const std::vector<float>& emission, const SceneLights& sl,
                              LightSampler sampler) {
   LightTable t;

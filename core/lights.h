@@ -68,6 +68,11 @@ struct SceneLights {
   EnvironmentSpec environment;
 };
 
+// Whether two sets of lights give the same light table: the same lights in
+// the same order with the same fields, and the same environment (a map by
+// identity: the one loaded object). The source file's name does not count.
+bool same_lights(const SceneLights& a, const SceneLights& b);
+
 // Reads a lights file (and loads its environment map, resolved relative to
 // the file). Any problem is a pmc::Error naming the file and the field.
 SceneLights read_lights_file(const std::string& path);
@@ -98,5 +103,8 @@ struct LightTable {
 // with either sampler).
 LightTable build_light_table(const Scene& scene, const std::vector<float>& emission,
                              const SceneLights& lights, LightSampler sampler = LightSampler::Tree);
+// A table without lights (one blank entry per device buffer): what the scene
+// buffers hold until a render uploads its own.
+LightTable empty_light_table();
 
 }  // namespace pmc

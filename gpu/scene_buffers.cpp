@@ -52,7 +52,7 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
   buffers[kScene_textures] = cl.shared_buffer_of(scene.textures.textures());
   buffers[kScene_texels] = cl.shared_buffer_of(*mats.texel_words);
   buffers[kScene_srgb_lut] = cl.shared_buffer_of(mats.srgb_lut);
-  upload_lights(cl, build_light_table(scene, emission, SceneLights{}));
+  upload_lights(cl, empty_light_table());  // each render uploads its own (WavefrontRenderer::render)
 }
 
 void SceneBuffers::upload_lights(const ClContext& cl, LightTable table) {

@@ -41,6 +41,11 @@ struct WavefrontRenderer::Impl {
         : queue(cl.new_queue()), kernels(first, queue.get()) {}
   };
   std::unique_ptr<SecondWave> second;
+  // The lights of the table the last render uploaded: a render with the same
+  // lights and sampler keeps it (pmc compare, sweeps), as a tree over a
+  // million emissive triangles takes a second to build.
+  std::unique_ptr<SceneLights> uploaded_lights;
+  LightSampler uploaded_sampler = LightSampler::Tree;
 
   Impl(const ClContext& c, const Scene& s, const MaterialSet& mats, const EmbreeTracer& t,
        std::unique_ptr<WaveKernels> k)
@@ -435,13 +440,24 @@ RenderOutput WavefrontRenderer::render(const RenderSettings& s, const ProgressFn
   // constant s.env) plus the scene's emissive triangles (core/lights.h).
   SceneLights lights = s.lights;
   if (!lights.environment.present) lights.environment = constant_environment(s.env);
-  m.scene_buffers.upload_lights(m.cl,
-                                build_light_table(m.scene, m.scene_buffers.emission, lights,
-                                                  s.light_tree ? LightSampler::Tree : LightSampler::Power));
+  const LightSampler sampler = s.light_tree ? LightSampler::Tree : LightSampler::Power;
+  const bool reuse =
+      m.uploaded_lights && m.uploaded_sampler == sampler && same_lights(*m.uploaded_lights, lights);
+  if (!reuse) {
+    m.uploaded_lights.reset();  // (a failed build leaves no table claimed)
+    m.scene_buffers.upload_lights(m.cl,
+                                  build_light_table(m.scene, m.scene_buffers.emission, lights, sampler));
+    m.uploaded_lights = std::make_unique<SceneLights>(lights);
+    m.uploaded_sampler = sampler;
+  }
   const LightTable& table = m.scene_buffers.lights;
-  st.lights = {
-      table.header.count,      table.emissive_triangles, table.header.sampler == PMC_LIGHT_SAMPLER_TREE,
-      table.header.tree_nodes, table.tree_depth,         table.tree_build_seconds};
+  st.lights = {table.header.count,
+               table.emissive_triangles,
+               table.header.sampler == PMC_LIGHT_SAMPLER_TREE,
+               table.header.tree_nodes,
+               table.tree_depth,
+               reuse ? 0.0 : table.tree_build_seconds,
+               reuse};
   PmcFrame frame = make_frame(s, m.scene_buffers);
   frame.crop_x0 = uint32_t(x0);
   frame.crop_y0 = uint32_t(y0);

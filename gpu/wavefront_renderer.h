@@ -145,7 +145,8 @@ struct LightStats {
   bool tree = false;  // picked by the light tree (else by power)
   int tree_nodes = 0;
   int tree_depth = 0;        // levels below the root
-  double build_seconds = 0;  // the tree's build (part of render_seconds)
+  double build_seconds = 0;  // the tree's build (part of render_seconds; 0 when reused)
+  bool reused = false;       // the previous render's table, whose lights were the same
 };
 
 struct RenderStats {

@@ -744,3 +744,42 @@ TEST(LightsRender, SharedHdrMapsLoadAndLightAPlaneAsTheirTexelsSay) {
 
 }  // namespace
 }  // namespace pmc
+
+namespace pmc {
+namespace {
+
+// A session keeps its light table while a render's lights stay those of the
+// one before (pmc compare, sweeps), and builds a new one when they change:
+// each render's image is the one a fresh session renders with its lights.
+TEST(LightsRender, ASessionKeepsItsLightTableOnlyWhileTheLightsStayTheSame) {
+  const std::string dir = test::temp_dir();
+  test::write_file(dir + "/scene.mtl", std::string(kGreyMtl) + "newmtl glow\nKd 0 0 0\nKe 3 3 3\n");
+  test::write_file(dir + "/scene.obj", plane_obj(2.0, "scene") + sphere_obj({0, 1.5, 0}, 0.3, 6, 8, "glow", 4));
+  RenderConfig config;
+  config.scene = dir + "/scene.obj";
+  config.cache = false;
+  RenderSettings s = top_view(24, 4);
+  s.lights.lights.push_back(point_spec({1, 2, 0}, 2.0f));
+  RenderSettings moved = s;
+  moved.lights.lights[0].position[0] = -1.0f;
+  RenderSettings by_power = s;
+  by_power.light_tree = false;
+  auto fresh = [&](const RenderSettings& settings) { return RenderSession(config, test::cl()).render(settings); };
+
+  RenderSession session(config, test::cl());
+  const RenderOutput first = session.render(s), again = session.render(s);
+  EXPECT_FALSE(first.stats.lights.reused);
+  EXPECT_TRUE(again.stats.lights.reused);
+  EXPECT_EQ(again.stats.lights.build_seconds, 0.0);
+  EXPECT_EQ(again.stats.lights.count, first.stats.lights.count);
+  EXPECT_EQ(test::differing_values(first.image, again.image), 0u);
+  for (const RenderSettings* next : {&moved, &by_power, &s}) {
+    const RenderOutput out = session.render(*next);
+    EXPECT_FALSE(out.stats.lights.reused);
+    EXPECT_EQ(test::differing_values(out.image, fresh(*next).image), 0u);
+  }
+  EXPECT_GT(test::differing_values(first.image, fresh(moved).image), 0u);  // the comparison can fail
+}
+
+}  // namespace
+}  // namespace pmc
