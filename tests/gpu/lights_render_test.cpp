@@ -754,7 +754,8 @@ namespace {
 TEST(LightsRender, ASessionKeepsItsLightTableOnlyWhileTheLightsStayTheSame) {
   const std::string dir = test::temp_dir();
   test::write_file(dir + "/scene.mtl", std::string(kGreyMtl) + "newmtl glow\nKd 0 0 0\nKe 3 3 3\n");
-  test::write_file(dir + "/scene.obj", plane_obj(2.0, "scene") + sphere_obj({0, 1.5, 0}, 0.3, 6, 8, "glow", 4));
+  test::write_file(dir + "/scene.obj",
+                   plane_obj(2.0, "scene") + sphere_obj({0, 1.5, 0}, 0.3, 6, 8, "glow", 4));
   RenderConfig config;
   config.scene = dir + "/scene.obj";
   config.cache = false;
@@ -764,7 +765,9 @@ TEST(LightsRender, ASessionKeepsItsLightTableOnlyWhileTheLightsStayTheSame) {
   moved.lights.lights[0].position[0] = -1.0f;
   RenderSettings by_power = s;
   by_power.light_tree = false;
-  auto fresh = [&](const RenderSettings& settings) { return RenderSession(config, test::cl()).render(settings); };
+  auto fresh = [&](const RenderSettings& settings) {
+    return RenderSession(config, test::cl()).render(settings);
+  };
 
   RenderSession session(config, test::cl());
   const RenderOutput first = session.render(s), again = session.render(s);
