@@ -37,11 +37,11 @@ SCENES = [
     ("default + sun", [*ROOM, "--lights", "data/default/sun.lights.json"]),
 ]
 SAMPLERS = ["off", "on"]
-HALL = "hall"  # the written scene's key in SCENES' place
 
 
 def write_hall(folder):
-    """A 10 x 4 x 10 m hall (a grey floor, four walls and a ceiling), four
+    """A 10 x 4 x 10 m hall (a grey floor, a ceiling and three walls, open
+    towards the camera), four
     emissive spheres of radius 0.4 m (90 x 35 quads, split into triangles,
     each sphere its own colour) and 300 point lights of random intensity
     under the ceiling: tens of thousands of emissive triangles and hundreds
@@ -169,15 +169,16 @@ def main(argv=None):
                                                          common.round_ratios(res["on"]["seconds"],
                                                                              res["off"]["seconds"]))])
         results[label] = dict(med=med, noise=noise, cost=cost, efficiency=eff, all=res)
-        tree = (f"{lights['count']}, {lights['tree_depth']} levels, {1e3 * lights['tree_build_seconds']:.0f} ms"
-                if lights else "-")
-        rows.append([label, tree, f"{med['off']['relmse']:.4g}", f"{med['on']['relmse']:.4g}",
+        tree_text = (f"{lights['count']}, {lights['tree_depth']} levels, "
+                     f"{1e3 * lights['tree_build_seconds']:.0f} ms" if lights else "-")
+        rows.append([label, tree_text, f"{med['off']['relmse']:.4g}", f"{med['on']['relmse']:.4g}",
                      f"**{noise[0]:.2f}x** ({noise[1]:.2f}-{noise[2]:.2f})",
                      f"{med['off']['seconds']:.2f}", f"{med['on']['seconds']:.2f}",
                      f"{cost[0]:.2f} ({cost[1]:.2f}-{cost[2]:.2f})",
                      f"**{eff[0]:.2f}x** ({eff[1]:.2f}-{eff[2]:.2f})"])
     elapsed = time.time() - t0
-    table = common.md_table(["scene", "lights, tree depth, tree build", "relMSE, power", "relMSE, tree", "relMSE power / tree (range)",
+    table = common.md_table(["scene", "lights, tree depth, tree build", "relMSE, power", "relMSE, tree",
+                             "relMSE power / tree (range)",
                              "seconds, power", "seconds, tree", "time tree / power (range)",
                              "efficiency tree / power (range)"], rows)
     scene_lines = "\n".join(f"    build/pmc render {' '.join(s)} --light-tree on|off --cache off "
