@@ -82,7 +82,7 @@ class WaveKernels {
 // two (at least 16), so few distinct builds exist across scenes; and
 // -DPMC_LANES=lanes; -DPMC_CELL_CHUNK (core/device/pmc_cache.h): 8 on GPUs,
 // 1 on CPU devices; on CPU devices -DPMC_CPU_PREFETCH=1 (the shade kernel
-// starts its loads with prefetch instructions, gpu/kernels/pmc_kernels.cl).
+// starts its loads with prefetch instructions: PMC_TOUCH, gpu/kernels/shade_surface.cl).
 std::string wave_program_options(const MaterialSet& materials, int lanes, bool gpu);
 
 // The shade kernel's batch size for a device when none is asked for: on CPU

@@ -17,7 +17,7 @@
 #define PMC_FN static inline
 /* A function always inlined on the device: one that the shade kernel's loops
  * over a batch's lanes call (a call in a loop's body keeps the compiler from
- * vectorising the loop: gpu/kernels/pmc_kernels.cl, pmc_draw_hit_numbers), or
+ * vectorising the loop: gpu/kernels/shade_surface.cl, pmc_draw_hit_numbers), or
  * one returning a struct that a call would pass through memory, where the
  * caller then stalls reading it back (pmc_cache_texel_floored). */
 #define PMC_FN_INLINE static inline __attribute__((always_inline))

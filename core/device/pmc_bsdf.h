@@ -318,7 +318,7 @@ PMC_FN float pmc_bsdf_pdf(const PmcLobes* l, float3 wo, float3 wi) {
 }
 
 /* Cosine-weighted hemisphere direction (concentric mapping). The shade
- * kernel's pmc_sample_cosine8 (gpu/kernels/pmc_kernels.cl) is its float8
+ * kernel's pmc_sample_cosine8 (gpu/kernels/samplers8.cl) is its float8
  * twin, the same operations in the same order: keep the two alike. */
 PMC_FN float3 pmc_sample_cosine(float u1, float u2) {
   float a = 2.0f * u1 - 1.0f;

@@ -320,7 +320,7 @@ PMC_FN float pmc_sph_rect_init(PMC_GLOBAL const PmcLight* l, float3 p, PmcSphRec
  * its coordinates xu, yv along the rectangle's edges. Scalars in,
  * straight-line (selects, no branches); the shade kernel runs it for a
  * batch's lanes together, eight at a time in its float8 twin
- * (pmc_sph_rect_sample_xy8 in gpu/kernels/pmc_kernels.cl: keep the two alike). */
+ * (pmc_sph_rect_sample_xy8 in gpu/kernels/samplers8.cl: keep the two alike). */
 PMC_FN float2 pmc_sph_rect_sample_xy(float omega, float k, float b0, float b1, float z0, float x0, float x1,
                                      float y0, float y1, float u, float v) {
   float au = u * omega + k;

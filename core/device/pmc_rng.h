@@ -134,7 +134,7 @@ PMC_FN float pmc_rand(PmcSampler s, pmc_u32 bounce, pmc_u32 dim) {
  * set's seeds are hashed once, and the shade kernel draws a whole batch's
  * in one loop over its lanes with one sampler kind, straight-line integer
  * code that a CPU compiler vectorises (pmc_draw_hit_numbers in
- * gpu/kernels/pmc_kernels.cl). */
+ * gpu/kernels/shade_surface.cl). */
 typedef struct PmcHitNumbers {
   float light_pick, light_u, light_v, lobe, bsdf_u, bsdf_v, rr;
 } PmcHitNumbers;
