@@ -2,6 +2,7 @@
 // costs (device_calibration.h).
 #include "gpu/device_calibration.h"
 
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -68,7 +69,7 @@ double launch_seconds(const ClContext& cl, cl_kernel k, size_t items) {
 std::string calibration_key(const ClContext& cl) {
   const ClDeviceInfo& d = cl.info();
   ContentHash source;
-  source.str(expand_kernel_source(kKernelFile));
+  source.str(kernel_code_of(expand_kernel_source(kKernelFile)));  // comments and layout do not count
   return d.platform + " | " + d.name + " | " + d.version + " | driver " +
          cl_device_string(d.device_id, CL_DRIVER_VERSION) + " | calibration " + std::to_string(kFormat) +
          " " + source.hex();
@@ -143,13 +144,52 @@ DeviceTimings store_calibration(const std::string& folder, const std::string& ke
   return t;
 }
 
-DeviceTimings load_or_measure(const std::string& folder, const std::string& key,
-                              const std::function<DeviceTimings()>& measure) {
+CpuTimes cpu_times() {
+  CpuTimes t;
+  rusage own{};
+  if (getrusage(RUSAGE_SELF, &own) == 0)
+    t.self = double(own.ru_utime.tv_sec) + 1e-6 * double(own.ru_utime.tv_usec) + double(own.ru_stime.tv_sec) +
+             1e-6 * double(own.ru_stime.tv_usec);
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  // cpu  user nice system idle iowait irq softirq steal (guest time is inside user)
+  double user = 0, nice = 0, system = 0, idle = 0, iowait = 0, irq = 0, softirq = 0, steal = 0;
+  const long hz = sysconf(_SC_CLK_TCK);
+  if (stat >> cpu >> user >> nice >> system >> idle >> iowait >> irq >> softirq && cpu == "cpu" && hz > 0) {
+    if (!(stat >> steal)) steal = 0;
+    t.machine_busy = (user + nice + system + irq + softirq + steal) / double(hz);
+    t.machine_total = t.machine_busy + (idle + iowait) / double(hz);
+  }
+  return t;
+}
+
+double others_share(const CpuTimes& a, const CpuTimes& b) {
+  if (a.machine_total < 0 || b.machine_total < 0) return 0;
+  const double total = b.machine_total - a.machine_total;
+  const long hz = sysconf(_SC_CLK_TCK);
+  if (!(total * double(hz > 0 ? hz : 100) >= 20.0)) return 0;  // under 20 ticks: too coarse to tell
+  const double others = (b.machine_busy - a.machine_busy) - (b.self - a.self);
+  return std::clamp(others / total, 0.0, 1.0);
+}
+
+std::optional<DeviceTimings> load_or_measure(const std::string& folder, const std::string& key,
+                                             const std::function<DeviceTimings()>& measure,
+                                             double busy_share) {
   std::string problem;
   if (std::optional<DeviceTimings> stored = read_calibration(calibration_path(folder, key), key, &problem))
     return *stored;
   if (!problem.empty()) warn("device calibration: ignoring " + problem + "; measuring the device again");
-  return store_calibration(folder, key, measure());
+  const DeviceTimings t = measure();
+  if (t.others_share > busy_share) {
+    char share[32];
+    std::snprintf(share, sizeof share, "%.0f%%", 100.0 * t.others_share);
+    warn(std::string("device calibration: other processes took ") + share +
+         " of the machine's CPU time while pmc timed this device's cache costs, which slows the timing "
+         "kernels "
+         "unevenly; this run plans its cache with the built-in table, and the next run measures again");
+    return std::nullopt;
+  }
+  return store_calibration(folder, key, t);
 }
 
 CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string& source) {
@@ -190,6 +230,7 @@ DeviceTimings measure_device_costs(const ClContext& cl) {
   // work on the machine slows a kernel, never speeds it up. The first round
   // is a warm-up (some drivers compile at the first launch).
   double miss_s = 1e300, lookup_s = 1e300, unit_s = 1e300;
+  const CpuTimes before = cpu_times();
   for (int round = 0; round < 8; ++round) {
     clear();
     const double m = launch_seconds(cl, miss, items);
@@ -201,19 +242,27 @@ DeviceTimings measure_device_costs(const ClContext& cl) {
     unit_s = std::min(unit_s, u);
   }
   DeviceTimings t;
+  // Another process's load only matters to a CPU device, whose cores it shares.
+  t.others_share = gpu ? 0.0 : others_share(before, cpu_times());
   t.miss_ns = 1e9 * miss_s / ops;
   t.lookup_ns = 1e9 * lookup_s / ops;
   t.unit_ns = 1e9 * unit_s / (double(items) * double(unit_iterations));
   return t;
 }
 
-CacheCosts device_cache_costs(const ClContext& cl) {
+CacheCosts device_cache_costs(const ClContext& cl, double busy_share) {
   const bool gpu = cl.info().is_gpu;
   const std::string folder = calibration_folder();
   if (folder.empty()) return default_cache_costs(gpu);
   const std::string key = calibration_key(cl);
-  const DeviceTimings t = load_or_measure(folder, key, [&] { return measure_device_costs(cl); });
-  return calibrated_costs(t, gpu, "calibrated, " + calibration_path(folder, key));
+  const std::optional<DeviceTimings> t = load_or_measure(
+      folder, key, [&] { return measure_device_costs(cl); }, busy_share);
+  if (!t) {
+    CacheCosts table = default_cache_costs(gpu);
+    table.source += ": the machine was busy while pmc measured it";
+    return table;
+  }
+  return calibrated_costs(*t, gpu, "calibrated, " + calibration_path(folder, key));
 }
 
 }  // namespace pmc

@@ -11,15 +11,17 @@
 //
 // Timings are noisy, so a device is measured once: the raw figures are stored
 // in a JSON file named by a hash of the calibration key (platform, device,
-// OpenCL and driver versions, and the calibration kernel's expanded source,
-// which changes with pmc's cache code) beside PoCL's kernel cache:
+// OpenCL and driver versions, and the calibration kernel's code, which
+// changes with pmc's cache code) beside PoCL's kernel cache:
 // $PMC_CACHE_COSTS if it names a folder, else $XDG_CACHE_HOME/pmc/device-costs,
 // else ~/.cache/pmc/device-costs. Later runs read the file, so the plan, and
 // the image, is the same on a device for every run once stored. The first
 // writer wins (a file is linked into place, never replaced while valid), so
 // concurrent first runs (farm parts) all use the same figures. A file with
 // another key (a hash collision) or one that cannot be read as calibration is
-// ignored with a warning and measured again. PMC_CACHE_COSTS=table uses the
+// ignored with a warning and measured again. A measurement taken while other
+// processes kept the machine busy is used for nothing (kCalibrationBusyShare).
+// PMC_CACHE_COSTS=table uses the
 // table without a device measurement (the test suite sets it: deterministic
 // plans on any machine).
 #pragma once
@@ -39,9 +41,34 @@ struct DeviceTimings {
   double unit_ns = 0;    // one 2D Perlin noise
   double lookup_ns = 0;  // a lookup that hits
   double miss_ns = 0;    // a lookup that misses, then its insert
+  // Not stored: the share of the machine's CPU time that other processes
+  // took while the kernels were timed (0 when unknown; see cpu_times()).
+  double others_share = 0;
 };
 
-// What identifies a device's calibration (one line of text).
+// A calibration measured while other processes kept more than this share of
+// the machine busy is not kept: their load slows the three kernels unevenly
+// (one measured beside a compile on 2 cores read its lookup 4x and its unit
+// node 2.4x the quiet figures), and a stored calibration plans every later
+// run. That run plans with the table instead and the next run measures again.
+constexpr double kCalibrationBusyShare = 0.25;
+
+// CPU seconds the machine spent busy (user, nice, system, interrupts and, in
+// a virtual machine, time stolen by the host) and in all (busy and idle)
+// since boot, from /proc/stat, and this process's own (getrusage); the
+// machine's figures are negative where /proc/stat cannot be read.
+struct CpuTimes {
+  double machine_busy = -1, machine_total = -1, self = 0;
+};
+CpuTimes cpu_times();
+// The share of the machine's CPU time between `a` and `b` that other
+// processes took: (machine busy - own) / machine total, in [0, 1]; 0 when
+// unknown or when the window holds too few clock ticks to tell.
+double others_share(const CpuTimes& a, const CpuTimes& b);
+
+// What identifies a device's calibration (one line of text): the platform,
+// device, OpenCL and driver versions and a hash of the calibration kernel's
+// code (kernel_code_of: an edit of its comments keeps the figures).
 std::string calibration_key(const ClContext& cl);
 // The folder from PMC_CACHE_COSTS / XDG_CACHE_HOME / HOME; "" with
 // PMC_CACHE_COSTS=table or no home folder.
@@ -58,9 +85,12 @@ std::optional<DeviceTimings> read_calibration(const std::string& path, const std
 // cannot be written costs a warning and returns `t`.
 DeviceTimings store_calibration(const std::string& folder, const std::string& key, const DeviceTimings& t);
 
-// The stored timings, else measure() once and store them.
-DeviceTimings load_or_measure(const std::string& folder, const std::string& key,
-                              const std::function<DeviceTimings()>& measure);
+// The stored timings, else measure() once and store them; none (with a
+// warning) when the measurement's others_share exceeds `busy_share`: nothing
+// is stored, and the caller plans with the table.
+std::optional<DeviceTimings> load_or_measure(const std::string& folder, const std::string& key,
+                                             const std::function<DeviceTimings()>& measure,
+                                             double busy_share = kCalibrationBusyShare);
 
 // The table's figures scaled by a device's timings (see above).
 CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string& source);
@@ -69,8 +99,9 @@ CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string&
 // the first time, then PoCL's kernel cache).
 DeviceTimings measure_device_costs(const ClContext& cl);
 
-// The costs a render on `cl` plans with: the table (PMC_CACHE_COSTS=table or
-// no folder), else the stored or newly measured calibration.
-CacheCosts device_cache_costs(const ClContext& cl);
+// The costs a render on `cl` plans with: the table (PMC_CACHE_COSTS=table,
+// no folder, or a measurement other processes disturbed), else the stored or
+// newly measured calibration.
+CacheCosts device_cache_costs(const ClContext& cl, double busy_share = kCalibrationBusyShare);
 
 }  // namespace pmc

@@ -84,6 +84,60 @@ std::string expand_kernel_text(const std::string& name, const std::string& text)
   return out.str();
 }
 
+std::string kernel_code_of(const std::string& source) {
+  enum { Code, Line, Block, Str, Chr } state = Code;
+  std::string flat;  // comments gone (one space each), runs of blanks one space
+  flat.reserve(source.size());
+  auto blank = [&flat] {
+    if (!flat.empty() && flat.back() != ' ' && flat.back() != '\n') flat += ' ';
+  };
+  for (size_t i = 0; i < source.size(); ++i) {
+    const char c = source[i], next = i + 1 < source.size() ? source[i + 1] : '\0';
+    switch (state) {
+      case Code:
+        if (c == '/' && next == '/') {
+          state = Line, ++i;
+        } else if (c == '/' && next == '*') {
+          state = Block, ++i, blank();
+        } else if (c == ' ' || c == '\t' || c == '\r') {
+          blank();
+        } else {
+          if (c == '"') state = Str;
+          if (c == '\'') state = Chr;
+          flat += c;
+        }
+        break;
+      case Line:
+        if (c == '\n') state = Code, flat += c;
+        break;
+      case Block:
+        if (c == '*' && next == '/')
+          state = Code, ++i;
+        else if (c == '\n')
+          flat += c;
+        break;
+      case Str:
+      case Chr:
+        flat += c;
+        if (c == '\\' && next != '\0')
+          flat += next, ++i;
+        else if (c == (state == Str ? '"' : '\''))
+          state = Code;
+        break;
+    }
+  }
+  std::istringstream in(flat);
+  std::string line, out;
+  while (std::getline(in, line)) {
+    const size_t first = line.find_first_not_of(' ');
+    if (first == std::string::npos || line.compare(first, 5, "#line") == 0) continue;
+    const size_t last = line.find_last_not_of(' ');
+    out.append(line, first, last - first + 1);
+    out += '\n';
+  }
+  return out;
+}
+
 ClProgram::ClProgram(const ClContext& ctx, const std::string& main_file, const std::string& options) {
   build(ctx, main_file, expand_kernel_source(main_file), options);
 }

@@ -23,6 +23,11 @@ std::string kernel_source_file(const std::string& name);
 std::string expand_kernel_source(const std::string& name);
 // In-memory source `text` (reported as `name`) with its quoted includes expanded.
 std::string expand_kernel_text(const std::string& name, const std::string& text);
+// The code of (expanded) kernel source: comments, #line markers and blank
+// lines dropped, each run of spaces and tabs outside string and character
+// literals one space, lines trimmed. Two sources that differ only in
+// comments, layout or where their files start read the same.
+std::string kernel_code_of(const std::string& source);
 
 class ClProgram {
  public:

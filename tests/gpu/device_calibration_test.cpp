@@ -10,12 +10,17 @@
 //      table itself);
 //  (f) on this machine's device: the kernels measure positive figures, and
 //      device_cache_costs() gives identical costs on the second call (read
-//      back, not measured), so the plan is the same for every later run.
+//      back, not measured), so the plan is the same for every later run;
+//  (g) a measurement while other processes took more than
+//      kCalibrationBusyShare of the machine is not stored (the run plans with
+//      the table and warns; the next run measures again); others_share is
+//      the machine's busy time less this process's own.
 #include "gpu/device_calibration.h"
 
 #include <gtest/gtest.h>
 #include <stdlib.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -56,10 +61,10 @@ TEST(DeviceCalibration, KeyedByDevice) {
     ++measured;
     return timings(80, 120 + measured, 170);
   };
-  EXPECT_EQ(load_or_measure(dir, "device A", measure).lookup_ns, 121);
-  EXPECT_EQ(load_or_measure(dir, "device A", measure).lookup_ns, 121);
+  EXPECT_EQ(load_or_measure(dir, "device A", measure)->lookup_ns, 121);
+  EXPECT_EQ(load_or_measure(dir, "device A", measure)->lookup_ns, 121);
   EXPECT_EQ(measured, 1) << "a stored calibration is not measured again";
-  EXPECT_EQ(load_or_measure(dir, "device B", measure).lookup_ns, 122);
+  EXPECT_EQ(load_or_measure(dir, "device B", measure)->lookup_ns, 122);
   EXPECT_EQ(measured, 2) << "another device key is measured";
   // A's file where B's belongs (as a hash collision would put it): not B's.
   std::filesystem::copy_file(calibration_path(dir, "device A"), calibration_path(dir, "device C"));
@@ -67,7 +72,7 @@ TEST(DeviceCalibration, KeyedByDevice) {
   EXPECT_FALSE(read_calibration(calibration_path(dir, "device C"), "device C", &problem));
   EXPECT_NE(problem.find("another device"), std::string::npos) << problem;
   testing::internal::CaptureStderr();
-  EXPECT_EQ(load_or_measure(dir, "device C", measure).lookup_ns, 123);
+  EXPECT_EQ(load_or_measure(dir, "device C", measure)->lookup_ns, 123);
   const std::string warning = testing::internal::GetCapturedStderr();
   EXPECT_NE(warning.find(calibration_path(dir, "device C")), std::string::npos) << warning;
 }
@@ -87,18 +92,72 @@ TEST(DeviceCalibration, DamagedFileIsIgnoredWithAWarning) {
     test::write_file(path, text);
     int measured = 0;
     testing::internal::CaptureStderr();
-    const DeviceTimings t = load_or_measure(dir, "device A", [&measured] {
+    const std::optional<DeviceTimings> t = load_or_measure(dir, "device A", [&measured] {
       ++measured;
       return timings(80, 120, 170);
     });
     const std::string warning = testing::internal::GetCapturedStderr();
     EXPECT_EQ(measured, 1) << text;
-    EXPECT_EQ(t.lookup_ns, 120) << text;
+    ASSERT_TRUE(t) << text;
+    EXPECT_EQ(t->lookup_ns, 120) << text;
     EXPECT_NE(warning.find(path), std::string::npos) << text << " -> " << warning;
     std::string problem;
     EXPECT_TRUE(read_calibration(path, "device A", &problem))
         << "replaced by the new measurement: " << problem;
   }
+}
+
+TEST(DeviceCalibration, AMeasurementOtherProcessesDisturbedIsNotKept) {
+  const std::string dir = test::temp_dir();
+  int measured = 0;
+  double share = 0.6;  // others took 60% of the machine while the kernels ran
+  auto measure = [&] {
+    ++measured;
+    DeviceTimings t = timings(38, 34.7, 56.3);  // what a compile beside the timing gave
+    t.others_share = share;
+    return t;
+  };
+  testing::internal::CaptureStderr();
+  EXPECT_FALSE(load_or_measure(dir, "device A", measure));
+  const std::string warning = testing::internal::GetCapturedStderr();
+  EXPECT_NE(warning.find("60%"), std::string::npos) << warning;
+  EXPECT_NE(warning.find("measures again"), std::string::npos) << warning;
+  EXPECT_FALSE(test::file_exists(calibration_path(dir, "device A")))
+      << "a disturbed calibration is not stored";
+  share = kCalibrationBusyShare;  // at the limit: kept
+  const std::optional<DeviceTimings> quiet = load_or_measure(dir, "device A", measure);
+  ASSERT_TRUE(quiet);
+  EXPECT_EQ(measured, 2) << "the next run measured again";
+  EXPECT_TRUE(test::file_exists(calibration_path(dir, "device A")));
+  EXPECT_TRUE(load_or_measure(dir, "device A", measure, 0.0))
+      << "a stored calibration is read, whatever the load";
+  EXPECT_EQ(measured, 2);
+}
+
+TEST(DeviceCalibration, OthersShareIsTheMachinesBusyTimeLessOurOwn) {
+  CpuTimes a, b;
+  a.machine_busy = 100, a.machine_total = 200, a.self = 10;
+  b.machine_busy = 160, b.machine_total = 300, b.self = 40;  // 60 s busy of 100, 30 of them ours
+  EXPECT_DOUBLE_EQ(others_share(a, b), 0.3);
+  b.self = 80;  // our own time read finer than the machine's ticks: never below 0
+  EXPECT_EQ(others_share(a, b), 0.0);
+  b = a;
+  b.machine_busy += 0.05, b.machine_total += 0.1;  // 10 ticks at 100 Hz: too few to tell
+  EXPECT_EQ(others_share(a, b), 0.0);
+  CpuTimes unknown;  // no /proc/stat
+  EXPECT_EQ(others_share(unknown, b), 0.0);
+  // This machine: the counters run, and a spin of this thread shows in its own time.
+  const CpuTimes before = cpu_times();
+  const auto start = std::chrono::steady_clock::now();
+  volatile double sink = 0;
+  while (std::chrono::steady_clock::now() - start < std::chrono::milliseconds(200)) sink = sink + 1.0;
+  const CpuTimes after = cpu_times();
+  ASSERT_GE(before.machine_total, 0) << "/proc/stat unreadable";
+  EXPECT_GT(after.machine_total, before.machine_total);
+  EXPECT_LE(after.machine_busy, after.machine_total);
+  EXPECT_GE(after.self - before.self, 0.1);
+  const double share_now = others_share(before, after);
+  EXPECT_TRUE(share_now >= 0.0 && share_now <= 1.0) << share_now;
 }
 
 TEST(DeviceCalibration, FirstWriterWins) {
@@ -130,8 +189,9 @@ TEST(DeviceCalibration, MeasuredOnceOnThisDevice) {
   const char* before = std::getenv("PMC_CACHE_COSTS");
   const std::string saved = before ? before : "";
   setenv("PMC_CACHE_COSTS", dir.c_str(), 1);
-  const CacheCosts first = device_cache_costs(test::cl());
-  const CacheCosts second = device_cache_costs(test::cl());
+  // Whatever else the machine runs (ctest -j): this checks storing, not load.
+  const CacheCosts first = device_cache_costs(test::cl(), 1.0);
+  const CacheCosts second = device_cache_costs(test::cl(), 1.0);
   if (before)
     setenv("PMC_CACHE_COSTS", saved.c_str(), 1);
   else

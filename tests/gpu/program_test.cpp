@@ -33,5 +33,30 @@ TEST(Program, BuildFailureCarriesTheCompilerLog) {
 
 TEST(Program, MissingKernelSourceIsAnError) { EXPECT_THROW(expand_kernel_source("no_such_file.cl"), Error); }
 
+// The device calibration's key hashes kernel_code_of its source: an edit of
+// comments or layout must read the same, an edit of the code must not.
+TEST(Program, KernelCodeLeavesOutCommentsLayoutAndLineMarkers) {
+  const std::string code = kernel_code_of(
+      "#line 1 \"a.cl\"\n"
+      "/* a header\n   over two lines */\n"
+      "int   f(int x) {   // the doubling\n"
+      "\n"
+      "\treturn 2 * x; /* inline */ }\n");
+  EXPECT_EQ(code, "int f(int x) {\nreturn 2 * x; }\n");
+  EXPECT_EQ(kernel_code_of("#line 7 \"b.cl\"\n// another comment\nint f(int x) {\n  return 2 * x;\n}\n"),
+            "int f(int x) {\nreturn 2 * x;\n}\n");
+  EXPECT_NE(kernel_code_of("int f(int x) { return 3 * x; }\n"),
+            kernel_code_of("int f(int x) { return 2 * x; }\n"));
+  // Comment markers and blanks inside literals are code.
+  EXPECT_EQ(kernel_code_of("s = \"a // b /* c */  d\"; // gone\n"), "s = \"a // b /* c */  d\";\n");
+  EXPECT_EQ(kernel_code_of("c = '/'; q = \"\\\"//\"; x = a /* y */ / b;\n"),
+            "c = '/'; q = \"\\\"//\"; x = a / b;\n");
+  // The embedded kernels keep every function; only comments go.
+  const std::string kernels = kernel_code_of(expand_kernel_source("pmc_kernels.cl"));
+  EXPECT_NE(kernels.find("__kernel void pmc_shade("), std::string::npos);
+  EXPECT_EQ(kernels.find("/*"), std::string::npos);
+  EXPECT_EQ(kernels.find("#line"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace pmc
