@@ -52,6 +52,7 @@ nlohmann::json to_json(const std::string& key, const DeviceTimings& t) {
   j["unit_ns"] = t.unit_ns;
   j["lookup_ns"] = t.lookup_ns;
   j["miss_ns"] = t.miss_ns;
+  if (t.table) j["table"] = true;  // not measured: the machine was too busy
   return j;
 }
 
@@ -111,6 +112,8 @@ std::optional<DeviceTimings> read_calibration(const std::string& path, const std
   if (!positive_finite(j, "unit_ns", t.unit_ns) || !positive_finite(j, "lookup_ns", t.lookup_ns) ||
       !positive_finite(j, "miss_ns", t.miss_ns))
     return bad("unit_ns, lookup_ns and miss_ns must be positive numbers");
+  auto table = j.find("table");
+  t.table = table != j.end() && table->is_boolean() && table->get<bool>();
   return t;
 }
 
@@ -172,22 +175,30 @@ double others_share(const CpuTimes& a, const CpuTimes& b) {
   return std::clamp(others / total, 0.0, 1.0);
 }
 
-std::optional<DeviceTimings> load_or_measure(const std::string& folder, const std::string& key,
-                                             const std::function<DeviceTimings()>& measure,
-                                             double busy_share) {
+DeviceTimings table_timings() {
+  DeviceTimings t;
+  t.unit_ns = kReferenceUnitNs;
+  t.lookup_ns = kReferenceLookupPerUnit * kReferenceUnitNs;
+  t.miss_ns = kReferenceMissPerUnit * kReferenceUnitNs;
+  t.table = true;
+  return t;
+}
+
+DeviceTimings load_or_measure(const std::string& folder, const std::string& key,
+                              const std::function<DeviceTimings()>& measure, double busy_share) {
   std::string problem;
   if (std::optional<DeviceTimings> stored = read_calibration(calibration_path(folder, key), key, &problem))
     return *stored;
   if (!problem.empty()) warn("device calibration: ignoring " + problem + "; measuring the device again");
-  const DeviceTimings t = measure();
+  DeviceTimings t = measure();
   if (t.others_share > busy_share) {
     char share[32];
     std::snprintf(share, sizeof share, "%.0f%%", 100.0 * t.others_share);
     warn(std::string("device calibration: other processes took ") + share +
-         " of the machine's CPU time while pmc timed this device's cache costs, which slows the timing "
-         "kernels "
-         "unevenly; this run plans its cache with the built-in table, and the next run measures again");
-    return std::nullopt;
+         " of the machine's CPU time while pmc timed this device's cache costs, which slows the "
+         "timing kernels unevenly; pmc keeps the built-in table's figures for this device instead (" +
+         calibration_path(folder, key) + ": delete it to measure again on a quieter machine)");
+    t = table_timings();
   }
   return store_calibration(folder, key, t);
 }
@@ -255,14 +266,12 @@ CacheCosts device_cache_costs(const ClContext& cl, double busy_share) {
   const std::string folder = calibration_folder();
   if (folder.empty()) return default_cache_costs(gpu);
   const std::string key = calibration_key(cl);
-  const std::optional<DeviceTimings> t = load_or_measure(
+  const DeviceTimings t = load_or_measure(
       folder, key, [&] { return measure_device_costs(cl); }, busy_share);
-  if (!t) {
-    CacheCosts table = default_cache_costs(gpu);
-    table.source += ": the machine was busy while pmc measured it";
-    return table;
-  }
-  return calibrated_costs(*t, gpu, "calibrated, " + calibration_path(folder, key));
+  const std::string path = calibration_path(folder, key);
+  return calibrated_costs(
+      t, gpu,
+      t.table ? "table (kept in " + path + ": the machine was too busy to measure)" : "calibrated, " + path);
 }
 
 }  // namespace pmc

@@ -20,7 +20,9 @@
 // concurrent first runs (farm parts) all use the same figures. A file with
 // another key (a hash collision) or one that cannot be read as calibration is
 // ignored with a warning and measured again. A measurement taken while other
-// processes kept the machine busy is used for nothing (kCalibrationBusyShare).
+// processes kept the machine busy (kCalibrationBusyShare) is not stored: the
+// table's own figures are, marked as such, so that every run on the device,
+// farm chunks running at once included, still plans alike.
 // PMC_CACHE_COSTS=table uses the
 // table without a device measurement (the test suite sets it: deterministic
 // plans on any machine).
@@ -44,13 +46,20 @@ struct DeviceTimings {
   // Not stored: the share of the machine's CPU time that other processes
   // took while the kernels were timed (0 when unknown; see cpu_times()).
   double others_share = 0;
+  // Stored: the table's figures (table_timings()), kept because the machine
+  // was too busy to measure; deleting the file measures again.
+  bool table = false;
 };
+
+// The figures of the machine the table was measured on: calibrated_costs()
+// of them is the table itself.
+DeviceTimings table_timings();
 
 // A calibration measured while other processes kept more than this share of
 // the machine busy is not kept: their load slows the three kernels unevenly
 // (one measured beside a compile on 2 cores read its lookup 4x and its unit
 // node 2.4x the quiet figures), and a stored calibration plans every later
-// run. That run plans with the table instead and the next run measures again.
+// run. The table's figures are stored in its place.
 constexpr double kCalibrationBusyShare = 0.25;
 
 // CPU seconds the machine spent busy (user, nice, system, interrupts and, in
@@ -85,12 +94,13 @@ std::optional<DeviceTimings> read_calibration(const std::string& path, const std
 // cannot be written costs a warning and returns `t`.
 DeviceTimings store_calibration(const std::string& folder, const std::string& key, const DeviceTimings& t);
 
-// The stored timings, else measure() once and store them; none (with a
-// warning) when the measurement's others_share exceeds `busy_share`: nothing
-// is stored, and the caller plans with the table.
-std::optional<DeviceTimings> load_or_measure(const std::string& folder, const std::string& key,
-                                             const std::function<DeviceTimings()>& measure,
-                                             double busy_share = kCalibrationBusyShare);
+// The stored timings, else measure() once and store them; when the
+// measurement's others_share exceeds `busy_share`, table_timings() are
+// stored instead (with a warning naming the file to delete). Either way the
+// first writer's figures come back, so concurrent first runs agree.
+DeviceTimings load_or_measure(const std::string& folder, const std::string& key,
+                              const std::function<DeviceTimings()>& measure,
+                              double busy_share = kCalibrationBusyShare);
 
 // The table's figures scaled by a device's timings (see above).
 CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string& source);
@@ -99,9 +109,9 @@ CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string&
 // the first time, then PoCL's kernel cache).
 DeviceTimings measure_device_costs(const ClContext& cl);
 
-// The costs a render on `cl` plans with: the table (PMC_CACHE_COSTS=table,
-// no folder, or a measurement other processes disturbed), else the stored or
-// newly measured calibration.
+// The costs a render on `cl` plans with: the table (PMC_CACHE_COSTS=table or
+// no folder), else the stored or newly measured calibration (the table's
+// figures where the machine was too busy to measure).
 CacheCosts device_cache_costs(const ClContext& cl, double busy_share = kCalibrationBusyShare);
 
 }  // namespace pmc
