@@ -88,12 +88,38 @@ typedef struct PmcShadingInputs {
 /* The footprint of the ray cone's uv gradients g1, g2 (pmc_ray_cone_gradients):
  * its width and, if `ellipse` (pmc_texture_ellipse_needed), its ellipse; else
  * none and PMC_FOOTPRINT_ONE_LEVEL, so that image lookups are round at that
- * width and read one mip level. */
-PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2, int ellipse) {
+ * width and read one mip level.
+ *
+ * The ellipse's major axis is scaled by `major_scale`, never below its
+ * minor width: pmc_footprint_major_scale of the hit's sample index i,
+ * 1/sqrt(i + 1). A pixel's first i + 1 samples lie stratified (Sobol), about
+ * sqrt(i + 1) of them along each axis of its footprint, so once they are
+ * drawn a sample's filter needs to span only the step between them along the
+ * major axis; the pixel filter averages the rest. The minor width, which sets
+ * the mip level, stays. So a pixel's first sample filters over the whole
+ * ellipse (this is the identity there) and its later ones take fewer taps
+ * (pmc_texture_sample_ellipse takes about major / minor of them) and blur
+ * less: from the 64th sample on, one trilinear tap at the minor width for
+ * every ellipse up to the tap limit. An ellipse the scale makes round becomes
+ * one isotropic lookup at its scaled width. */
+PMC_FN void pmc_shading_footprint(PmcShadingInputs* in, float2 g1, float2 g2, int ellipse,
+                                  float major_scale) {
   in->footprint = 2.0f * fmax(length(g1), length(g2));
   in->footprint_axis = make_float2(0.0f, 0.0f);
   in->footprint_minor = PMC_FOOTPRINT_ONE_LEVEL;
-  if (ellipse) pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
+  if (!ellipse) return;
+  pmc_ray_cone_ellipse(g1, g2, &in->footprint_axis, &in->footprint_minor);
+  const float minor = in->footprint_minor;
+  if (!(major_scale < 1.0f) || !(minor > 0.0f)) return;
+  const float major = 2.0f * length(in->footprint_axis);
+  const float scaled = fmax(major * major_scale, minor);
+  if (scaled > minor * PMC_TEXTURE_ROUND) {
+    in->footprint_axis = in->footprint_axis * (scaled / major);
+  } else {
+    in->footprint = scaled;
+    in->footprint_axis = make_float2(0.0f, 0.0f);
+    in->footprint_minor = 0.0f;
+  }
 }
 
 #ifndef PMC_LANES

@@ -149,6 +149,13 @@ PMC_FN int pmc_texture_ellipse_needed(float origin_width, float t, float spread,
   return !(lobe >= ratio * (origin_width + t * spread)); /* NaN: the ellipse */
 }
 
+/* The scale of a texture ellipse's major axis at a pixel's sample `sample`
+ * (pmc_shading_footprint): 1/sqrt(sample + 1), 1 for its first sample. It
+ * depends on the sample's index alone, so a sample filters alike whatever
+ * the frame's spp: sample ranges and farm chunks merge exactly, and a pixel
+ * adaptive sampling stopped after n samples is the n-spp render's. */
+PMC_FN float pmc_footprint_major_scale(pmc_u32 sample) { return 1.0f / sqrt((float)sample + 1.0f); }
+
 /* The extra cone a path carries for position cells, in the one word of its
  * state: width (low half) and spread (high half) as bfloat16s, a float's top
  * 16 bits: a float's range, 8 bits of precision, truncated toward zero (the

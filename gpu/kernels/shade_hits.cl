@@ -470,7 +470,9 @@ static inline void pmc_material_inputs(__constant PmcFrame* frame, const PmcHitP
   sp->tangent = hp->tangent;
   sp->bitangent = cross(hp->ns, hp->tangent);
   if (footprint) {
-    pmc_shading_footprint(sp, hp->g1, hp->g2, hp->ellipse); /* width, and ellipse where it shows */
+    /* width, and ellipse where it shows, its major axis as the pixel's samples so far stratify it */
+    pmc_shading_footprint(sp, hp->g1, hp->g2, hp->ellipse,
+                          pmc_footprint_major_scale(pmc_path_sample(frame, hp->path)));
   } else {
     sp->footprint = 0.0f;
     sp->footprint_axis = make_float2(0.0f, 0.0f);

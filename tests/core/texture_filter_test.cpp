@@ -14,6 +14,11 @@
 // * The ellipse of two gradients: orthogonal ones give their own lengths,
 //   sheared ones the eigen-axes of g1 g1^T + g2 g2^T (checked by sampling
 //   the ellipse's boundary), degenerate ones zeros.
+// * A pixel's sample i scales the ellipse's major axis by 1/sqrt(i + 1)
+//   (pmc_shading_footprint), never below the minor width, which stays; one
+//   the scale makes round is the isotropic lookup at that width, bit for bit;
+//   at the first sample, or without an ellipse, the footprint is the
+//   gradients' own.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -22,6 +27,7 @@
 #include <functional>
 #include <vector>
 
+#include "core/device/pmc_interp.h"
 #include "core/device/pmc_raycone.h"
 #include "core/device/pmc_texture.h"
 #include "core/texture.h"
@@ -253,6 +259,52 @@ TEST(TextureFilter, EllipseOfTheRayConeGradients) {
   pmc_ray_cone_ellipse(make_float2(0.1f, 0.1f), make_float2(0.05f, 0.05f), &axis, &minor);
   EXPECT_NEAR(minor, 0.0f, 1e-6f);
   EXPECT_NEAR(std::fabs(axis.x), std::sqrt(0.0125f), 1e-6f);
+}
+
+TEST(TextureFilter, PixelSamplesShortenTheEllipseAlongItsMajorAxis) {
+  EXPECT_EQ(pmc_footprint_major_scale(0), 1.0f);
+  EXPECT_EQ(pmc_footprint_major_scale(3), 0.5f);
+  EXPECT_EQ(pmc_footprint_major_scale(15), 0.25f);
+  EXPECT_EQ(pmc_footprint_major_scale(1023), 1.0f / 32.0f);
+  // Gradients of an 8:1 ellipse along v: major 0.4 (half-axis 0.2), minor 0.05.
+  const float2 g1 = make_float2(0.0f, 0.2f), g2 = make_float2(0.025f, 0.0f);
+  float2 axis;
+  float minor;
+  pmc_ray_cone_ellipse(g1, g2, &axis, &minor);
+  auto footprint = [&](pmc_u32 sample, int ellipse) {
+    PmcShadingInputs in{};
+    pmc_shading_footprint(&in, g1, g2, ellipse, pmc_footprint_major_scale(sample));
+    return in;
+  };
+  PmcShadingInputs one = footprint(0, 1);  // a pixel's first sample: the whole ellipse
+  EXPECT_EQ(one.footprint, 0.4f);
+  EXPECT_EQ(one.footprint_axis.x, axis.x);
+  EXPECT_EQ(one.footprint_axis.y, axis.y);
+  EXPECT_EQ(one.footprint_minor, minor);
+  PmcShadingInputs four = footprint(3, 1);  // the fourth: half as long, as thin, pointing the same way
+  EXPECT_NEAR(std::hypot(four.footprint_axis.x, four.footprint_axis.y), 0.1f, 1e-6f);
+  EXPECT_NEAR(four.footprint_axis.x * axis.y - four.footprint_axis.y * axis.x, 0.0f, 1e-7f);
+  EXPECT_GT(four.footprint_axis.y * axis.y, 0.0f);
+  EXPECT_EQ(four.footprint_minor, minor);
+  for (pmc_u32 sample : {63u, 1023u}) {  // 0.4 / 8 = the minor width, and below: round, at the minor width
+    PmcShadingInputs round = footprint(sample, 1);
+    EXPECT_EQ(round.footprint_axis.x, 0.0f) << sample;
+    EXPECT_EQ(round.footprint_axis.y, 0.0f) << sample;
+    EXPECT_EQ(round.footprint_minor, 0.0f) << sample;
+    EXPECT_NEAR(round.footprint, minor, 1e-6f) << sample;
+    const StripeTexture t(rows);
+    const float2 uv = make_float2(0.3f, 0.55f);
+    EXPECT_EQ(pmc_texture_sample_ellipse(&t.ts, 0, uv, round.footprint, round.footprint_axis,
+                                         round.footprint_minor, PMC_ADDR_PERIODIC, PMC_ADDR_PERIODIC,
+                                         PMC_FILTER_LINEAR, make_float4(0, 0, 0, 0))
+                  .x,
+              t.isotropic(uv, round.footprint))
+        << "one isotropic lookup";
+  }
+  // No ellipse (a hit after a rough bounce): the samples change nothing.
+  PmcShadingInputs none = footprint(1023, 0);
+  EXPECT_EQ(none.footprint, 0.4f);
+  EXPECT_EQ(none.footprint_minor, PMC_FOOTPRINT_ONE_LEVEL);
 }
 
 }  // namespace

@@ -493,13 +493,16 @@ void draw_shading(Rng& rng, float* d) {
   for (int k = 5; k < 14; ++k) d[k] = uniform(rng, -1, 1);     // normal, tangent, bitangent
   // The footprint and its ellipse from random ray-cone gradients, often
   // long and thin (one of them short), sometimes none; a fifth of the points
-  // without their ellipse, reading one mip level (a hit after a rough bounce).
+  // without their ellipse, reading one mip level (a hit after a rough bounce);
+  // the ellipses' major axes scaled as a pixel's samples 0 to 1023 scale them.
   const float g = uniform(rng, 0, 1) < 0.1f ? 0.0f : uniform(rng, 0, 0.15f);
   const float ga = uniform(rng, 0, 6.2831853f), gb = ga + uniform(rng, 0.5f, 2.6f);
   const float g2 = g * (uniform(rng, 0, 1) < 0.5f ? uniform(rng, 0, 0.2f) : uniform(rng, 0.2f, 1.0f));
+  const pmc_u32 sample = (1u << int(uniform(rng, 0, 10.99f))) - 1u;
   PmcShadingInputs in{};
   pmc_shading_footprint(&in, make_float2(g * std::cos(ga), g * std::sin(ga)),
-                        make_float2(g2 * std::cos(gb), g2 * std::sin(gb)), uniform(rng, 0, 1) < 0.8f);
+                        make_float2(g2 * std::cos(gb), g2 * std::sin(gb)), uniform(rng, 0, 1) < 0.8f,
+                        pmc_footprint_major_scale(sample));
   d[14] = in.footprint;
   d[15] = in.footprint_axis.x;
   d[16] = in.footprint_axis.y;
