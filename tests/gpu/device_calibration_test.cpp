@@ -144,6 +144,27 @@ TEST(DeviceCalibration, ABusyMachineKeepsTheTablesFiguresNotItsMeasurement) {
   EXPECT_FALSE(read_calibration(calibration_path(other, "device A"), "device A", nullptr)->table);
 }
 
+TEST(DeviceCalibration, AKeptTablePlansAsTheTableAndSaysSo) {
+  // What a busy first run leaves for this device: the later runs plan with the table.
+  const std::string dir = test::temp_dir();
+  store_calibration(dir, calibration_key(test::cl()), table_timings());
+  const char* before = std::getenv("PMC_CACHE_COSTS");
+  const std::string saved = before ? before : "";
+  setenv("PMC_CACHE_COSTS", dir.c_str(), 1);
+  const CacheCosts costs = device_cache_costs(test::cl());
+  if (before)
+    setenv("PMC_CACHE_COSTS", saved.c_str(), 1);
+  else
+    unsetenv("PMC_CACHE_COSTS");
+  const CacheCosts table = default_cache_costs(test::cl().info().is_gpu);
+  EXPECT_NEAR(costs.lookup, table.lookup, 1e-9);
+  EXPECT_NEAR(costs.miss, table.miss, 1e-9);
+  EXPECT_NEAR(costs.unit_ns, table.unit_ns, 1e-9);
+  EXPECT_NE(costs.source.find("table (kept in " + calibration_path(dir, calibration_key(test::cl()))),
+            std::string::npos)
+      << costs.source;
+}
+
 TEST(DeviceCalibration, OthersShareIsTheMachinesBusyTimeLessOurOwn) {
   CpuTimes a, b;
   a.machine_busy = 100, a.machine_total = 200, a.self = 10;
