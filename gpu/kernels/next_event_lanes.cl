@@ -1,9 +1,10 @@
 /* next_event_lanes.cl — light samples for a batch's lanes (part of pmc_kernels.cl).
  *
  * The samples of the picked lights: rectangle quads by solid angle eight
- * lanes at a time (pmc_rect_lights_lanes), the others lane by lane; then
- * each sample's BSDF value, MIS weight, clamp and shadow ray
- * (pmc_next_event_lanes).
+ * lanes at a time (pmc_rect_lights_lanes), the others lane by lane (a
+ * large environment map's reads started for all its lanes first:
+ * pmc_env_sample_prefetch_lanes); then each sample's BSDF value, MIS
+ * weight, clamp and shadow ray (pmc_next_event_lanes).
  */
 
 #if PMC_LANES8
@@ -142,6 +143,56 @@ static inline void pmc_rect_lights_lanes(const PmcLightSet* lights, const PmcNee
 }
 #endif
 
+#if PMC_LANES8 && PMC_CPU_PREFETCH
+/* The lanes at[0, count) that picked the environment map (light index
+ * picked[j]) sample it by two guided CDF searches (pmc_env_map_sample), each
+ * a chain of dependent reads: the row's guide bucket, then the row's CDF
+ * around it, then the texel and the row's sine. In a large map each read is
+ * a cache miss that the lane waits for, and the next lane's misses start
+ * only after it. So the reads are started here for all of them, one link of
+ * the chain a loop, each index computed as the sampler will compute it
+ * (pmc_cdf_search_guided reads the same entries): the lanes' misses overlap,
+ * and the sampler then finds its lines cached. The marginal CDF and its
+ * guide (a few KB) stay cached. Same samples, same image. */
+static inline void pmc_env_sample_prefetch_lanes(const PmcLightSet* ls, const int* at, int count,
+                                                 const int* picked, const int* lane,
+                                                 const PmcBatchNumbers* numbers) {
+  const PmcLightHeader* h = &ls->h;
+  const int w = h->env_width, hh = h->env_height;
+  if (!PMC_ENV_PREFETCHED(h)) return;
+  PMC_GLOBAL const float* marginal = pmc_env_marginal(ls);
+  PMC_GLOBAL const float* marginal_guide = pmc_env_marginal_guide(ls);
+  int env_at[PMC_LANES], row[PMC_LANES], bucket[PMC_LANES], n = 0;
+  for (int i = 0; i < count; ++i) {
+    const int j = at[i];
+    env_at[n] = j;
+    n += ls->lights[picked[j]].type == PMC_LIGHT_ENV;
+  }
+  if (n < 2) return;            /* a lone lane's chain has nothing to overlap with */
+  for (int q = 0; q < n; ++q) { /* the row, then its guide's bucket */
+    const int k = lane[env_at[q]];
+    row[q] = pmc_cdf_search_guided(marginal, marginal_guide, hh, numbers->light_u[k]);
+    const int b = (int)(numbers->light_v[k] * (float)w);
+    bucket[q] = b < 0 ? 0 : (b < w ? b : w - 1);
+    PMC_TOUCH(pmc_env_row_guide(ls, row[q]) + bucket[q]);
+  }
+  for (int q = 0; q < n; ++q) { /* the row's CDF entries the search compares first */
+    PMC_GLOBAL const float* guide = pmc_env_row_guide(ls, row[q]);
+    PMC_GLOBAL const float* conditional = marginal + hh + row[q] * w;
+    const int lo = (int)guide[bucket[q]], hi = (int)guide[bucket[q] + 1];
+    PMC_TOUCH(conditional + (lo > 0 ? lo - 1 : 0));
+    PMC_TOUCH(conditional + (hi < w ? hi : w - 1));
+  }
+  for (int q = 0; q < n; ++q) { /* the texel and the row's sine */
+    PMC_GLOBAL const float* conditional = marginal + hh + row[q] * w;
+    const int col = pmc_cdf_search_guided(conditional, pmc_env_row_guide(ls, row[q]), w,
+                                          numbers->light_v[lane[env_at[q]]]);
+    PMC_ENV_TEXEL_TOUCH(ls, row[q] * w + col);
+    PMC_TOUCH(pmc_env_row_sines(ls) + row[q]);
+  }
+}
+#endif
+
 /* Next-event estimation for lanes lane[0, m) of a batch (their
  * pmc_shade_surface filled nee[0, m)), in three loops over the lanes: the
  * light pick (with the light tree, its levels' importances eight lanes at
@@ -179,6 +230,9 @@ static inline void pmc_next_event_lanes(__constant PmcFrame* frame, const PmcSce
     rects += rect;
     others += !rect;
   }
+#if PMC_CPU_PREFETCH
+  pmc_env_sample_prefetch_lanes(lights, other_at, others, picked, lane, numbers);
+#endif
   for (int i = 0; i < others; ++i) {
     const int j = other_at[i], k = lane[j];
     PmcSphRect unused; /* set up for rectangles alone, which these are not */

@@ -141,6 +141,34 @@ __kernel void pmc_camera_rays(__constant PmcFrame* frame, __global PmcRay* rays,
   }
 }
 
+#ifndef PMC_CPU_PREFETCH
+#define PMC_CPU_PREFETCH 0
+#endif
+/* Starts loading the cache line that holds `p` without using its value. On
+ * CPU devices (PMC_CPU_PREFETCH=1, set by the host) a prefetch instruction,
+ * which nothing waits for: the loop that touches a batch's lines finishes at
+ * once and the lines arrive while the work after it runs (OpenCL's own
+ * prefetch() compiles to nothing on PoCL). Elsewhere a volatile load (the
+ * compiler keeps it although its value is unused), which starts the
+ * transfer too but holds the core until the line arrives. */
+#if PMC_CPU_PREFETCH
+#define PMC_TOUCH(p) __builtin_prefetch((__global const void*)(p))
+#else
+#define PMC_TOUCH(p) ((void)*(__global volatile const uchar*)(p))
+#endif
+
+/* Environment maps from this many texels on (512 x 256: about 2.6 MB of
+ * texels, CDFs and guide tables, beyond a core's L2 cache) have the reads
+ * of a batch's map lookups started for all its lanes at once, before the
+ * lane-by-lane code that waits on them (pmc_infinity_seen_lanes,
+ * pmc_env_sample_prefetch_lanes); smaller maps stay cached. */
+#define PMC_ENV_PREFETCH_MIN_TEXELS 131072
+#define PMC_ENV_PREFETCHED(h) \
+  (PMC_CPU_PREFETCH && (h)->env == PMC_ENV_MAP && !(h)->env_uniform && \
+   (h)->env_width * (h)->env_height >= PMC_ENV_PREFETCH_MIN_TEXELS)
+/* Both ends of map texel i (12 bytes, which may straddle two lines). */
+#define PMC_ENV_TEXEL_TOUCH(ls, i) (PMC_TOUCH((ls)->env + 3 * (i)), PMC_TOUCH((ls)->env + 3 * (i) + 2))
+
 /* The shade kernel's parts, in the order they build on each other. */
 /* clang-format off */
 #include "shade_hits.cl"

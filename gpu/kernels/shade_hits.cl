@@ -172,8 +172,9 @@ PMC_QUAD_SEEN(pmc_quad_seen8, float8, int8, PMC_SEL_VECTOR)
  * le[k]: for the environment map, the rays' texels first, in one loop over
  * them that PoCL vectorises (the direction's atan2 and acos polynomials; one
  * ray at a time, the lights at infinity were 8.7% of the samples of the
- * spider, whose camera rays mostly meet its sky), then each ray's radiance
- * and MIS weight, light by light in pmc_infinity_seen's order. */
+ * spider, whose camera rays mostly meet its sky), and in a large map
+ * (PMC_ENV_PREFETCHED) their loads started, then each ray's radiance and MIS
+ * weight, light by light in pmc_infinity_seen's order. */
 static inline void pmc_infinity_seen_lanes(const PmcLightSet* ls, __global const PmcPathState* paths,
                                            const PmcHitPoint* hp, const PmcHitLanes* L, const int* esc, int m,
                                            float3* le) {
@@ -190,6 +191,8 @@ static inline void pmc_infinity_seen_lanes(const PmcLightSet* ls, __global const
         row[q] = r;
         mx[q] = md.x, my[q] = md.y, mz[q] = md.z;
       }
+    if (map && PMC_ENV_PREFETCHED(&ls->h)) /* a large map: every lane's texel on its way at once */
+      for (int q = 0; q < m; ++q) PMC_ENV_TEXEL_TOUCH(ls, texel[q]);
     for (int q = 0; q < m; ++q) {
       const int k = esc[q];
       __global const PmcPathState* path = &paths[hp[k].path];

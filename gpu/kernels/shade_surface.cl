@@ -169,22 +169,6 @@ static inline void pmc_shade_surface(__constant PmcFrame* frame, const PmcSceneD
   path->radiance[2] = radiance.z;
 }
 
-#ifndef PMC_CPU_PREFETCH
-#define PMC_CPU_PREFETCH 0
-#endif
-/* Starts loading the cache line that holds `p` without using its value. On
- * CPU devices (PMC_CPU_PREFETCH=1, set by the host) a prefetch instruction,
- * which nothing waits for: the loop that touches a batch's lines finishes at
- * once and the lines arrive while the work after it runs (OpenCL's own
- * prefetch() compiles to nothing on PoCL). Elsewhere a volatile load (the
- * compiler keeps it although its value is unused), which starts the
- * transfer too but holds the core until the line arrives. */
-#if PMC_CPU_PREFETCH
-#define PMC_TOUCH(p) __builtin_prefetch((__global const void*)(p))
-#else
-#define PMC_TOUCH(p) ((void)*(__global volatile const uchar*)(p))
-#endif
-
 /* Starts the loads of a hit's triangle record (both of its cache lines) and
  * path state (the hit and ray records, which name them, should be on their
  * way already). */

@@ -23,6 +23,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/image_io.h"
 #include "gpu/render_session.h"
 #include "gpu/wave_kernels.h"
 #include "tests/support/test_support.h"
@@ -237,6 +238,52 @@ TEST(ShadeLanes, PrefetchOrVolatileTouchRendersTheSameImage) {
     EXPECT_GT(test::image_mean(prefetching.image), 0.0);
     EXPECT_EQ(test::differing_values(touching.image, prefetching.image), 0u);
     EXPECT_EQ(touching.stats.rays, prefetching.stats.rays);
+  }
+}
+
+// An environment map of PMC_ENV_PREFETCH_MIN_TEXELS texels or more (here
+// 1024 x 512, a bright spot in a varied sky) has its light samples' CDF
+// reads and its escaped rays' texels started for a batch's lanes at once
+// (pmc_env_sample_prefetch_lanes, pmc_infinity_seen_lanes): only the timing
+// may change, so the build without prefetches, and batches of one lane
+// (which take neither path), render the same image.
+TEST(ShadeLanes, LargeSkyMapsRenderTheSameImageWithTheirReadsStartedAhead) {
+  if (test::cl().info().is_gpu) return;  // the GPU build has no prefetch to turn off
+  Image sky;
+  sky.width = 1024;
+  sky.height = 512;
+  sky.pixels.resize(size_t(sky.width) * sky.height * 3);
+  for (int y = 0; y < sky.height; ++y)
+    for (int x = 0; x < sky.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const bool spot = (x - 300) * (x - 300) + (y - 120) * (y - 120) < 25;
+        sky.pixels[(size_t(y) * sky.width + x) * 3 + c] =
+            spot ? 400.0f : 0.2f + 0.1f * float(c) + 0.5f * float((x * 7 + y * 13) % 17) / 17.0f;
+      }
+  const std::string map = test::temp_dir() + "/large_sky.exr";
+  write_exr(map, sky);
+  auto render = [&](int lanes, bool prefetch) {
+    RenderConfig c = test::default_scene_config(48, 27, 4);
+    c.env_map = map;
+    c.shade_lanes = lanes;
+    const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
+    const std::string saved = before ? before : "";
+    if (!prefetch) setenv("PMC_CL_BUILD_OPTIONS", "-DPMC_CPU_PREFETCH=0", 1);
+    RenderSession session(c, test::cl());
+    RenderOutput out = session.render(session.settings());
+    if (before)
+      setenv("PMC_CL_BUILD_OPTIONS", saved.c_str(), 1);
+    else
+      unsetenv("PMC_CL_BUILD_OPTIONS");
+    return out;
+  };
+  const RenderOutput ahead = render(0, true);
+  EXPECT_EQ(ahead.stats.shade_lanes, 64);
+  EXPECT_GT(test::image_mean(ahead.image), 0.0);
+  for (const RenderOutput& other : {render(0, false), render(1, true)}) {
+    ASSERT_EQ(other.image.pixels.size(), ahead.image.pixels.size());
+    EXPECT_EQ(test::differing_values(other.image, ahead.image), 0u) << "of " << other.image.pixels.size();
+    EXPECT_EQ(other.stats.shadow_rays, ahead.stats.shadow_rays);
   }
 }
 
