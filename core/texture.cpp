@@ -1,8 +1,6 @@
 // texture.cpp — reading (the image backend), 8-bit conversion and mip chains.
 #include "core/texture.h"
 
-#include <sys/mman.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -174,22 +172,6 @@ void build_mips(uint8_t* base, int w, int h, bool srgb) {
 }
 
 }  // namespace
-
-void* allocate_pool_bytes(size_t bytes) {
-  constexpr size_t kHuge = size_t(2) << 20;
-  if (bytes < kHuge) {
-    void* p = std::malloc(bytes ? bytes : 1);
-    if (!p) throw std::bad_alloc();
-    return p;
-  }
-  const size_t rounded = (bytes + kHuge - 1) / kHuge * kHuge;
-  void* p = std::aligned_alloc(kHuge, rounded);
-  if (!p) throw std::bad_alloc();
-#ifdef MADV_HUGEPAGE
-  madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure changes nothing
-#endif
-  return p;
-}
 
 std::vector<float> srgb_decode_table() {
   std::vector<float> lut(256);

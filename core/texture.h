@@ -27,51 +27,11 @@
 #include <vector>
 
 #include "core/abi/pmc_types.h"
+#include "core/pool_memory.h"
 
 namespace pmc {
 
-// Memory for large pools: blocks of 2 MiB and more are 2 MiB-aligned and
-// marked for transparent huge pages (madvise), so filling a texture pool of
-// a hundred megabytes takes a few hundred page faults instead of tens of
-// thousands (on Linux with THP in "madvise" or "always" mode; elsewhere
-// plain aligned memory). Freed with std::free.
-void* allocate_pool_bytes(size_t bytes);
-
-// An allocator that leaves value-initialised elements uninitialised (resize
-// without a memset) and takes its memory from allocate_pool_bytes.
-template <typename T>
-struct NoInitAllocator {
-  using value_type = T;
-  template <typename U>
-  struct rebind {
-    using other = NoInitAllocator<U>;
-  };
-  NoInitAllocator() = default;
-  template <typename U>
-  NoInitAllocator(const NoInitAllocator<U>&) noexcept {}
-  T* allocate(size_t n) {
-    if (n > size_t(-1) / sizeof(T)) throw std::bad_alloc();
-    return static_cast<T*>(allocate_pool_bytes(n * sizeof(T)));
-  }
-  void deallocate(T* p, size_t) noexcept { std::free(p); }
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-  template <typename U>
-  bool operator==(const NoInitAllocator<U>&) const noexcept {
-    return true;
-  }
-  template <typename U>
-  bool operator!=(const NoInitAllocator<U>&) const noexcept {
-    return false;
-  }
-};
-using TexelWords = std::vector<uint32_t, NoInitAllocator<uint32_t>>;
+using TexelWords = PoolVector<uint32_t>;
 
 // The pool's bytes (RGBA8, 4 per texel), valid while the pool is unchanged.
 class TexelBytes {
