@@ -48,8 +48,8 @@ std::vector<float> cdf_guide(const float* cdf, int n) {
   return guide;
 }
 
-std::vector<float> EnvMap::device_data(float scale) const {
-  std::vector<float> out;
+PoolVector<float> EnvMap::device_data(float scale) const {
+  PoolVector<float> out;
   out.reserve(rgb.size() + 2 * (marginal.size() + conditional.size()) + 2 * size_t(height) + 1);
   for (float v : rgb) out.push_back(v * scale);
   out.insert(out.end(), marginal.begin(), marginal.end());

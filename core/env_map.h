@@ -13,6 +13,8 @@
 #include <string>
 #include <vector>
 
+#include "core/pool_memory.h"
+
 namespace pmc {
 
 struct EnvMap {
@@ -30,7 +32,7 @@ struct EnvMap {
   // Texels x scale, then the marginal and conditional CDFs, then the rows'
   // sines, then each CDF's guide table (cdf_guide; marginal first, then the
   // rows'), the layout core/device/pmc_lights.h reads.
-  std::vector<float> device_data(float scale) const;
+  PoolVector<float> device_data(float scale) const;
 };
 
 // The guide table of an inclusive CDF of n entries: n + 1 entries, entry k

@@ -87,7 +87,8 @@ struct LightTable {
   std::vector<PmcLight> lights;              // kernel order, each with pmf and cdf (and its tree trail)
   std::vector<int32_t> triangle_light;       // per scene triangle: its light's index (-1: not a light)
   std::vector<PmcLightTreeNode> tree_nodes;  // the light tree (one blank node when there is none)
-  std::vector<float> env_data;               // the map's texels and CDFs (one 0 when there is no map)
+  PoolVector<float> env_data;                // the map's texels and CDFs (one 0 when there is no map);
+                                             // CPU devices read this memory itself
   PmcLightHeader header{};
   double total_power = 0.0;  // sum of the lights' power estimates (luminance, W)
   size_t emissive_triangles = 0;

@@ -56,11 +56,15 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
 }
 
 void SceneBuffers::upload_lights(const ClContext& cl, LightTable table) {
+  // The sky map's data can be hundreds of megabytes: CPU devices read the
+  // table's own memory (no device copy), so the buffer that reads the old
+  // table's goes before that table does.
+  buffers[kScene_env] = ClBuffer();
   lights = std::move(table);
   buffers[kScene_lights] = cl.buffer_of(lights.lights);
   buffers[kScene_tri_light] = cl.buffer_of(lights.triangle_light);
   buffers[kScene_light_tree] = cl.buffer_of(lights.tree_nodes);
-  buffers[kScene_env] = cl.buffer_of(lights.env_data);
+  buffers[kScene_env] = cl.shared_buffer_of(lights.env_data);
 }
 
 }  // namespace pmc

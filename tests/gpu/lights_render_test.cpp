@@ -784,5 +784,30 @@ TEST(LightsRender, ASessionKeepsItsLightTableOnlyWhileTheLightsStayTheSame) {
   EXPECT_GT(test::differing_values(first.image, fresh(moved).image), 0u);  // the comparison can fail
 }
 
+// A sky map's table is the buffer memory itself on CPU devices (no device
+// copy: core/pool_memory.h), so a session that moves from one sky to another
+// and back must drop the old table's buffer with the table: each render
+// still shows the sky a fresh session renders.
+TEST(LightsRender, ASessionSwitchingSkyMapsRendersEachAsAFreshSessionDoes) {
+  const std::string dir = test::temp_dir();
+  test::write_file(dir + "/scene.mtl", kGreyMtl);
+  test::write_file(dir + "/scene.obj", plane_obj(2.0, "scene"));
+  RenderConfig config;
+  config.scene = dir + "/scene.obj";
+  config.cache = false;
+  RenderSettings mountain = top_view(24, 4), bridge = mountain;
+  mountain.lights.environment =
+      environment_from_map(test::shared_scene("envmaps/table_mountain.hdr"), 1.0f, 0.0f);
+  bridge.lights.environment =
+      environment_from_map(test::shared_scene("envmaps/san_giuseppe_bridge.hdr"), 1.0f, 0.0f);
+  RenderSession session(config, test::cl());
+  for (const RenderSettings* next : {&mountain, &bridge, &mountain}) {
+    const RenderOutput out = session.render(*next);
+    EXPECT_GT(test::image_mean(out.image), 0.0);
+    EXPECT_EQ(test::differing_values(out.image, RenderSession(config, test::cl()).render(*next).image), 0u);
+  }
+  EXPECT_GT(test::differing_values(session.render(mountain).image, session.render(bridge).image), 0u);
+}
+
 }  // namespace
 }  // namespace pmc
