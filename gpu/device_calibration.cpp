@@ -214,7 +214,8 @@ CacheCosts calibrated_costs(const DeviceTimings& t, bool gpu, const std::string&
 
 DeviceTimings measure_device_costs(const ClContext& cl) {
   const bool gpu = cl.info().is_gpu;
-  ClProgram program(cl, kKernelFile, std::string("-DPMC_CELL_CHUNK=") + (gpu ? "8" : "1"));
+  ClProgram program(cl, kKernelFile,
+                    std::string("-DPMC_CELL_CHUNK=") + (gpu ? "8" : "1 -DPMC_CELL_VECTOR=1"));
   // A table the size of the default scene's (131072 cells x 8 entries, 8 MiB)
   // filled to a quarter, as a frame's keys fill theirs at load factor 1/2.
   const uint64_t cells = 131072;

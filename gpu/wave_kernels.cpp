@@ -33,7 +33,7 @@ int default_shade_lanes(const ClContext& cl, const MaterialSet& mats) {
 
 std::string wave_program_options(const MaterialSet& mats, int lanes, bool gpu) {
   return "-DPMC_STACK_SIZE=" + std::to_string(stack_size(mats)) + " -DPMC_LANES=" + std::to_string(lanes) +
-         " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1") + (gpu ? "" : " -DPMC_CPU_PREFETCH=1") +
+         " -DPMC_CELL_CHUNK=" + (gpu ? "8" : "1") + (gpu ? "" : " -DPMC_CPU_PREFETCH=1 -DPMC_CELL_VECTOR=1") +
          cache_trace_program_option(cache_trace_config());
 }
 

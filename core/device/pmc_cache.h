@@ -552,10 +552,12 @@ PMC_FN pmc_u32 pmc_cache_match_word(const PmcCacheTable* t, PmcCacheKey k) {
  * H200, 8 words at a time cut the default scene's shade stage at 1080p from
  * 1.60 to 0.36 s). On a CPU the words share a cache line and the early exit
  * wins (8 at a time: shade +4% on PoCL), so the host build sets 1 there
- * (gpu/wave_kernels.cpp). The device reads plain (not volatile) words: a
- * stale word reads as an older state of the cell, which is empty or the same
- * entry, so at worst a lookup misses (and evaluates) or an insert's CAS fails
- * and it goes on from the value the CAS returns. */
+ * (gpu/wave_kernels.cpp), and with it PMC_CELL_VECTOR: a cell of 8
+ * entries compared in one vector operation (pmc_cache_lookup). The device
+ * reads plain (not volatile) words: a stale word reads as an older state of
+ * the cell, which is empty or the same entry, so at worst a lookup misses
+ * (and evaluates) or an insert's CAS fails and it goes on from the value the
+ * CAS returns. */
 #ifndef PMC_CELL_CHUNK
 #define PMC_CELL_CHUNK 8
 #endif
@@ -578,6 +580,26 @@ PMC_FN void pmc_cache_read_chunk(const PmcCacheTable* t, pmc_u64 base, pmc_u32 i
 PMC_FN int pmc_cache_lookup(const PmcCacheTable* t, PmcCacheKey k, pmc_u32* value) {
   pmc_u64 base = pmc_cache_cell(t, k.h1) * (pmc_u64)t->ways;
   pmc_u32 mask = pmc_cache_match_mask(t), want = pmc_cache_match_word(t, k);
+#if defined(__OPENCL_VERSION__) && defined(PMC_CELL_VECTOR) && PMC_CELL_VECTOR
+  /* CPU devices (PMC_CELL_VECTOR=1, set by the host): a cell of 8 entries
+   * is one cache line, compared in one vector operation. The word-by-word
+   * scan's exit lands on a different entry from lookup to lookup, a branch
+   * the core mispredicts; here the only branch is hit or miss. Empty words
+   * never match (no fingerprint is 0) and a key sits in a cell once; the
+   * first match is taken all the same, as the scan would. */
+  if (t->ways == 8u) {
+    const ulong8 w = vload8(0, ((__global const ulong*)t->entries) + base);
+    const int8 match = (convert_uint8(w >> (ulong8)32) & (uint8)mask) == (uint8)want;
+    if (!any(match)) return 0;
+    const int8 at = select((int8)8, (int8)(0, 1, 2, 3, 4, 5, 6, 7), match);
+    const int4 at4 = min(at.lo, at.hi);
+    const int2 at2 = min(at4.lo, at4.hi);
+    uint words[8];
+    vstore8(convert_uint8(w), 0, words); /* each entry's low word: its value */
+    *value = words[min(at2.x, at2.y)];
+    return 1;
+  }
+#endif
   for (pmc_u32 i0 = 0; i0 < t->ways; i0 += PMC_CELL_CHUNK) {
     pmc_u64 w[PMC_CELL_CHUNK];
     pmc_cache_read_chunk(t, base, i0, w);
