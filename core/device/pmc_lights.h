@@ -113,6 +113,9 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
 PMC_FN PMC_GLOBAL const float* pmc_env_marginal(const PmcLightSet* ls) {
   return ls->env + 3 * ls->h.env_width * ls->h.env_height;
 }
+PMC_FN PMC_GLOBAL const float* pmc_env_row_cdf(const PmcLightSet* ls, int row) {
+  return pmc_env_marginal(ls) + ls->h.env_height + row * ls->h.env_width;
+}
 PMC_FN PMC_GLOBAL const float* pmc_env_row_sines(const PmcLightSet* ls) {
   return pmc_env_marginal(ls) + ls->h.env_height + ls->h.env_width * ls->h.env_height;
 }
@@ -204,7 +207,7 @@ PMC_FN float pmc_env_map_sample(const PmcLightSet* ls, float u1, float u2, float
     PMC_GLOBAL const float* marginal = pmc_env_marginal(ls);
     row = pmc_cdf_search_guided(marginal, pmc_env_marginal_guide(ls), hh, u1);
     float fv = pmc_cdf_fraction(marginal, row, u1);
-    PMC_GLOBAL const float* conditional = marginal + hh + row * w;
+    PMC_GLOBAL const float* conditional = pmc_env_row_cdf(ls, row);
     int col = pmc_cdf_search_guided(conditional, pmc_env_row_guide(ls, row), w, u2);
     float fu = pmc_cdf_fraction(conditional, col, u2);
     m = pmc_env_uv_to_dir(((float)col + fu) / (float)w, ((float)row + fv) / (float)hh);

@@ -178,13 +178,13 @@ static inline void pmc_env_sample_prefetch_lanes(const PmcLightSet* ls, const in
   }
   for (int q = 0; q < n; ++q) { /* the row's CDF entries the search compares first */
     PMC_GLOBAL const float* guide = pmc_env_row_guide(ls, row[q]);
-    PMC_GLOBAL const float* conditional = marginal + hh + row[q] * w;
+    PMC_GLOBAL const float* conditional = pmc_env_row_cdf(ls, row[q]);
     const int lo = (int)guide[bucket[q]], hi = (int)guide[bucket[q] + 1];
     PMC_TOUCH(conditional + (lo > 0 ? lo - 1 : 0));
     PMC_TOUCH(conditional + (hi < w ? hi : w - 1));
   }
   for (int q = 0; q < n; ++q) { /* the texel and the row's sine */
-    PMC_GLOBAL const float* conditional = marginal + hh + row[q] * w;
+    PMC_GLOBAL const float* conditional = pmc_env_row_cdf(ls, row[q]);
     const int col = pmc_cdf_search_guided(conditional, pmc_env_row_guide(ls, row[q]), w,
                                           numbers->light_v[lane[env_at[q]]]);
     PMC_ENV_TEXEL_TOUCH(ls, row[q] * w + col);
