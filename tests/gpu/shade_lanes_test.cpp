@@ -20,6 +20,7 @@
 
 #include <cstdlib>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -30,6 +31,31 @@
 
 namespace pmc {
 namespace {
+
+// Kernels built with `options` appended (PMC_CL_BUILD_OPTIONS, which the
+// build appends to its own: a later -D wins) while it lives; the variable's
+// earlier value comes back after.
+class ExtraBuildOptions {
+ public:
+  explicit ExtraBuildOptions(const char* options) {
+    const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
+    had_ = before != nullptr;
+    if (had_) saved_ = before;
+    setenv("PMC_CL_BUILD_OPTIONS", options, 1);
+  }
+  ~ExtraBuildOptions() {
+    if (had_)
+      setenv("PMC_CL_BUILD_OPTIONS", saved_.c_str(), 1);
+    else
+      unsetenv("PMC_CL_BUILD_OPTIONS");
+  }
+  ExtraBuildOptions(const ExtraBuildOptions&) = delete;
+  ExtraBuildOptions& operator=(const ExtraBuildOptions&) = delete;
+
+ private:
+  bool had_ = false;
+  std::string saved_;
+};
 
 RenderOutput render_default_scene(bool cache, int lanes, uint32_t min_stack = 0,
                                   const std::string& lights = "") {
@@ -226,14 +252,10 @@ TEST(ShadeLanes, PrefetchOrVolatileTouchRendersTheSameImage) {
   for (bool cache : {false, true}) {
     SCOPED_TRACE(cache ? "cache on" : "cache off");
     const RenderOutput prefetching = render_default_scene(cache, 0);
-    const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
-    const std::string saved = before ? before : "";
-    setenv("PMC_CL_BUILD_OPTIONS", "-DPMC_CPU_PREFETCH=0", 1);
-    const RenderOutput touching = render_default_scene(cache, 0);
-    if (before)
-      setenv("PMC_CL_BUILD_OPTIONS", saved.c_str(), 1);
-    else
-      unsetenv("PMC_CL_BUILD_OPTIONS");
+    const RenderOutput touching = [&] {
+      const ExtraBuildOptions no_prefetch("-DPMC_CPU_PREFETCH=0");
+      return render_default_scene(cache, 0);
+    }();
     ASSERT_EQ(touching.image.pixels.size(), prefetching.image.pixels.size());
     EXPECT_GT(test::image_mean(prefetching.image), 0.0);
     EXPECT_EQ(test::differing_values(touching.image, prefetching.image), 0u);
@@ -249,14 +271,10 @@ TEST(ShadeLanes, PrefetchOrVolatileTouchRendersTheSameImage) {
 TEST(ShadeLanes, VectorCellCompareFindsWhatTheScanFinds) {
   if (test::cl().info().is_gpu) return;  // GPUs read 8 words at a time, lane by lane
   const RenderOutput vector = render_default_scene(true, 0);
-  const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
-  const std::string saved = before ? before : "";
-  setenv("PMC_CL_BUILD_OPTIONS", "-DPMC_CELL_VECTOR=0", 1);
-  const RenderOutput scan = render_default_scene(true, 0);
-  if (before)
-    setenv("PMC_CL_BUILD_OPTIONS", saved.c_str(), 1);
-  else
-    unsetenv("PMC_CL_BUILD_OPTIONS");
+  const RenderOutput scan = [] {
+    const ExtraBuildOptions no_vector("-DPMC_CELL_VECTOR=0");
+    return render_default_scene(true, 0);
+  }();
   ASSERT_EQ(scan.image.pixels.size(), vector.image.pixels.size());
   EXPECT_EQ(test::differing_values(scan.image, vector.image), 0u);
   EXPECT_GT(scan.stats.cache.hits, scan.stats.cache.lookups / 4);
@@ -290,16 +308,10 @@ TEST(ShadeLanes, LargeSkyMapsRenderTheSameImageWithTheirReadsStartedAhead) {
     RenderConfig c = test::default_scene_config(48, 27, 4);
     c.env_map = map;
     c.shade_lanes = lanes;
-    const char* before = std::getenv("PMC_CL_BUILD_OPTIONS");
-    const std::string saved = before ? before : "";
-    if (!prefetch) setenv("PMC_CL_BUILD_OPTIONS", "-DPMC_CPU_PREFETCH=0", 1);
+    std::optional<ExtraBuildOptions> no_prefetch;
+    if (!prefetch) no_prefetch.emplace("-DPMC_CPU_PREFETCH=0");
     RenderSession session(c, test::cl());
-    RenderOutput out = session.render(session.settings());
-    if (before)
-      setenv("PMC_CL_BUILD_OPTIONS", saved.c_str(), 1);
-    else
-      unsetenv("PMC_CL_BUILD_OPTIONS");
-    return out;
+    return session.render(session.settings());
   };
   const RenderOutput ahead = render(0, true);
   EXPECT_EQ(ahead.stats.shade_lanes, 64);
