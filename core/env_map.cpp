@@ -1,6 +1,7 @@
 // env_map.cpp — loading an environment map and building its sampling CDFs.
 #include "core/env_map.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/error.h"
@@ -27,6 +28,16 @@ double fill_cdf(const std::vector<double>& w, float* cdf) {
   return total;
 }
 
+// cdf_guide's n + 1 entries, written to `guide`.
+void fill_cdf_guide(const float* cdf, int n, float* guide) {
+  int i = 0;
+  for (int k = 0; k <= n; ++k) {
+    const double threshold = double(k) / double(n);
+    while (i < n - 1 && !(double(cdf[i]) > threshold)) ++i;
+    guide[k] = float(i);
+  }
+}
+
 }  // namespace
 
 double EnvMap::luminance_integral() const {
@@ -39,48 +50,54 @@ double EnvMap::row_sine(int y) const { return std::sin((double(y) + 0.5) * kPi /
 
 std::vector<float> cdf_guide(const float* cdf, int n) {
   std::vector<float> guide(size_t(n) + 1);
-  int i = 0;
-  for (int k = 0; k <= n; ++k) {
-    const double threshold = double(k) / double(n);
-    while (i < n - 1 && !(double(cdf[i]) > threshold)) ++i;
-    guide[size_t(k)] = float(i);
-  }
+  fill_cdf_guide(cdf, n, guide.data());
   return guide;
 }
 
-PoolVector<float> EnvMap::device_data(float scale) const {
-  PoolVector<float> out;
-  out.reserve(rgb.size() + 2 * (marginal.size() + conditional.size()) + 2 * size_t(height) + 1);
-  for (float v : rgb) out.push_back(v * scale);
-  out.insert(out.end(), marginal.begin(), marginal.end());
-  out.insert(out.end(), conditional.begin(), conditional.end());
-  for (int y = 0; y < height; ++y) out.push_back(float(row_sine(y)));
-  const std::vector<float> rows = cdf_guide(marginal.data(), height);
-  out.insert(out.end(), rows.begin(), rows.end());
-  for (int y = 0; y < height; ++y) {
-    const std::vector<float> cols = cdf_guide(&conditional[size_t(y) * size_t(width)], width);
-    out.insert(out.end(), cols.begin(), cols.end());
-  }
-  return out;
+size_t EnvMap::data_floats(int width, int height) {
+  const size_t texels = size_t(width) * size_t(height), h = size_t(height);
+  // texels, marginal, conditional, sines, the marginal's guide, the rows' guides
+  return 3 * texels + h + texels + h + (h + 1) + h * (size_t(width) + 1);
 }
 
-EnvMap env_map_from_rgb(int width, int height, std::vector<float> rgb, const std::string& path) {
-  PMC_CHECK(width > 0 && height > 0 && rgb.size() == size_t(width) * size_t(height) * 3);
+namespace {
+
+// An EnvMap of width x height whose `data` is sized and holds no values yet.
+EnvMap blank_map(int width, int height, const std::string& path) {
   EnvMap m;
   m.path = path;
   m.width = width;
   m.height = height;
-  m.rgb = std::move(rgb);
-  m.marginal.resize(size_t(height));
-  m.conditional.resize(size_t(width) * size_t(height));
-  std::vector<double> row_weight(static_cast<size_t>(height)), col_weight(static_cast<size_t>(width));
-  for (int y = 0; y < height; ++y) {
-    const double sin_theta = m.row_sine(y);
-    for (int x = 0; x < width; ++x)
-      col_weight[size_t(x)] = luminance(&m.rgb[3 * (size_t(y) * size_t(width) + size_t(x))]) * sin_theta;
-    row_weight[size_t(y)] = fill_cdf(col_weight, &m.conditional[size_t(y) * size_t(width)]);
+  m.data.resize(EnvMap::data_floats(width, height));
+  return m;
+}
+
+// Fills everything after the texels: the CDFs, sines and guides.
+void build_distribution(EnvMap& m) {
+  const size_t w = size_t(m.width), h = size_t(m.height);
+  float* marginal = m.data.data() + 3 * m.texel_count();
+  float* conditional = marginal + h;
+  float* sines = conditional + m.texel_count();
+  float* guides = sines + h;
+  std::vector<double> row_weight(h), col_weight(w);
+  for (size_t y = 0; y < h; ++y) {
+    const double sin_theta = m.row_sine(int(y));
+    sines[y] = float(sin_theta);
+    for (size_t x = 0; x < w; ++x) col_weight[x] = luminance(&m.rgb()[3 * (y * w + x)]) * sin_theta;
+    row_weight[y] = fill_cdf(col_weight, conditional + y * w);
   }
-  m.integral = fill_cdf(row_weight, m.marginal.data());
+  m.integral = fill_cdf(row_weight, marginal);
+  fill_cdf_guide(marginal, m.height, guides);
+  for (size_t y = 0; y < h; ++y) fill_cdf_guide(conditional + y * w, m.width, guides + (h + 1) + y * (w + 1));
+}
+
+}  // namespace
+
+EnvMap env_map_from_rgb(int width, int height, const std::vector<float>& rgb, const std::string& path) {
+  PMC_CHECK(width > 0 && height > 0 && rgb.size() == size_t(width) * size_t(height) * 3);
+  EnvMap m = blank_map(width, height, path);
+  std::copy(rgb.begin(), rgb.end(), m.data.begin());
+  build_distribution(m);
   return m;
 }
 
@@ -88,7 +105,8 @@ EnvMap load_env_map(const std::string& path) {
   Image img = read_image(path);  // names the file when it cannot be read or decoded
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0) fail(path, ": the environment map is empty");
   const size_t texels = size_t(img.width) * size_t(img.height);
-  std::vector<float> rgb(texels * 3);
+  EnvMap m = blank_map(img.width, img.height, path);
+  float* rgb = m.data.data();
   size_t bad = 0, negative = 0, first_bad = 0;
   for (size_t i = 0; i < texels; ++i) {
     bool is_bad = false, is_negative = false;
@@ -113,7 +131,9 @@ EnvMap load_env_map(const std::string& path) {
   if (negative > 0)
     warn(path + ": " + std::to_string(negative) +
          " texels with negative values in the environment map (read as 0)");
-  return env_map_from_rgb(img.width, img.height, std::move(rgb), path);
+  img = Image();  // the decoded file goes before the distribution's work
+  build_distribution(m);
+  return m;
 }
 
 }  // namespace pmc

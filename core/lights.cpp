@@ -308,9 +308,16 @@ LightTable empty_light_table() {
   t.lights.push_back(PmcLight{});
   t.triangle_light.push_back(-1);
   t.tree_nodes.push_back(PmcLightTreeNode{});
-  t.env_data.push_back(0.0f);
   return t;
 }
+
+namespace {
+const float kNoEnvMap[1] = {0.0f};  // the env buffer without a map: never read, never empty
+}  // namespace
+
+const float* LightTable::env_floats() const { return env_map ? env_map->data.data() : kNoEnvMap; }
+
+size_t LightTable::env_float_count() const { return env_map ? env_map->data.size() : 1; }
 
 LightTable build_light_table(const Scene& scene, const std::vector<float>& emission, const SceneLights& sl,
                              LightSampler sampler) {
@@ -345,7 +352,8 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
       t.header.env_height = m.height;
       const double integral = m.integral * double(env.scale);
       t.header.env_inv_integral = integral > 0.0 ? float(1.0 / integral) : 0.0f;
-      t.env_data = m.device_data(env.scale);
+      t.env_map = env.map;
+      t.header.env_scale = env.scale;
       power = disk * m.luminance_integral() * double(env.scale);
       // Irradiance of the sky's mean radiance: its integral over the sphere / 4pi, times pi.
       l.distant_weight = float(0.25 * m.luminance_integral() * double(env.scale));
@@ -506,7 +514,6 @@ LightTable build_light_table(const Scene& scene, const std::vector<float>& emiss
     t.tree_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   if (t.tree_nodes.empty()) t.tree_nodes.push_back(PmcLightTreeNode{});  // no empty device buffers
-  if (t.env_data.empty()) t.env_data.push_back(0.0f);
   return t;
 }
 

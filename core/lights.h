@@ -87,8 +87,12 @@ struct LightTable {
   std::vector<PmcLight> lights;              // kernel order, each with pmf and cdf (and its tree trail)
   std::vector<int32_t> triangle_light;       // per scene triangle: its light's index (-1: not a light)
   std::vector<PmcLightTreeNode> tree_nodes;  // the light tree (one blank node when there is none)
-  PoolVector<float> env_data;                // the map's texels and CDFs (one 0 when there is no map);
-                                             // CPU devices read this memory itself
+  // The sky map (its EnvMap::data: texels and CDFs, the scale in header.env_scale);
+  // null when there is no map. CPU devices read the map's own memory.
+  std::shared_ptr<const EnvMap> env_map;
+  // What the kernel's env buffer holds: the map's data, or one 0 without a map.
+  const float* env_floats() const;
+  size_t env_float_count() const;
   PmcLightHeader header{};
   double total_power = 0.0;  // sum of the lights' power estimates (luminance, W)
   size_t emissive_triangles = 0;

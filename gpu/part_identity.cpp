@@ -51,7 +51,10 @@ std::string scene_hash(const RenderSession& session) {
   h.vec(m.infos);
   h.vec(*m.texel_words);
   const EnvironmentSpec& env = session.settings().lights.environment;
-  if (env.map) h.vec(env.map->rgb);
+  if (env.map) {  // the texels, hashed as a vector of them (the hashes of earlier builds)
+    h.word(3 * env.map->texel_count());
+    h.bytes(env.map->rgb(), 3 * env.map->texel_count() * sizeof(float));
+  }
   return h.hex();
 }
 

@@ -56,15 +56,19 @@ SceneBuffers::SceneBuffers(const ClContext& cl, const Scene& scene, const Materi
 }
 
 void SceneBuffers::upload_lights(const ClContext& cl, LightTable table) {
-  // The sky map's data can be hundreds of megabytes: CPU devices read the
-  // table's own memory (no device copy), so the buffer that reads the old
-  // table's goes before that table does.
-  buffers[kScene_env] = ClBuffer();
+  // The sky map's data can be hundreds of megabytes. It belongs to the map
+  // (core/env_map.h), which every render's table shares: a table of the
+  // same map keeps the buffer (on a GPU, no second upload). A new map's
+  // buffer replaces the old one before the old table lets its map go, since
+  // CPU devices read the map's own memory.
+  const bool same_map = table.env_map && table.env_map == lights.env_map && buffers[kScene_env].get();
+  if (!same_map) buffers[kScene_env] = ClBuffer();
   lights = std::move(table);
   buffers[kScene_lights] = cl.buffer_of(lights.lights);
   buffers[kScene_tri_light] = cl.buffer_of(lights.triangle_light);
   buffers[kScene_light_tree] = cl.buffer_of(lights.tree_nodes);
-  buffers[kScene_env] = cl.shared_buffer_of(lights.env_data);
+  if (!same_map)
+    buffers[kScene_env] = cl.shared_buffer(lights.env_float_count() * sizeof(float), lights.env_floats());
 }
 
 }  // namespace pmc

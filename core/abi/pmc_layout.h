@@ -134,6 +134,7 @@
   X(PmcLightHeader, env_uniform)   \
   X(PmcLightHeader, sampler)       \
   X(PmcLightHeader, tree_nodes)    \
+  X(PmcLightHeader, env_scale)     \
   X(PmcFrame, lights)              \
   PMC_FRAME_SCALARS(PMC_LAYOUT_FRAME_SCALAR_, X) \
   X(PmcCounters, next_rays)

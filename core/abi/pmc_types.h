@@ -271,7 +271,8 @@ typedef struct PmcLightHeader {
   pmc_u32 env_uniform;            /* sample the map uniformly over the sphere (comparisons) */
   pmc_u32 sampler;                /* PMC_LIGHT_SAMPLER_* */
   pmc_i32 tree_nodes;             /* nodes of the light tree (0: no finite light) */
-  pmc_u32 pad[3];
+  float env_scale;                /* the map's texels times this (its brightness setting) */
+  pmc_u32 pad[2];
 } PmcLightHeader;
 
 /* The frame's scalars after its light header, in their order in PmcFrame:

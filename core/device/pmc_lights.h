@@ -33,8 +33,8 @@
  * v = acos(y)/pi, v = 0 the top row (the image centre is seen looking along
  * -Z, +X at u = 0.75), turned about +Y by the header's rotation. Texels are
  * constant over their solid angle (nearest lookup, so the sampled density
- * matches exactly). `env` holds, for a w x h map: w*h rgb texels (scale
- * applied), the marginal CDF of the h rows, then h conditional CDFs of w
+ * matches exactly). `env` holds, for a w x h map: w*h rgb texels (times
+ * the header's env_scale when read), the marginal CDF of the h rows, then h conditional CDFs of w
  * columns (inclusive running sums, last entry 1), of luminance x sin(theta).
  */
 #ifndef PMC_LIGHTS_H
@@ -102,7 +102,7 @@ PMC_FN int pmc_env_texel_index(const PmcLightHeader* h, float3 m) {
 }
 
 PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
-  return make_float3(ls->env[3 * i], ls->env[3 * i + 1], ls->env[3 * i + 2]);
+  return ls->h.env_scale * make_float3(ls->env[3 * i], ls->env[3 * i + 1], ls->env[3 * i + 2]);
 }
 
 /* The map's data after its texels (EnvMap::device_data, core/env_map.h): the

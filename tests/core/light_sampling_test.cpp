@@ -66,7 +66,7 @@ PmcLightSet light_set(const LightTable& t) {
   PmcLightSet ls;
   ls.lights = t.lights.data();
   ls.tree = t.tree_nodes.data();
-  ls.env = t.env_data.data();
+  ls.env = t.env_floats();
   ls.h = t.header;
   return ls;
 }
@@ -182,7 +182,7 @@ double map_irradiance(const EnvMap& m, D3 n, double rotate_deg, double scale) {
   const int sub = 12;
   for (int y = 0; y < m.height; ++y)
     for (int x = 0; x < m.width; ++x) {
-      double L = lum(&m.rgb[3 * (size_t(y) * m.width + x)]) * scale;
+      double L = lum(&m.rgb()[3 * (size_t(y) * m.width + x)]) * scale;
       if (L == 0.0) continue;
       double acc = 0.0;
       for (int i = 0; i < sub; ++i)
@@ -380,7 +380,7 @@ TEST(EnvMapSampling, PdfIntegratesToOneAndSamplesFollowIt) {
   for (int y = 0; y < map.height; ++y)
     for (int x = 0; x < map.width; ++x) {
       size_t k = size_t(y) * map.width + x;
-      prob[k] = lum(&map.rgb[3 * k]) * std::sin((y + 0.5) * kPi / map.height);
+      prob[k] = lum(&map.rgb()[3 * k]) * std::sin((y + 0.5) * kPi / map.height);
       total += prob[k];
     }
   std::vector<double> counts(prob.size(), 0.0);
@@ -398,7 +398,7 @@ TEST(EnvMapSampling, PdfIntegratesToOneAndSamplesFollowIt) {
     int k = pmc_env_texel_index(&ls.h, m);
     counts[size_t(k)] += 1.0;
     if (std::fabs(pdf - pmc_env_map_pdf(&ls, m)) <= 1e-3f * pdf &&
-        std::fabs(le.x - map.rgb[3 * size_t(k)]) <= 1e-6f)
+        std::fabs(le.x - map.rgb()[3 * size_t(k)]) <= 1e-6f)
       continue;
     const float2 uv = pmc_env_dir_to_uv(m);
     const double du = uv.x * map.width - std::round(uv.x * map.width);
@@ -610,6 +610,32 @@ TEST(LightSampling, ConstantAndMapEnvironmentsMatchTheirIrradiance) {
     EXPECT_NEAR(e.mean, exact, 4.0 * e.stderr_ + 1e-3 * exact) << "rotate " << rotate;
     EXPECT_LT(e.stderr_, 0.01 * exact);
   }
+}
+
+// The map is kept once (core/env_map.h): every table built from it points at
+// its data, whatever the scale, and the scale reaches the texels through the
+// header. Each render builds a table; a copy per render is what this rules out.
+TEST(LightSampling, TablesOfOneMapShareItsTexelsAndScaleThemInTheHeader) {
+  EnvironmentSpec once = map_environment(sun_map(), 0.0f, 1.0f), thrice = once;
+  thrice.scale = 3.0f;
+  const LightTable a = table_of({}, once), b = table_of({}, thrice);
+  EXPECT_EQ(a.env_floats(), once.map->data.data());
+  EXPECT_EQ(b.env_floats(), once.map->data.data());
+  EXPECT_EQ(a.env_float_count(), EnvMap::data_floats(once.map->width, once.map->height));
+  const PmcLightSet la = light_set(a), lb = light_set(b);
+  for (int i : {0, 7, 4 * once.map->width + 20}) {  // the sun's texel among them
+    const float3 ta = pmc_env_texel(&la, i), tb = pmc_env_texel(&lb, i);
+    EXPECT_EQ(ta.x, once.map->rgb()[3 * i]) << i;
+    EXPECT_FLOAT_EQ(tb.x, 3.0f * ta.x) << i;
+    EXPECT_FLOAT_EQ(tb.z, 3.0f * ta.z) << i;
+  }
+  // The density does not depend on the scale; the integral it divides by does.
+  const float3 up = make_float3(0.0f, 1.0f, 0.0f);
+  EXPECT_FLOAT_EQ(pmc_env_map_pdf(&la, up), pmc_env_map_pdf(&lb, up));
+  // Without a map the buffer is one zero, never empty.
+  const LightTable none = table_of({}, EnvironmentSpec{});
+  EXPECT_EQ(none.env_float_count(), 1u);
+  EXPECT_EQ(none.env_floats()[0], 0.0f);
 }
 
 TEST(LightSampling, EveryLightTogetherSumsTheirIrradiance) {

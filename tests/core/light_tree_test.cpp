@@ -46,7 +46,7 @@ PmcLightSet light_set(const LightTable& t) {
   PmcLightSet ls;
   ls.lights = t.lights.data();
   ls.tree = t.tree_nodes.data();
-  ls.env = t.env_data.data();
+  ls.env = t.env_floats();
   ls.h = t.header;
   return ls;
 }

@@ -190,15 +190,15 @@ TEST(EnvMapFile, LoadsGreyAndRgbMapsAndRefusesBadOnes) {
   write_exr(dir + "/grey.exr", grey);
   EnvMap m = load_env_map(dir + "/grey.exr");  // warns about the negative texel
   ASSERT_EQ(m.width, 4);
-  EXPECT_EQ(m.rgb[3 * 2 + 0], 3.0f);
-  EXPECT_EQ(m.rgb[3 * 2 + 2], 3.0f);
-  EXPECT_EQ(m.rgb[3 * 7 + 1], 0.0f);
-  EXPECT_FLOAT_EQ(m.marginal.back(), 1.0f);
-  EXPECT_FLOAT_EQ(m.conditional[3], 1.0f);
+  EXPECT_EQ(m.rgb()[3 * 2 + 0], 3.0f);
+  EXPECT_EQ(m.rgb()[3 * 2 + 2], 3.0f);
+  EXPECT_EQ(m.rgb()[3 * 7 + 1], 0.0f);
+  EXPECT_FLOAT_EQ(m.marginal()[m.height - 1], 1.0f);
+  EXPECT_FLOAT_EQ(m.conditional()[3], 1.0f);
   // Row weights: luminance x sin(row centre) (rows at 45 and 135 degrees).
   const double s = std::sin(3.14159265358979 / 4.0);
   EXPECT_NEAR(m.integral, (1 + 2 + 3 + 4) * s + (5 + 6 + 7) * s, 1e-9);
-  EXPECT_NEAR(m.marginal[0], 10.0 / 28.0, 1e-7);
+  EXPECT_NEAR(m.marginal()[0], 10.0 / 28.0, 1e-7);
   try {
     load_env_map(dir + "/none.hdr");
     ADD_FAILURE();
