@@ -105,7 +105,7 @@ PMC_FN float3 pmc_env_texel(const PmcLightSet* ls, int i) {
   return ls->h.env_scale * make_float3(ls->env[3 * i], ls->env[3 * i + 1], ls->env[3 * i + 2]);
 }
 
-/* The map's data after its texels (EnvMap::device_data, core/env_map.h): the
+/* The map's data after its texels (EnvMap::data, core/env_map.h): the
  * marginal CDF over the rows (height floats), each row's conditional CDF
  * (width floats a row), each row's sine, then the CDFs' guide tables
  * (cdf_guide: the marginal's, height + 1 floats, then each row's, width + 1
