@@ -151,6 +151,7 @@ int run_render(const RenderArgs& args) {
       j["cache"]["supersample"] = {{"uv", session.cache_supersample().uv},
                                    {"position", session.cache_supersample().position}};
     j["texture_cache"] = texture_cache_json(TextureCache::instance());
+    j["memory_bytes"] = memory_json(session, out.stats);
     j["passes"] = pass_list_text(config.passes);
     if (a.denoise)
       j["denoise"] = {{"seconds", clean.seconds}, {"device", clean.device}, {"prefiltered_aux", true}};

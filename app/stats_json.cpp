@@ -1,6 +1,8 @@
 // stats_json.cpp — the JSON objects of stats_json.h.
 #include "app/stats_json.h"
 
+#include <sys/resource.h>
+
 #include "app/cli.h"
 #include "gpu/render_config.h"
 #include "gpu/render_session.h"
@@ -101,6 +103,24 @@ nlohmann::json texture_cache_json(const TextureCache& cache) {
           {"hits", st.hits},
           {"misses", st.misses},
           {"writes", st.writes}};
+}
+
+nlohmann::json memory_json(const RenderSession& session, const RenderStats& st) {
+  const Scene& scene = session.scene();
+  const uint64_t mesh = (scene.positions.size() + scene.normals.size() + scene.uvs.size()) * sizeof(float) +
+                        scene.triangles.size() * sizeof(PmcTriangle);
+  const uint64_t texels = session.materials().texel_words->size() * sizeof(uint32_t);
+  const EnvironmentSpec& env = session.settings().lights.environment;
+  const uint64_t sky = env.map ? env.map->data.size() * sizeof(float) : 0;
+  const uint64_t cache = st.cache.memory_bytes;
+  struct rusage usage {};
+  const uint64_t peak = getrusage(RUSAGE_SELF, &usage) == 0 ? uint64_t(usage.ru_maxrss) * 1024u : 0u;  // KiB
+  return {{"mesh", mesh},
+          {"texels", texels},
+          {"sky_map", sky},
+          {"cache_table", cache},
+          {"listed", mesh + texels + sky + cache},
+          {"peak_resident", peak}};
 }
 
 nlohmann::json render_json(const RenderSettings& s, const RenderStats& st, const std::string& scene) {

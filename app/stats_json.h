@@ -32,6 +32,13 @@ nlohmann::json cache_model_json(const RenderSession& session, const RenderStats&
 // sum: wall seconds), and background: {opencl_device: seconds opening it
 // took on its own thread, overlapping the steps}.
 nlohmann::json setup_json(const SetupSeconds& setup);
+// What the render holds in memory, in bytes: the mesh (positions, normals,
+// uvs, triangle records), the texel pool (every texture's mip chain, as the
+// device reads it), the sky map (texels, CDFs and guide tables: 0 without
+// one), the cache table, their sum (`listed`), and the process's peak
+// resident memory so far (`peak_resident`, from getrusage: the rest is the
+// BVH, the wave buffers, the OpenCL runtime and its kernels).
+nlohmann::json memory_json(const RenderSession& session, const RenderStats& stats);
 // The texture cache's folder and its hits, misses and writes in this process.
 nlohmann::json texture_cache_json(const TextureCache& cache);
 // A render's settings and statistics (`pmc render --stats`).

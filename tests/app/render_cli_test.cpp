@@ -126,6 +126,48 @@ struct BadOption {
   const char* mentions;
 };
 
+// The stats' "memory_bytes" object: a sky map of w x h texels holds its rgb
+// texels, the marginal CDF (h), the rows' conditional CDFs (w h), the rows'
+// sines (h) and the guide tables (h + 1, then w + 1 a row), as floats,
+// counted here from that layout (docs/DESIGN.md), not from pmc's code; the
+// cache table is the one the cache object reports; the sum is what the
+// process holds at least. Without a map the sky costs nothing.
+TEST(RenderCli, StatsListTheMemoryTheRenderHolds) {
+  const std::string dir = test::temp_dir();
+  const int w = 24, h = 12;
+  Image sky;
+  sky.width = w;
+  sky.height = h;
+  sky.channels = 3;
+  sky.pixels.assign(size_t(w) * h * 3, 0.5f);
+  write_exr(dir + "/sky.exr", sky);
+  std::string log;
+  const std::string common = scene() + " --mtlx " + test::source_path("data/default/materials.mtlx") +
+                             " --cache-model nodes --width 48 --height 32 --spp 2 --quiet";
+  ASSERT_EQ(test::run_pmc("render " + common + " --env-map " + dir + "/sky.exr -o " + dir +
+                              "/a.exr --stats " + dir + "/a.json",
+                          &log),
+            0)
+      << log;
+  ASSERT_EQ(test::run_pmc("render " + common + " -o " + dir + "/b.exr --stats " + dir + "/b.json", &log), 0)
+      << log;
+  std::ifstream in_a(dir + "/a.json"), in_b(dir + "/b.json");
+  const nlohmann::json a = nlohmann::json::parse(in_a), b = nlohmann::json::parse(in_b);
+  const nlohmann::json& m = a["memory_bytes"];
+  const uint64_t floats = 3u * w * h + h + uint64_t(w) * h + h + (h + 1) + uint64_t(h) * (w + 1);
+  EXPECT_EQ(m["sky_map"].get<uint64_t>(), floats * 4u);
+  EXPECT_EQ(b["memory_bytes"]["sky_map"].get<uint64_t>(), 0u);
+  EXPECT_EQ(m["cache_table"].get<uint64_t>(), a["cache"]["memory_bytes"].get<uint64_t>());
+  EXPECT_GT(m["cache_table"].get<uint64_t>(), 0u);  // by node count, this small frame still caches
+  EXPECT_GT(m["mesh"].get<uint64_t>(), 0u);
+  EXPECT_GT(m["texels"].get<uint64_t>(), 0u);  // its textured materials
+  EXPECT_EQ(m["mesh"], b["memory_bytes"]["mesh"]);
+  EXPECT_EQ(m["texels"], b["memory_bytes"]["texels"]);
+  EXPECT_EQ(m["listed"].get<uint64_t>(), m["mesh"].get<uint64_t>() + m["texels"].get<uint64_t>() +
+                                             m["sky_map"].get<uint64_t>() + m["cache_table"].get<uint64_t>());
+  EXPECT_GT(m["peak_resident"].get<uint64_t>(), m["listed"].get<uint64_t>());
+}
+
 TEST(RenderCli, BadOptionsExitWithCode2AndLeaveNoOutput) {
   const std::string dir = test::temp_dir();
   const BadOption cases[] = {
