@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "core/error.h"
+#include "core/image_backend.h"
 #include "core/image_io.h"
 
 namespace pmc {
@@ -102,36 +103,45 @@ EnvMap env_map_from_rgb(int width, int height, const std::vector<float>& rgb, co
 }
 
 EnvMap load_env_map(const std::string& path) {
-  Image img = read_image(path);  // names the file when it cannot be read or decoded
-  if (img.width <= 0 || img.height <= 0 || img.channels <= 0) fail(path, ": the environment map is empty");
-  const size_t texels = size_t(img.width) * size_t(img.height);
-  EnvMap m = blank_map(img.width, img.height, path);
+  std::string why;
+  auto in = image_backend().open(path, false, why);
+  if (!in) fail(path, ": cannot read image: ", why);
+  const ImageHeader h = in->header();  // a copy: the reader goes before the checks
+  if (h.width <= 0 || h.height <= 0 || h.channels <= 0) fail(path, ": the environment map is empty");
+  // The file's pixels go straight into the map's texels (no decoded copy
+  // beside them): its first three channels, or a grey map's (1 or 2
+  // channels: value, alpha) value into red, repeated below.
+  EnvMap m = blank_map(h.width, h.height, path);
   float* rgb = m.data.data();
+  const int channels = std::min(h.channels, 3) == 2 ? 1 : std::min(h.channels, 3);
+  const std::ptrdiff_t texel = 3 * sizeof(float);
+  if (!in->read(0, channels, PixelFormat::Float, rgb, texel, texel * h.width))
+    fail(path, ": cannot decode image: ", in->error());
+  in.reset();
+  const size_t texels = m.texel_count();
   size_t bad = 0, negative = 0, first_bad = 0;
   for (size_t i = 0; i < texels; ++i) {
     bool is_bad = false, is_negative = false;
-    for (int c = 0; c < 3; ++c) {
-      // Grey maps (1 or 2 channels: value, alpha) repeat the value.
-      float v = img.pixels[i * size_t(img.channels) + size_t(img.channels >= 3 ? c : 0)];
-      if (!std::isfinite(v)) {
+    float* c = &rgb[3 * i];
+    if (channels == 1) c[1] = c[2] = c[0];
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(c[k])) {
         is_bad = true;
-        v = 0.0f;
-      } else if (v < 0.0f) {
+        c[k] = 0.0f;
+      } else if (c[k] < 0.0f) {
         is_negative = true;
-        v = 0.0f;
+        c[k] = 0.0f;
       }
-      rgb[3 * i + size_t(c)] = v;
     }
     if (is_bad && bad++ == 0) first_bad = i;
     negative += is_negative ? 1 : 0;
   }
   if (bad > 0)
     fail(path, ": ", bad, " texels with NaN or infinite values in the environment map (first at x ",
-         first_bad % size_t(img.width), ", y ", first_bad / size_t(img.width), ")");
+         first_bad % size_t(h.width), ", y ", first_bad / size_t(h.width), ")");
   if (negative > 0)
     warn(path + ": " + std::to_string(negative) +
          " texels with negative values in the environment map (read as 0)");
-  img = Image();  // the decoded file goes before the distribution's work
   build_distribution(m);
   return m;
 }

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <vector>
 
@@ -80,32 +81,33 @@ void to_float(const unsigned char* rgbe, float* rgb) {
   for (int c = 0; c < 3; ++c) rgb[c] = float(rgbe[c]) * scale;
 }
 
-// `count` pixels from the cursor on, flat RGBE, appended to `out` (checked
-// against the bytes left before anything is allocated).
-bool flat_pixels(Bytes& in, size_t count, std::vector<float>& out) {
-  const unsigned char* p = nullptr;
-  if (!in.take(count * 4, &p)) return false;
-  const size_t first = out.size() / 3;
-  out.resize(out.size() + 3 * count);
-  for (size_t i = 0; i < count; ++i) to_float(p + 4 * i, &out[3 * (first + i)]);
-  return true;
-}
-
-// The pixels, appended scanline by scanline: a file cut short fails before
-// the whole image is allocated.
-bool decode_pixels(Bytes& in, int width, int height, std::vector<float>& out, std::string& why) {
-  const size_t w = size_t(width), total = w * size_t(height);
-  out.clear();
+// The pixels, scanline by scanline: each row's width x 3 floats go to
+// emit(y, row) as soon as they are decoded, so no whole-image copy is made.
+// A scanline that is not run-length encoded starts flat RGBE, which runs to
+// the end of the image (as OpenImageIO reads it).
+bool decode_rows(Bytes& in, int width, int height, const std::function<void(size_t, const float*)>& emit,
+                 std::string& why) {
+  const size_t w = size_t(width), h = size_t(height);
+  std::vector<float> row(3 * w);
   why = "the file ends inside the pixels";
-  if (width < 8 || width > 0x7fff) return flat_pixels(in, total, out);
+  // Flat pixels from (x0, y) on; the row's first x0 pixels are decoded already.
+  auto flat_from = [&](size_t y, size_t x0) {
+    for (; y < h; ++y, x0 = 0) {
+      const unsigned char* p = nullptr;
+      if (!in.take(4 * (w - x0), &p)) return false;
+      for (size_t x = x0; x < w; ++x) to_float(p + 4 * (x - x0), &row[3 * x]);
+      emit(y, row.data());
+    }
+    return true;
+  };
+  if (width < 8 || width > 0x7fff) return flat_from(0, 0);
   std::vector<unsigned char> line(4 * w);
-  for (size_t y = 0; y < size_t(height); ++y) {
+  for (size_t y = 0; y < h; ++y) {
     const unsigned char* head = nullptr;
     if (!in.take(4, &head)) return false;
     if (head[0] != 2 || head[1] != 2 || (head[2] & 0x80)) {  // not run-length encoded: flat from here on
-      out.resize(out.size() + 3);
-      to_float(head, &out[3 * y * w]);
-      return flat_pixels(in, total - y * w - 1, out);
+      to_float(head, &row[0]);
+      return flat_from(y, 1);
     }
     if (((size_t(head[2]) << 8) | head[3]) != w) {
       why = "a scanline of the wrong width";
@@ -127,31 +129,56 @@ bool decode_pixels(Bytes& in, int width, int height, std::vector<float>& out, st
         x += n;
       }
     }
-    out.resize(out.size() + 3 * w);
-    for (size_t x = 0; x < w; ++x) to_float(&line[4 * x], &out[3 * (y * w + x)]);
+    for (size_t x = 0; x < w; ++x) to_float(&line[4 * x], &row[3 * x]);
+    emit(y, row.data());
   }
   return true;
 }
 
-class HdrReader final : public DecodedImageReader<float> {
+// Keeps the file's bytes and decodes them in read(), straight into the
+// caller's memory: a sky map read into its table holds the file and the
+// table, not a decoded copy beside them. A file whose pixels are broken
+// opens (its header is sound) and fails in read(), saying why.
+class HdrReader final : public ImageReader {
  public:
-  using DecodedImageReader::DecodedImageReader;
+  HdrReader(ImageHeader h, std::vector<unsigned char> file, size_t pixels_at)
+      : h_(std::move(h)), file_(std::move(file)), pixels_at_(pixels_at) {}
+  const ImageHeader& header() const override { return h_; }
+  std::string error() override { return error_; }
+  void close() override { file_ = {}; }
   bool read(int c0, int c1, PixelFormat format, void* data, std::ptrdiff_t xs, std::ptrdiff_t ys) override {
     if (c0 < 0 || c1 > 3 || c0 >= c1 || format != PixelFormat::Float) {
       error_ = "unsupported channel range or pixel format";
       return false;
     }
-    if (!open_pixels()) return false;
+    if (file_.empty()) {
+      error_ = "the file was closed";
+      return false;
+    }
     if (!xs) xs = std::ptrdiff_t(size_t(c1 - c0) * sizeof(float));
     if (!ys) ys = xs * h_.width;
     auto* out = static_cast<unsigned char*>(data);
-    for (int y = 0; y < h_.height; ++y)
-      for (int x = 0; x < h_.width; ++x) {
-        const float* src = &pixels_[3 * (size_t(y) * size_t(h_.width) + size_t(x))];
-        std::memcpy(out + y * ys + x * xs, src + c0, size_t(c1 - c0) * sizeof(float));
-      }
-    return true;
+    Bytes in{file_};
+    in.at = pixels_at_;
+    std::string problem;
+    const bool ok = decode_rows(
+        in, h_.width, h_.height,
+        [&](size_t y, const float* row) {
+          for (size_t x = 0; x < size_t(h_.width); ++x)
+            std::memcpy(out + std::ptrdiff_t(y) * ys + std::ptrdiff_t(x) * xs, row + 3 * x + size_t(c0),
+                        size_t(c1 - c0) * sizeof(float));
+        },
+        problem);
+    close();  // the pixels are read once
+    if (!ok) error_ = "corrupt Radiance HDR: " + problem;
+    return ok;
   }
+
+ private:
+  ImageHeader h_;
+  std::vector<unsigned char> file_;
+  size_t pixels_at_ = 0;
+  std::string error_;
 };
 
 }  // namespace
@@ -166,15 +193,23 @@ std::unique_ptr<ImageReader> open_radiance_hdr(const std::string& path, std::str
     why = std::string("cannot open: ") + std::strerror(errno);
     return nullptr;
   }
-  const std::vector<unsigned char> data{std::istreambuf_iterator<char>(file), {}};
+  std::vector<unsigned char> data{std::istreambuf_iterator<char>(file), {}};
   Bytes in{data};
   int width = 0, height = 0;
   std::string problem;
   const Parsed header = parse_header(in, width, height, problem);
   if (header == Parsed::Unsupported) return nullptr;
-  std::vector<float> pixels;
-  if (header == Parsed::Broken || !decode_pixels(in, width, height, pixels, problem)) {
+  if (header == Parsed::Broken) {
     why = "corrupt Radiance HDR: " + problem;
+    return nullptr;
+  }
+  // The fewest bytes a scanline can take (flat: 4 a pixel; run-length
+  // encoded: its 4-byte start and a 2-byte run of at most 127 pixels per
+  // component), so that a file far too short for its size line fails here,
+  // before a caller allocates the image it claims.
+  const size_t w = size_t(width), row_bytes = width < 8 || width > 0x7fff ? 4 * w : 4 + 8 * ((w + 126) / 127);
+  if ((data.size() - in.at) / size_t(height) < row_bytes) {
+    why = "corrupt Radiance HDR: the file ends inside the pixels";
     return nullptr;
   }
   ImageHeader h;
@@ -183,7 +218,8 @@ std::unique_ptr<ImageReader> open_radiance_hdr(const std::string& path, std::str
   h.channels = 3;
   h.format = PixelFormat::Float;
   h.channel_names = {"R", "G", "B"};
-  return std::make_unique<HdrReader>(std::move(h), std::move(pixels));
+  const size_t pixels_at = in.at;
+  return std::make_unique<HdrReader>(std::move(h), std::move(data), pixels_at);
 }
 
 }  // namespace pmc

@@ -21,8 +21,10 @@ namespace pmc {
 
 // True when `magic` (a file's first bytes) starts a Radiance header ("#?").
 bool is_radiance_hdr(const unsigned char* magic, size_t n);
-// A reader of the decoded image; null with `why` set when the file is broken,
-// null with `why` empty when the plugin should read it.
+// A reader of the image: the header is checked here (null with `why` set
+// when it is broken, null with `why` empty when the plugin should read
+// it); the pixels are decoded by read(), straight into the caller's memory,
+// which fails saying why when they are broken (cut short, bad runs).
 std::unique_ptr<ImageReader> open_radiance_hdr(const std::string& path, std::string& why);
 
 }  // namespace pmc

@@ -13,9 +13,11 @@
 //   natively to the same bytes as OpenImageIO reads them; one cut short is
 //   refused with libjpeg's reason.
 // * Radiance HDRs (run-length encoded and flat, and the shared environment
-//   maps) read natively to the same floats as OpenImageIO reads them; one cut
-//   short, with a bad run, an impossible size or one over pmc's limit of
-//   2^28 pixels is refused saying so (a JPEG over the limit too).
+//   maps) read natively to the same floats as OpenImageIO reads them, also
+//   into strided memory (a sky map's texels); one cut short or with a bad
+//   run is refused when its pixels are read, one with an impossible size or
+//   one over pmc's limit of 2^28 pixels when it is opened, each saying so
+//   (a JPEG over the limit too).
 // * TIFF and TGA go to the plugin and read as OpenImageIO reads them.
 // * A render that needs the plugin (a TIFF environment map) when the
 //   plugin cannot be loaded exits 2, names the paths tried and writes no
@@ -352,6 +354,11 @@ std::vector<float> backend_read_floats(const std::string& path, int* w, int* h, 
   *h = in->header().height;
   EXPECT_EQ(in->header().channels, 3);
   std::vector<float> px(size_t(*w) * size_t(*h) * 3);
+  if (why) {  // a file may open and fail when its pixels are read: the caller checks why
+    if (in->read(0, 3, PixelFormat::Float, px.data())) return px;
+    *why = in->error();
+    return {};
+  }
   EXPECT_TRUE(in->read(0, 3, PixelFormat::Float, px.data())) << in->error();
   return px;
 }
@@ -387,6 +394,27 @@ TEST(ImageBackend, RadianceHdrsReadAsOpenImageIOReadsThem) {
     EXPECT_FALSE(b.empty()) << name;
     EXPECT_TRUE(a == b) << name;
   }
+  // Into strided memory, a channel range at a time: green and blue into the
+  // last two of four floats a pixel (rows padded by 8 bytes) hold OpenImageIO's.
+  const std::string path = test::shared_scene("envmaps/table_mountain.hdr");
+  int w = 0, h = 0;
+  const auto a = oiio_read_floats(path, &w, &h);
+  std::string why;
+  auto in = image_backend().open(path, true, why);
+  ASSERT_TRUE(in) << why;
+  const std::ptrdiff_t xs = 4 * sizeof(float), ys = xs * w + 8;
+  std::vector<unsigned char> strided(size_t(ys) * size_t(h), 0);
+  ASSERT_TRUE(in->read(1, 3, PixelFormat::Float, strided.data() + 2 * sizeof(float), xs, ys)) << in->error();
+  size_t differ = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 1; c < 3; ++c) {
+        float v;
+        std::memcpy(&v, strided.data() + y * ys + x * xs + (c + 1) * sizeof(float), sizeof v);
+        differ += v != a[3 * (size_t(y) * size_t(w) + size_t(x)) + size_t(c)];
+      }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_FALSE(in->read(0, 3, PixelFormat::Float, strided.data()));  // the pixels are read once
 }
 
 TEST(ImageBackend, ARadianceHdrCutShortOrWithBadRunsIsRefusedSayingWhy) {
@@ -415,6 +443,14 @@ TEST(ImageBackend, ARadianceHdrCutShortOrWithBadRunsIsRefusedSayingWhy) {
   bad = data;
   bad.replace(pixels_at, first_scanline - pixels_at, "-Y 20000 +X 20000\n");
   refused(bad, "over pmc's limit of 268435456 pixels");  // refused before allocating 4.8 GB
+  // A size line far beyond the file's bytes (64M pixels in 80 KB) is refused
+  // when the file is opened, before a caller allocates the image it claims.
+  bad = data;
+  bad.replace(pixels_at, first_scanline - pixels_at, "-Y 8192 +X 8192\n");
+  test::write_file(dir + "/claims.hdr", bad);
+  std::string why;
+  EXPECT_FALSE(image_backend().open(dir + "/claims.hdr", true, why));
+  EXPECT_NE(why.find("corrupt Radiance HDR: the file ends inside the pixels"), std::string::npos) << why;
 }
 
 TEST(ImageBackend, AJpegLargerThanTheLimitIsRefusedBeforeDecoding) {
