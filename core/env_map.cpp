@@ -6,7 +6,6 @@
 
 #include "core/error.h"
 #include "core/image_backend.h"
-#include "core/image_io.h"
 
 namespace pmc {
 namespace {

@@ -34,8 +34,9 @@
  * -Z, +X at u = 0.75), turned about +Y by the header's rotation. Texels are
  * constant over their solid angle (nearest lookup, so the sampled density
  * matches exactly). `env` holds, for a w x h map: w*h rgb texels (times
- * the header's env_scale when read), the marginal CDF of the h rows, then h conditional CDFs of w
- * columns (inclusive running sums, last entry 1), of luminance x sin(theta).
+ * the header's env_scale when read), the marginal CDF of the h rows, then
+ * h conditional CDFs of w columns (inclusive running sums, last entry 1),
+ * of luminance x sin(theta).
  */
 #ifndef PMC_LIGHTS_H
 #define PMC_LIGHTS_H
